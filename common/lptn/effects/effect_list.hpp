@@ -1,0 +1,71 @@
+// Compile-time bookkeeping for a list of effects: their names, where each one's parameters sit
+// in the model's parameter vector, and calls to whichever hooks each defines.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string_view>
+#include <utility>
+
+#include "lptn/effects/effect.hpp"
+
+namespace lptn {
+
+// A set of enabled effects, one bit per position in the list.
+using EffectSet = std::uint32_t;
+
+template <class... E>
+struct EffectList {
+  static constexpr int kCount = sizeof...(E);
+  static_assert(kCount <= 32, "EffectSet holds 32 effects");
+
+  static constexpr std::array<std::string_view, kCount> kNames{E::kName...};
+  static constexpr std::array<std::string_view, kCount> kSummaries{E::kSummary...};
+  static constexpr std::array<int, kCount> kParamCounts{static_cast<int>(std::size(E::kParams))...};
+  static constexpr std::array<int, kCount> kExtraStates{E::kExtraStates...};
+  static constexpr int kNumParams = (0 + ... + static_cast<int>(std::size(E::kParams)));
+
+  // Offsets of each effect's first parameter, counted from the first effect parameter.
+  static constexpr std::array<int, kCount> kParamOffsets = [] {
+    std::array<int, kCount> out{};
+    int at = 0;
+    for (int i = 0; i < kCount; ++i) {
+      out[i] = at;
+      at += kParamCounts[i];
+    }
+    return out;
+  }();
+
+  // Every effect parameter's spec, in vector order.
+  static constexpr std::array<ParamSpec, kNumParams> kParams = [] {
+    std::array<ParamSpec, kNumParams> out{};
+    int at = 0;
+    auto add = [&](const auto& specs) {
+      for (const ParamSpec& s : specs) out[at++] = s;
+    };
+    (add(E::kParams), ...);
+    return out;
+  }();
+
+  static constexpr int index_of(std::string_view name) {
+    for (int i = 0; i < kCount; ++i)
+      if (kNames[i] == name) return i;
+    return -1;
+  }
+
+  // Calls f(std::integral_constant<int, I>{}, E*{nullptr}) for every effect I in `set`.
+  template <class F>
+  static void for_each_enabled(EffectSet set, F&& f) {
+    visit(set, f, std::make_index_sequence<kCount>{});
+  }
+
+ private:
+  template <class F, std::size_t... I>
+  static void visit(EffectSet set, F& f, std::index_sequence<I...>) {
+    (((set >> I) & 1u ? f(std::integral_constant<int, static_cast<int>(I)>{}, static_cast<E*>(nullptr))
+                      : void()),
+     ...);
+  }
+};
+
+}  // namespace lptn

@@ -1,0 +1,58 @@
+// The one fixed-step integrator of the project, used by the trainer's simulation and by the
+// firmware's prediction alike.
+//
+// Method: the two-stage, second-order, L-stable singly diagonally implicit Runge-Kutta method of
+// Alexander (1977), gamma = 1 - 1/sqrt(2), applied to dx/dt = A x + c with A and c held over the
+// step. Why this one:
+//  - the network's A changes every step with airflow and speed and can be stiff (a large
+//    stator-core conductance against a small winding capacitance, a fast sensor lag); an explicit
+//    method would need a step bounded by the fastest time constant, this one is stable for any
+//    step and any passive parameter set (A-stable, and algebraically stable since gamma >= 1/4,
+//    so it cannot amplify a dissipative system even as A changes from step to step);
+//  - L-stability damps stiff modes in one step instead of letting them ring (trapezoidal rule);
+//  - second order keeps it within 0.01 K of the exact solution at 0.1 s (see the tests);
+//  - for a linear system both stages share one matrix, I - gamma h A: one small LU per step.
+#pragma once
+
+#include "lptn/heat_balance.hpp"
+#include "lptn/internal/small_lu.hpp"
+
+namespace lptn {
+
+template <class T>
+struct Sdirk2 {
+  static constexpr double kGamma = 0.29289321881345247560;  // 1 - 1/sqrt(2)
+
+  // Advances x (sys.n entries) by h seconds. sys must be finish()ed (rate form). Returns false
+  // (and leaves x unchanged) only if the stage matrix is singular.
+  template <class R>
+  static bool step(const HeatBalance<T>& sys, T* x, const R& h) {
+    const int n = sys.n;
+    T m[kMaxStates][kMaxStates];
+    const T gh = T(kGamma * h);
+    for (int i = 0; i < n; ++i) {
+      for (int j = 0; j < n; ++j) m[i][j] = -gh * sys.a[i][j];
+      m[i][i] += T(1);
+    }
+    internal::SmallLu<T> lu;
+    if (!lu.factor(m, n)) return false;
+
+    // Stage 1: k1 = A (x + gamma h k1) + c.
+    T k1[kMaxStates];
+    for (int i = 0; i < n; ++i) k1[i] = sys.derivative(i, x);
+    lu.solve(k1);
+    // Stage 2: k2 = A (x + (1 - gamma) h k1 + gamma h k2) + c.
+    T x1[kMaxStates];
+    const T w1 = T((1.0 - kGamma) * h);
+    for (int i = 0; i < n; ++i) x1[i] = x[i] + w1 * k1[i];
+    T k2[kMaxStates];
+    for (int i = 0; i < n; ++i) k2[i] = sys.derivative(i, x1);
+    lu.solve(k2);
+    // Stiffly accurate: the new state is the second stage's.
+    const T w2 = T(kGamma * h);
+    for (int i = 0; i < n; ++i) x[i] = x1[i] + w2 * k2[i];
+    return true;
+  }
+};
+
+}  // namespace lptn

@@ -1,0 +1,72 @@
+// LU factorisation with partial pivoting for the integrator's n x n stage matrix (n <= kMaxStates).
+// Fixed-capacity arrays, no heap, no exceptions; works for float, double and Jets (pivoting looks
+// at the value part only).
+#pragma once
+
+#include "lptn/heat_balance.hpp"
+#include "lptn/scalar.hpp"
+
+namespace lptn::internal {
+
+template <class T>
+struct SmallLu {
+  int n = 0;
+  T lu[kMaxStates][kMaxStates]{};
+  int perm[kMaxStates]{};
+
+  // Factorises m (rows/cols 0..n-1). Returns false if a pivot is exactly zero, which the
+  // integrator's matrix I - gamma h A cannot produce for a passive network (it is diagonally
+  // dominant); the caller then keeps the state unchanged rather than divide by zero.
+  bool factor(const T (&m)[kMaxStates][kMaxStates], int size) {
+    using std::abs;
+    n = size;
+    for (int i = 0; i < n; ++i) {
+      perm[i] = i;
+      for (int j = 0; j < n; ++j) lu[i][j] = m[i][j];
+    }
+    for (int k = 0; k < n; ++k) {
+      int p = k;
+      double best = abs(value_of(lu[k][k]));
+      for (int i = k + 1; i < n; ++i) {
+        const double v = abs(value_of(lu[i][k]));
+        if (v > best) {
+          best = v;
+          p = i;
+        }
+      }
+      if (best == 0.0) return false;
+      if (p != k) {
+        for (int j = 0; j < n; ++j) {
+          T t = lu[k][j];
+          lu[k][j] = lu[p][j];
+          lu[p][j] = t;
+        }
+        const int t = perm[k];
+        perm[k] = perm[p];
+        perm[p] = t;
+      }
+      const T inv = T(1) / lu[k][k];
+      for (int i = k + 1; i < n; ++i) {
+        lu[i][k] *= inv;
+        for (int j = k + 1; j < n; ++j) lu[i][j] -= lu[i][k] * lu[k][j];
+      }
+    }
+    return true;
+  }
+
+  // Solves (LU) x = b in place.
+  void solve(T* b) const {
+    T y[kMaxStates];
+    for (int i = 0; i < n; ++i) {
+      y[i] = b[perm[i]];
+      for (int j = 0; j < i; ++j) y[i] -= lu[i][j] * y[j];
+    }
+    for (int i = n - 1; i >= 0; --i) {
+      for (int j = i + 1; j < n; ++j) y[i] -= lu[i][j] * y[j];
+      y[i] /= lu[i][i];
+    }
+    for (int i = 0; i < n; ++i) b[i] = y[i];
+  }
+};
+
+}  // namespace lptn::internal
