@@ -1,0 +1,170 @@
+// The integrator against the exact solution of the same piecewise-constant system, and its
+// stability for stiff and extreme parameter sets.
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <unsupported/Eigen/MatrixFunctions>
+
+#include "lptn/model.hpp"
+#include "reference_case.hpp"
+
+namespace lptn {
+namespace {
+
+// Exact step of dx/dt = A x + c over h with A, c held: the matrix exponential of [[A c] [0 0]] h.
+void exact_step(const HeatBalance<double>& sys, double* x, double h) {
+  const int n = sys.n;
+  Eigen::MatrixXd aug = Eigen::MatrixXd::Zero(n + 1, n + 1);
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) aug(i, j) = sys.a[i][j] * h;
+    aug(i, n) = sys.c[i] * h;
+  }
+  const Eigen::MatrixXd e = aug.exp();
+  Eigen::VectorXd xv(n + 1);
+  for (int i = 0; i < n; ++i) xv[i] = x[i];
+  xv[n] = 1.0;
+  const Eigen::VectorXd next = e * xv;
+  for (int i = 0; i < n; ++i) x[i] = next[i];
+}
+
+// A reference case with everything moving: load steps and ramps, regenerative braking, standstill
+// with pulses off, the blower changing, ambient drifting.
+Inputs<double> reference_inputs(double t) {
+  Inputs<double> in = testing::rated_inputs();
+  const double phase = std::fmod(t, 600.0);
+  in.speed_rpm = phase < 100 ? 25.0 * phase : (phase < 400 ? 2500.0 : (phase < 500 ? 2500.0 - 25.0 * (phase - 400) : 0.0));
+  const bool standing = phase >= 500;
+  in.torque_nm = phase < 100 ? 2300.0 : (phase < 400 ? 500.0 : (phase < 500 ? -1800.0 : 0.0));
+  in.current_a = standing ? 0.0 : 40.0 + 0.045 * std::abs(in.torque_nm) * 1.2;
+  in.frequency_hz = 2 * in.speed_rpm / 60 + (standing ? 0.0 : in.torque_nm * 0.00035);
+  in.voltage_v = std::min(1900.0, 29.2 * in.frequency_hz);
+  in.airflow_m3s = std::fmod(t, 1500.0) < 700 ? 1.0 : 0.45;
+  in.ambient_c = 20 + 5 * std::sin(t / 2000.0);
+  in.has_torque = false;
+  return in;
+}
+
+TEST(Integrator, StaysWithinAHundredthOfAKelvinOfTheExactSolutionAtATenthOfASecond) {
+  const auto m = testing::example_motor();
+  const EffectSet all = (EffectSet{1} << kNumEffects) - 1;
+  for (EffectSet effects : {EffectSet{0}, all}) {
+    const Model<double> model(m, effects);
+    auto p = default_params<double>();
+    p[param_index("sensor_time_constant_s")] = 20.0;
+    double x[kMaxStates], ref[kMaxStates];
+    model.initial_state(x, 20.0, 20.0);
+    model.initial_state(ref, 20.0, 20.0);
+    double worst = 0, hottest = 0;
+    for (int k = 0; k < 36000; ++k) {
+      const Inputs<double> in = reference_inputs(0.1 * k);
+      HeatBalance<double> sys;
+      model.assemble(in, p.data(), sys);
+      ASSERT_TRUE(Sdirk2<double>::step(sys, x, 0.1));
+      exact_step(sys, ref, 0.1);
+      for (int i = 0; i < model.num_states(); ++i) worst = std::max(worst, std::abs(x[i] - ref[i]));
+      hottest = std::max(hottest, ref[0]);
+    }
+    EXPECT_LT(worst, 0.01) << "effects " << effects;
+    EXPECT_GT(hottest, 80.0);  // the case does exercise the model
+  }
+}
+
+// Second order: halving the step cuts the error by about four.
+TEST(Integrator, IsSecondOrder) {
+  const auto m = testing::example_motor();
+  const Model<double> model(m, 0);
+  const auto p = default_params<double>();
+  const Inputs<double> in = testing::rated_inputs();
+  auto error_at = [&](double h) {
+    double x[kMaxStates], ref[kMaxStates];
+    model.initial_state(x, 20.0, 20.0);
+    model.initial_state(ref, 20.0, 20.0);
+    HeatBalance<double> sys;
+    model.assemble(in, p.data(), sys);
+    const int steps = static_cast<int>(std::lround(600.0 / h));
+    for (int k = 0; k < steps; ++k) Sdirk2<double>::step(sys, x, h);
+    exact_step(sys, ref, 600.0);
+    return std::abs(x[0] - ref[0]);
+  };
+  const double e1 = error_at(2.0), e2 = error_at(1.0);
+  EXPECT_GT(e1 / e2, 3.5);
+  EXPECT_LT(e1 / e2, 4.5);
+}
+
+// Any positive parameter set, any step: a network without losses (pulses off) cannot gain energy.
+// The C-weighted distance from the air temperature never grows, even as the airflow (and so the
+// state matrix) jumps every step, for conductances at the extremes of their bounds.
+TEST(Integrator, NeverAmplifiesAPassiveNetworkWhateverTheParametersAndStep) {
+  const auto m = testing::example_motor();
+  const Model<double> model(m, 0);
+  std::mt19937_64 rng(7);
+  std::uniform_int_distribution<int> corner(0, 1);
+  std::uniform_real_distribution<double> airflow(0.0, 2.0);
+  for (int trial = 0; trial < 64; ++trial) {
+    auto p = default_params<double>();
+    for (int i : {kLambda1s, kLambda2s, kLambda12s, kLambda1r, kLambda2r, kLambda12r})
+      p[i] = corner(rng) ? param_spec(i).max : param_spec(i).min;
+    for (double h : {0.1, 10.0, 1000.0}) {
+      double x[kMaxStates] = {180.0, 40.0, 220.0, 10.0};
+      Inputs<double> in;
+      in.ambient_c = 20.0;
+      auto energy = [&] {
+        double e = 0;
+        for (int i = 0; i < 4; ++i) e += m.capacitance_j_per_k[i] * (x[i] - in.ambient_c) * (x[i] - in.ambient_c);
+        return e;
+      };
+      double last = energy();
+      for (int k = 0; k < 200; ++k) {
+        in.airflow_m3s = airflow(rng);
+        ASSERT_TRUE(model.step(x, in, p.data(), h));
+        const double now = energy();
+        ASSERT_TRUE(std::isfinite(now));
+        // Relative round-off, plus an absolute floor 18 decades below the starting energy (~1e9).
+        ASSERT_LE(now, last * (1 + 1e-12) + 1e-9) << "trial " << trial << " h " << h << " step " << k;
+        last = now;
+      }
+    }
+  }
+}
+
+// Stiff sets with losses and every effect on: a fast sensor, a very strong stator-core path and a
+// tiny winding capacitance. Still within 0.05 K of the exact solution at 0.1 s, and a huge step
+// lands on the steady state instead of ringing (L-stability).
+TEST(Integrator, HandlesStiffParameterSets) {
+  auto m = testing::example_motor();
+  m.capacitance_j_per_k[kStatorWinding] = 2000.0;
+  const EffectSet all = (EffectSet{1} << kNumEffects) - 1;
+  const Model<double> model(m, all);
+  auto p = default_params<double>();
+  p[kLambda12s] = 5000.0;
+  p[kLambda12r] = 5000.0;
+  p[param_index("sensor_time_constant_s")] = 0.5;
+  double x[kMaxStates], ref[kMaxStates];
+  model.initial_state(x, 20.0, 20.0);
+  model.initial_state(ref, 20.0, 20.0);
+  double worst = 0;
+  for (int k = 0; k < 18000; ++k) {
+    HeatBalance<double> sys;
+    model.assemble(reference_inputs(0.1 * k), p.data(), sys);
+    Sdirk2<double>::step(sys, x, 0.1);
+    exact_step(sys, ref, 0.1);
+    for (int i = 0; i < model.num_states(); ++i) worst = std::max(worst, std::abs(x[i] - ref[i]));
+  }
+  EXPECT_LT(worst, 0.05);
+
+  const Inputs<double> in = testing::rated_inputs();
+  HeatBalance<double> sys;
+  model.assemble(in, p.data(), sys);
+  double big[kMaxStates], settled[kMaxStates];
+  model.initial_state(big, 20.0, 20.0);
+  model.initial_state(settled, 20.0, 20.0);
+  exact_step(sys, settled, 1e6);
+  for (int k = 0; k < 3; ++k) Sdirk2<double>::step(sys, big, 1e5);
+  for (int i = 0; i < model.num_states(); ++i) EXPECT_NEAR(big[i], settled[i], 1e-3 * settled[i]) << i;
+}
+
+}  // namespace
+}  // namespace lptn
