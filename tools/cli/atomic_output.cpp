@@ -1,0 +1,76 @@
+#include "tools/cli/atomic_output.hpp"
+
+#include <unistd.h>
+
+#include <fstream>
+#include <stdexcept>
+#include <system_error>
+
+namespace lptn::cli {
+namespace fs = std::filesystem;
+
+namespace {
+fs::path temp_name_for(const fs::path& target) {
+  fs::path dir = target.parent_path();
+  if (dir.empty()) dir = ".";
+  // Appended piece by piece: GCC 12 warns falsely (-Wrestrict) on "literal" + std::string chains.
+  std::string name(".");
+  name.append(target.filename().string()).append(".tmp-").append(std::to_string(::getpid()));
+  return dir / name;
+}
+}  // namespace
+
+void write_file_atomically(const fs::path& path, const std::string& text) {
+  const fs::path temp = temp_name_for(path);
+  {
+    std::ofstream out(temp, std::ios::binary | std::ios::trunc);
+    if (!out) throw std::runtime_error(path.string() + ": cannot write (directory missing or not writable)");
+    out.write(text.data(), static_cast<std::streamsize>(text.size()));
+    out.flush();
+    if (!out) {
+      std::error_code ignored;
+      fs::remove(temp, ignored);
+      throw std::runtime_error(path.string() + ": write failed (disk full?)");
+    }
+  }
+  std::error_code ec;
+  fs::rename(temp, path, ec);
+  if (ec) {
+    std::error_code ignored;
+    fs::remove(temp, ignored);
+    throw std::runtime_error(path.string() + ": cannot replace: " + ec.message());
+  }
+}
+
+AtomicDirectory::AtomicDirectory(fs::path target, bool replace) : target_(std::move(target)), replace_(replace) {
+  if (target_.filename().empty()) target_ = target_.parent_path();  // "out/" -> "out"
+  if (fs::exists(target_) && !(fs::is_directory(target_) && fs::is_empty(target_)) && !replace_)
+    throw std::invalid_argument(target_.string() + ": exists and is not empty (use --force to replace it)");
+  temp_ = temp_name_for(target_);
+  fs::remove_all(temp_);
+  fs::create_directories(temp_);
+}
+
+AtomicDirectory::~AtomicDirectory() {
+  if (!committed_) {
+    std::error_code ignored;
+    fs::remove_all(temp_, ignored);
+  }
+}
+
+void AtomicDirectory::commit() {
+  if (fs::exists(target_)) {
+    // Move the old one aside first so that the target is never missing and never half-replaced
+    // for longer than two renames.
+    const fs::path old = temp_name_for(target_).string() + ".old";
+    fs::remove_all(old);
+    fs::rename(target_, old);
+    fs::rename(temp_, target_);
+    fs::remove_all(old);
+  } else {
+    fs::rename(temp_, target_);
+  }
+  committed_ = true;
+}
+
+}  // namespace lptn::cli

@@ -1,0 +1,33 @@
+// Outputs that appear whole or not at all: written under a temporary name beside the target and
+// renamed into place only when complete, so a failure or a kill never leaves a half-written file.
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+namespace lptn::cli {
+
+// Writes `text` to `path` atomically (temporary file in the same directory, then rename).
+void write_file_atomically(const std::filesystem::path& path, const std::string& text);
+
+// A directory filled under a temporary name; commit() moves it to the target. If never committed
+// (an error, an exception) the temporary directory is removed on destruction.
+class AtomicDirectory {
+ public:
+  // Fails if `target` exists and is not empty, unless `replace` is set.
+  AtomicDirectory(std::filesystem::path target, bool replace);
+  ~AtomicDirectory();
+  AtomicDirectory(const AtomicDirectory&) = delete;
+  AtomicDirectory& operator=(const AtomicDirectory&) = delete;
+
+  const std::filesystem::path& path() const { return temp_; }
+  void commit();
+
+ private:
+  std::filesystem::path target_;
+  std::filesystem::path temp_;
+  bool replace_;
+  bool committed_ = false;
+};
+
+}  // namespace lptn::cli

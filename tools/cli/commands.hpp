@@ -1,0 +1,17 @@
+// Every `lptn` subcommand registers itself on the app here; each lives in its own cmd_*.cpp.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+namespace lptn::cli {
+
+void add_generate(CLI::App& app);
+void add_inspect(CLI::App& app);
+void add_simulate(CLI::App& app);
+
+// A bad-input failure: reported as one line, exit code 2.
+struct BadInput : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+}  // namespace lptn::cli

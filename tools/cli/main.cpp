@@ -1,0 +1,45 @@
+// lptn: the thermal estimator's command line. One program, one subcommand per user action.
+#include <cstdio>
+#include <exception>
+#include <stdexcept>
+
+#include "tools/cli/commands.hpp"
+#include "trainer/data/dataset.hpp"
+#include "trainer/model/motor_file.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{"lptn: lumped-parameter thermal network estimator for traction motors"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "lptn 0.1.0");
+  lptn::cli::add_generate(app);
+  lptn::cli::add_inspect(app);
+  lptn::cli::add_simulate(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::fprintf(stderr, "lptn: error: %s (see --help)\n", e.what());
+    return 2;
+  } catch (const lptn::data::DataError& e) {
+    std::fprintf(stderr, "lptn: error: %s\n", e.what());
+    return 2;
+  } catch (const lptn::MotorFileError& e) {
+    std::fprintf(stderr, "lptn: error: %s\n", e.what());
+    return 2;
+  } catch (const lptn::cli::BadInput& e) {
+    std::fprintf(stderr, "lptn: error: %s\n", e.what());
+    return 2;
+  } catch (const std::invalid_argument& e) {
+    std::fprintf(stderr, "lptn: error: %s\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "lptn: failed: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}

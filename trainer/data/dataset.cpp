@@ -1,0 +1,146 @@
+// File and directory handling around the CSV parser and the resampler.
+
+#include "trainer/data/dataset.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <set>
+#include <stdexcept>
+#include <string>
+#include <system_error>
+
+#include "trainer/data/internal/raw_cycle.hpp"
+
+namespace lptn::data {
+namespace fs = std::filesystem;
+
+bool Cycle::has(Channel c) const {
+  const auto& v = samples[index_of(c)];
+  return std::any_of(v.begin(), v.end(), [](float x) { return !std::isnan(x); });
+}
+
+float Cycle::at(Channel c, std::size_t k) const {
+  const auto& v = samples[index_of(c)];
+  if (v.empty()) {
+    if (k >= steps) throw std::out_of_range("Cycle::at: step past the end of " + name);
+    return std::numeric_limits<float>::quiet_NaN();
+  }
+  return v.at(k);
+}
+
+std::size_t Dataset::warning_count() const {
+  std::size_t n = 0;
+  for (const CycleReport& r : reports) {
+    n += static_cast<std::size_t>(std::count_if(r.findings.begin(), r.findings.end(), [](const Finding& f) {
+      return f.severity == Finding::Severity::warning;
+    }));
+  }
+  return n;
+}
+
+namespace {
+
+void check(const LoadOptions& o) {
+  if (!(o.dt_s > 0) || !std::isfinite(o.dt_s)) throw std::invalid_argument("LoadOptions: dt_s must be positive");
+  for (Channel c : kAllChannels) {
+    // +inf is meaningful (never give up bridging), NaN and negatives are not.
+    if (!(o.max_gap_s[index_of(c)] >= 0)) {
+      throw std::invalid_argument("LoadOptions: max_gap_s for " + std::string(channel_name(c)) +
+                                  " must be zero or positive");
+    }
+  }
+  if (!(o.min_segment_s >= 0)) throw std::invalid_argument("LoadOptions: min_segment_s must be zero or positive");
+}
+
+std::string read_whole_file(const fs::path& file) {
+  std::error_code ec;
+  if (!fs::is_regular_file(file, ec)) {
+    throw DataError(file.string() + (fs::exists(file, ec) ? ": not a regular file" : ": no such file"));
+  }
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw DataError(file.string() + ": cannot open for reading");
+  in.seekg(0, std::ios::end);
+  const std::streamoff size = in.tellg();
+  in.seekg(0, std::ios::beg);
+  std::string text(static_cast<std::size_t>(std::max<std::streamoff>(size, 0)), '\0');
+  if (!in.read(text.data(), static_cast<std::streamsize>(text.size()))) {
+    throw DataError(file.string() + ": read error");
+  }
+  return text;
+}
+
+bool is_csv(const fs::path& p) {
+  std::string ext = p.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext == ".csv";
+}
+
+std::vector<fs::path> expand(const std::vector<fs::path>& paths) {
+  std::vector<fs::path> files;
+  for (const fs::path& p : paths) {
+    std::error_code ec;
+    if (fs::is_directory(p, ec)) {
+      std::vector<fs::path> found;
+      for (const fs::directory_entry& e : fs::directory_iterator(p)) {
+        if (e.is_regular_file() && is_csv(e.path())) found.push_back(e.path());
+      }
+      if (found.empty()) throw DataError(p.string() + ": no *.csv files in this directory");
+      std::sort(found.begin(), found.end(),
+                [](const fs::path& a, const fs::path& b) { return a.filename() < b.filename(); });
+      files.insert(files.end(), found.begin(), found.end());
+    } else if (fs::exists(p, ec)) {
+      // An explicitly named file is taken whatever its extension: the user asked for it.
+      files.push_back(p);
+    } else {
+      throw DataError(p.string() + ": no such file or directory");
+    }
+  }
+  return files;
+}
+
+void append(Dataset& into, Dataset&& from) {
+  for (Cycle& c : from.cycles) into.cycles.push_back(std::move(c));
+  for (CycleReport& r : from.reports) into.reports.push_back(std::move(r));
+}
+
+}  // namespace
+
+Dataset parse_cycle_csv(std::string_view text, const fs::path& file, const LoadOptions& options) {
+  check(options);
+  return internal::assemble(internal::parse_csv(text, file), options);
+}
+
+Dataset load_cycle_file(const fs::path& file, const LoadOptions& options) {
+  check(options);
+  const std::string text = read_whole_file(file);
+  return internal::assemble(internal::parse_csv(text, file), options);
+}
+
+Dataset load_fleet_dump(const std::vector<fs::path>& paths, const LoadOptions& options) {
+  check(options);
+  Dataset all;
+  std::set<fs::path> seen;
+  for (const fs::path& file : expand(paths)) {
+    std::error_code ec;
+    fs::path key = fs::weakly_canonical(file, ec);
+    if (ec) key = file;
+    if (!seen.insert(key).second) continue;  // named twice (a directory and a file in it, say)
+    Dataset one = load_cycle_file(file, options);
+    for (CycleReport& r : one.reports) {
+      const auto clash = std::find_if(all.reports.begin(), all.reports.end(),
+                                      [&](const CycleReport& o) { return o.name == r.name; });
+      if (clash != all.reports.end()) {
+        r.findings.push_back({Finding::Severity::warning,
+                              r.file.string() + ": cycle name '" + r.name + "' is also the name of " +
+                                  clash->file.string() + "; only the file tells their cycles apart"});
+      }
+    }
+    append(all, std::move(one));
+  }
+  return all;
+}
+
+}  // namespace lptn::data

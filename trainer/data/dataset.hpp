@@ -1,0 +1,96 @@
+#pragma once
+// Fleet-dump loading: one CSV per driving cycle, resampled per channel onto a fixed time grid.
+
+#include <array>
+#include <cstddef>
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "trainer/data/channels.hpp"
+
+namespace lptn::data {
+
+struct LoadOptions {
+  double dt_s = 0.1;
+  std::array<double, kNumChannels> max_gap_s = default_max_gaps();
+  // Only pieces cut out by a split are held to this; an unsplit file is kept however short.
+  double min_segment_s = 60.0;
+};
+
+// One resampled driving cycle, or one segment of it after a split.
+struct Cycle {
+  std::string name;  // file stem; "stem#2", "stem#3"... for the segments after the first
+  std::filesystem::path file;
+  double t0_s = 0, dt_s = 0.1;  // grid: t0 + k*dt, k < steps; t0 is on the file's grid
+  std::size_t steps = 0;
+  // NaN = missing or masked. Either empty (the column is absent from the file) or `steps` long.
+  // float rather than double on purpose: fleet dumps hold hundreds of hours.
+  std::array<std::vector<float>, kNumChannels> samples;
+
+  bool has(Channel c) const;  // at least one valid sample
+  float at(Channel c, std::size_t k) const;  // NaN for an absent channel; throws past the end
+  double time_s(std::size_t k) const { return t0_s + static_cast<double>(k) * dt_s; }
+  double duration_s() const { return steps > 1 ? static_cast<double>(steps - 1) * dt_s : 0.0; }
+};
+
+struct Gap {
+  double start_s, end_s;  // times of the samples either side
+  std::size_t line_before, line_after;  // their 1-based line numbers in the file
+  enum class Action { bridged, masked, split } action;
+};
+
+struct ChannelReport {
+  Channel channel;
+  bool present = false;  // the column is in the file
+  std::size_t samples = 0;  // non-empty cells
+  double native_rate_hz = 0;  // 1 / median interval between its samples; 0 with fewer than two
+  double coverage = 0;  // fraction of the file's grid points with a valid value
+  // Every interval between consecutive samples longer than 3x the median interval or longer
+  // than the bridging limit, bridged ones included.
+  std::vector<Gap> gaps;
+};
+
+struct Finding {
+  enum class Severity { info, warning } severity;
+  std::string message;  // names the file (and line/column where there is one)
+};
+
+// One per file, whatever it was split into.
+struct CycleReport {
+  std::string name;
+  std::filesystem::path file;
+  double duration_s = 0;  // last time_s - first time_s
+  std::size_t rows = 0;  // data rows
+  std::array<ChannelReport, kNumChannels> channels;
+  std::vector<Finding> findings;
+};
+
+struct Dataset {
+  std::vector<Cycle> cycles;
+  std::vector<CycleReport> reports;
+  std::size_t warning_count() const;
+};
+
+// Message is one line: "FILE:LINE: column 'NAME': reason" (the column part is left out when no
+// column is involved, e.g. a row with the wrong number of cells). Problems of a whole column (missing,
+// duplicate, entirely empty) and of the whole file (empty, header only) point at the header line.
+class DataError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// Each path is a CSV file or a directory (its *.csv files, sorted by name, not recursive).
+// Throws DataError on the first bad file, std::invalid_argument on bad options.
+Dataset load_fleet_dump(const std::vector<std::filesystem::path>& paths, const LoadOptions& = {});
+
+// One file. The result holds one report and zero or more cycles.
+Dataset load_cycle_file(const std::filesystem::path& file, const LoadOptions& = {});
+
+// CSV text already in memory; `file` is only used for names and messages.
+Dataset parse_cycle_csv(std::string_view text, const std::filesystem::path& file,
+                        const LoadOptions& = {});
+
+}  // namespace lptn::data

@@ -1,0 +1,51 @@
+#pragma once
+// The two halves of loading one file: parsing the CSV into per-channel sample lists, then
+// resampling those onto the grid (and splitting, masking, reporting).
+
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <string_view>
+#include <vector>
+
+#include "trainer/data/channels.hpp"
+#include "trainer/data/dataset.hpp"
+
+namespace lptn::data::internal {
+
+struct RawChannel {
+  bool present = false;  // the column is in the header
+  // Sample i was in data row rows[i]; 32 bits halve the footprint and a CSV never has 4G rows.
+  std::vector<std::uint32_t> rows;
+  std::vector<double> values;
+};
+
+struct RawCycle {
+  std::filesystem::path file;
+  std::vector<double> time;  // per data row, non-decreasing
+  std::vector<std::uint32_t> line;  // per data row, its 1-based line in the file
+  std::array<RawChannel, kNumChannels> channels;
+  std::vector<Finding> findings;  // what parsing noticed but tolerated
+};
+
+// Throws DataError for everything the data contract calls an error.
+RawCycle parse_csv(std::string_view text, const std::filesystem::path& file);
+
+// One channel's samples with equal timestamps merged (values averaged).
+struct Series {
+  std::vector<double> t, v;
+  std::vector<std::uint32_t> first_line, last_line;  // of the rows merged into each sample
+};
+Series merge_duplicates(const RawCycle& raw, Channel c);
+
+// Linear interpolation of `s` at t0 + k*dt for k < steps into out[k]; NaN before the first
+// sample, after the last, and strictly inside any interval longer than max_gap_s.
+void resample(const Series& s, double t0, double dt, std::size_t steps, double max_gap_s, float* out);
+
+// Throws DataError when the grid would be unreasonably large (a typo in time_s).
+Dataset assemble(RawCycle&& raw, const LoadOptions& options);
+
+// The longest time grid a single file may span before it is taken for a broken time column.
+inline constexpr std::size_t kMaxGridPoints = 50'000'000;
+
+}  // namespace lptn::data::internal

@@ -1,0 +1,34 @@
+#pragma once
+// What `lptn inspect` prints about a loaded fleet dump, and plausibility checks against the motor.
+
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "trainer/data/dataset.hpp"
+
+namespace lptn::data {
+
+// Per file: duration, rows, each channel's native rate, samples and coverage, the gaps, the
+// findings, the segments it became; then "N cycles, H h of data, W warnings".
+std::string format_report(const Dataset& dataset);
+
+// Same content. Keys: cycles[].{name, file, duration_s, rows, channels{NAME: {present,
+// native_rate_hz, samples, coverage, gaps[{start_s, end_s, line_before, line_after, action}]}},
+// findings[{severity, message}], segments[{name, start_s, duration_s, steps}]}, cycle_count,
+// hours, warnings.
+nlohmann::json report_json(const Dataset& dataset);
+
+struct Nameplate {
+  int pole_pairs;
+  double rated_frequency_hz, rated_current_a, rated_voltage_v;
+};
+
+// Warnings, one per cycle and check, when the data does not look like this motor: current above
+// 4x rated, voltage above 1.3x rated, or stator frequency more than 10 Hz away from
+// speed * pole_pairs / 60 for more than 1% of the time both are present.
+// Throws std::invalid_argument when pole_pairs, rated current or rated voltage is not positive.
+std::vector<Finding> check_against_nameplate(const Dataset& dataset, const Nameplate& nameplate);
+
+}  // namespace lptn::data

@@ -1,0 +1,64 @@
+#include "trainer/model/simulate.hpp"
+
+#include <algorithm>
+
+namespace lptn {
+
+CycleSimulation simulate_cycle(const Model<double>& model, const ParamVector<double>& params, const data::Cycle& cycle) {
+  CycleSimulation out;
+  out.name = cycle.name;
+  for (auto& v : out.nodes) v.reserve(cycle.steps);
+  out.stator_sensor.reserve(cycle.steps);
+  out.rotor_sensor.reserve(cycle.steps);
+  run_cycle(model, params.data(), cycle, [&](std::ptrdiff_t, const double* x) {
+    for (int i = 0; i < kNumNodes; ++i) out.nodes[i].push_back(static_cast<float>(x[i]));
+    out.stator_sensor.push_back(static_cast<float>(model.stator_sensor(x)));
+    out.rotor_sensor.push_back(static_cast<float>(model.rotor_sensor(x)));
+  });
+  return out;
+}
+
+ErrorMetrics compare(const std::vector<float>& model, const data::Cycle& cycle, data::Channel measured) {
+  ErrorMetrics m;
+  double sum = 0, sum_sq = 0, sum_abs = 0;
+  const std::size_t n = std::min(model.size(), cycle.steps);
+  for (std::size_t k = 0; k < n; ++k) {
+    const float y = cycle.at(measured, k);
+    if (std::isnan(y)) continue;
+    const double e = static_cast<double>(model[k]) - y;
+    sum += e;
+    sum_sq += e * e;
+    sum_abs += std::abs(e);
+    m.max_abs_k = std::max(m.max_abs_k, std::abs(e));
+    ++m.samples;
+  }
+  if (m.samples > 0) {
+    const double count = static_cast<double>(m.samples);
+    m.rmse_k = std::sqrt(sum_sq / count);
+    m.mean_abs_k = sum_abs / count;
+    m.bias_k = sum / count;
+  }
+  return m;
+}
+
+ErrorMetrics pool(const std::vector<ErrorMetrics>& parts) {
+  ErrorMetrics m;
+  double sum_sq = 0, sum_abs = 0, sum = 0;
+  for (const ErrorMetrics& p : parts) {
+    const double n = static_cast<double>(p.samples);
+    sum_sq += p.rmse_k * p.rmse_k * n;
+    sum_abs += p.mean_abs_k * n;
+    sum += p.bias_k * n;
+    m.max_abs_k = std::max(m.max_abs_k, p.max_abs_k);
+    m.samples += p.samples;
+  }
+  if (m.samples > 0) {
+    const double n = static_cast<double>(m.samples);
+    m.rmse_k = std::sqrt(sum_sq / n);
+    m.mean_abs_k = sum_abs / n;
+    m.bias_k = sum / n;
+  }
+  return m;
+}
+
+}  // namespace lptn

@@ -1,0 +1,90 @@
+// The model run over a fleet-dump cycle: the one loop that simulation, comparison and the
+// calibrators share (templated so that calibrators can run it with Jets).
+#pragma once
+
+#include <cmath>
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "lptn/model.hpp"
+#include "trainer/data/dataset.hpp"
+
+namespace lptn {
+
+// The model's inputs at grid step k. Torque and voltage count as on the bus where they have a
+// value; the model falls back to the nameplate route for the steps where they do not.
+inline Inputs<double> inputs_at(const data::Cycle& cycle, std::size_t k) {
+  using data::Channel;
+  Inputs<double> in;
+  in.speed_rpm = cycle.at(Channel::speed_rpm, k);
+  in.current_a = cycle.at(Channel::current_a, k);
+  in.frequency_hz = cycle.at(Channel::frequency_hz, k);
+  in.airflow_m3s = cycle.at(Channel::airflow_m3s, k);
+  in.ambient_c = cycle.at(Channel::ambient_c, k);
+  const float torque = cycle.at(Channel::torque_nm, k);
+  const float voltage = cycle.at(Channel::voltage_v, k);
+  in.has_torque = !std::isnan(torque);
+  in.has_voltage = !std::isnan(voltage);
+  in.torque_nm = in.has_torque ? torque : 0.0;
+  in.voltage_v = in.has_voltage ? voltage : 0.0;
+  return in;
+}
+
+// The first valid value of a channel (NaN if there is none).
+inline double first_valid(const data::Cycle& cycle, data::Channel channel) {
+  for (std::size_t k = 0; k < cycle.steps; ++k) {
+    const float v = cycle.at(channel, k);
+    if (!std::isnan(v)) return v;
+  }
+  return std::nan("");
+}
+
+// Initial temperatures (documented rule): the stator nodes start at the first stator-winding
+// reading; the rotor nodes at the first rotor reading where the rotor is measured, else also at
+// the stator reading (a cycle starts after the motor has stood; see docs/model.md).
+template <class T>
+void initial_state_for(const Model<double>& model, const data::Cycle& cycle, T* x) {
+  const double stator = first_valid(cycle, data::Channel::stator_winding_c);
+  const double rotor = first_valid(cycle, data::Channel::rotor_c);
+  model.initial_state(x, T(stator), T(std::isnan(rotor) ? stator : rotor));
+}
+
+// Runs the model over the whole cycle; on_step(k, x) sees the state after step k's inputs were
+// applied for one step, i.e. the estimate for grid time t0 + (k + 1) dt. Grid step 0 is the
+// initial state itself and is passed as on_step(-1, x) first.
+template <class T, class OnStep>
+void run_cycle(const Model<double>& model, const T* params, const data::Cycle& cycle, OnStep&& on_step) {
+  T x[kMaxStates];
+  initial_state_for(model, cycle, x);
+  on_step(std::ptrdiff_t{-1}, static_cast<const T*>(x));
+  for (std::size_t k = 0; k + 1 < cycle.steps; ++k) {
+    model.step(x, inputs_at(cycle, k), params, cycle.dt_s);
+    on_step(static_cast<std::ptrdiff_t>(k), static_cast<const T*>(x));
+  }
+}
+
+// A cycle's simulated temperatures on the grid.
+struct CycleSimulation {
+  std::string name;
+  std::vector<float> nodes[kNumNodes];
+  std::vector<float> stator_sensor;  // what the stator sensor would read (differs from node 1 with sensor_lag)
+  std::vector<float> rotor_sensor;
+};
+
+CycleSimulation simulate_cycle(const Model<double>& model, const ParamVector<double>& params, const data::Cycle& cycle);
+
+// Model-minus-measurement statistics over the steps where the measurement exists.
+struct ErrorMetrics {
+  double rmse_k = 0;
+  double mean_abs_k = 0;
+  double max_abs_k = 0;
+  double bias_k = 0;  // mean of model - measured
+  std::size_t samples = 0;
+};
+
+ErrorMetrics compare(const std::vector<float>& model, const data::Cycle& cycle, data::Channel measured);
+// Pools several cycles' metrics into one (weighted by samples).
+ErrorMetrics pool(const std::vector<ErrorMetrics>& parts);
+
+}  // namespace lptn
