@@ -2,6 +2,7 @@
 #include <cstdio>
 #include <exception>
 #include <stdexcept>
+#include <string>
 
 #include "tools/cli/commands.hpp"
 #include "trainer/data/dataset.hpp"
@@ -14,6 +15,17 @@ int main(int argc, char** argv) {
   lptn::cli::add_generate(app);
   lptn::cli::add_inspect(app);
   lptn::cli::add_simulate(app);
+  // CLI11 would only say that a subcommand is required; name the word it did not know.
+  std::string known;
+  bool is_known = false;
+  for (const CLI::App* sub : app.get_subcommands({})) {
+    known += (known.empty() ? "" : ", ") + sub->get_name();
+    is_known = is_known || (argc > 1 && sub->get_name() == argv[1]);
+  }
+  if (argc > 1 && argv[1][0] != '-' && !is_known) {
+    std::fprintf(stderr, "lptn: error: unknown subcommand '%s' (known: %s)\n", argv[1], known.c_str());
+    return 2;
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

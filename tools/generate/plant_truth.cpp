@@ -30,7 +30,7 @@ ParamVector<double> true_parameters() {
   p[kLambda2r] = 45.0;
   p[kLambda12r] = 150.0;
   // The effects, where hidden in the data.
-  p[param_index("airgap_lambda")] = 120.0;
+  p[param_index("airgap_lambda")] = 400.0;
   p[param_index("windage_base_w")] = 900.0;
   p[param_index("air_heating_fraction")] = 0.7;
   p[param_index("rotor_convection_gain")] = 0.8;

@@ -1,0 +1,119 @@
+// The lptn program as a user meets it: --help everywhere, one-line errors with non-zero exits,
+// nothing half-written, and generate's output passing inspect without warnings.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "temp_dir.hpp"
+
+namespace lptn {
+namespace {
+
+struct Result {
+  int code;
+  std::string out;  // stdout
+  std::string err;  // stderr
+};
+
+Result run(const std::string& args, const std::filesystem::path& scratch) {
+  const auto out = scratch / "stdout.txt", err = scratch / "stderr.txt";
+  const std::string cmd = std::string(LPTN_BINARY) + " " + args + " >" + out.string() + " 2>" + err.string();
+  const int status = std::system(cmd.c_str());
+  auto slurp = [](const std::filesystem::path& p) {
+    std::ifstream in(p);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(out), slurp(err)};
+}
+
+int lines(const std::string& s) { return static_cast<int>(std::count(s.begin(), s.end(), '\n')); }
+
+TEST(Cli, EverySubcommandHasHelp) {
+  testing::TempDir t;
+  for (const char* sub : {"generate", "inspect", "simulate"}) {
+    const Result r = run(std::string(sub) + " --help", t.path());
+    EXPECT_EQ(r.code, 0) << sub;
+    EXPECT_NE(r.out.find("--"), std::string::npos) << sub;
+  }
+  EXPECT_EQ(run("--help", t.path()).code, 0);
+}
+
+TEST(Cli, GeneratedDataPassesInspectWithoutWarnings) {
+  testing::TempDir t;
+  const auto data = t.path() / "fleet";
+  const Result g = run("generate --out " + data.string() + " --cycles 3 --seed 2 --minutes-min 20 --minutes-max 25", t.path());
+  ASSERT_EQ(g.code, 0) << g.err;
+  EXPECT_NE(g.out.find(data.string()), std::string::npos);  // says where the output went
+  EXPECT_EQ(lines(g.err), 3);                               // one progress line a cycle
+  const Result i = run("inspect --data " + data.string() + " --motor " + (data / "motor.toml").string() + " --json", t.path());
+  ASSERT_EQ(i.code, 0) << i.err;
+  const auto report = nlohmann::json::parse(i.out);
+  EXPECT_EQ(report["warnings"], 0);
+  EXPECT_EQ(report["cycles"].size(), 3u);
+  EXPECT_EQ(run("inspect --strict --data " + data.string(), t.path()).code, 0);
+}
+
+TEST(Cli, SimulateComparesAndWritesTraces) {
+  testing::TempDir t;
+  const auto data = t.path() / "fleet";
+  ASSERT_EQ(run("generate --out " + data.string() + " --cycles 2 --seed 2 --minutes-min 15 --minutes-max 15", t.path()).code, 0);
+  const auto traces = t.path() / "traces";
+  const Result s = run("simulate --json --data " + data.string() + " --motor " + (data / "motor.toml").string() +
+                           " --set lambda_1s=24 --set lambda_2s=65 --set lambda_12s=110 --set lambda_1r=21 "
+                           "--set lambda_2r=45 --set lambda_12r=150 --out " + traces.string(),
+                       t.path());
+  ASSERT_EQ(s.code, 0) << s.err;
+  const auto j = nlohmann::json::parse(s.out);
+  // The true parameters reproduce the plant to about the sensor noise (0.4 K).
+  EXPECT_LT(j["overall"]["stator"]["rmse_k"].get<double>(), 0.6);
+  EXPECT_GT(j["overall"]["stator"]["rmse_k"].get<double>(), 0.3);
+  EXPECT_TRUE(std::filesystem::exists(traces / "metrics.json"));
+  EXPECT_TRUE(std::filesystem::exists(traces / "cycle_01_suburban.csv"));
+  // The motor file's initial guesses do not.
+  const Result guess = run("simulate --json --data " + data.string() + " --motor " + (data / "motor.toml").string(), t.path());
+  EXPECT_GT(nlohmann::json::parse(guess.out)["overall"]["stator"]["rmse_k"].get<double>(), 3.0);
+}
+
+TEST(Cli, BadInputGivesOneLineAndANonZeroExitAndNoOutput) {
+  testing::TempDir t;
+  const auto data = t.path() / "fleet";
+  ASSERT_EQ(run("generate --out " + data.string() + " --cycles 1 --seed 2 --minutes-min 10 --minutes-max 10", t.path()).code, 0);
+  // A cycle file with a non-numeric cell on line 3.
+  {
+    std::ifstream in(data / "cycle_01_suburban.csv");
+    std::ofstream bad(t.path() / "bad.csv");
+    std::string line;
+    for (int n = 1; std::getline(in, line) && n <= 50; ++n) bad << (n == 3 ? line.replace(line.find(','), 1, ",x") : line) << '\n';
+  }
+  struct Case {
+    std::string args, must_name;
+  };
+  const Case cases[] = {
+      {"inspect --data " + (t.path() / "bad.csv").string(), "bad.csv:3:"},
+      {"inspect --data " + (t.path() / "nowhere").string(), "nowhere"},
+      {"simulate --data " + data.string() + " --motor " + (t.path() / "missing.toml").string() + " --out " + (t.path() / "o1").string(), "missing.toml"},
+      {"simulate --data " + (t.path() / "bad.csv").string() + " --motor " + (data / "motor.toml").string() + " --out " + (t.path() / "o2").string(), "bad.csv:3:"},
+      {"simulate --data " + data.string() + " --motor " + (data / "motor.toml").string() + " --set lambda_9=3 --out " + (t.path() / "o3").string(), "lambda_9"},
+      {"generate --out " + (t.path() / "g1").string() + " --hidden warp_drive", "warp_drive"},
+      {"generate --out " + data.string(), "exists"},
+      {"generate --cycles 0 --out " + (t.path() / "g2").string(), "--cycles"},
+      {"frobnicate", "frobnicate"},
+  };
+  for (const Case& c : cases) {
+    const Result r = run(c.args, t.path());
+    EXPECT_NE(r.code, 0) << c.args;
+    EXPECT_EQ(lines(r.err), 1) << c.args << "\n" << r.err;
+    EXPECT_NE(r.err.find(c.must_name), std::string::npos) << c.args << "\n" << r.err;
+  }
+  for (const char* never : {"o1", "o2", "o3", "g1", "g2"}) EXPECT_FALSE(std::filesystem::exists(t.path() / never)) << never;
+  // Nothing temporary left behind either.
+  for (const auto& entry : std::filesystem::directory_iterator(t.path()))
+    EXPECT_EQ(entry.path().filename().string().find(".tmp-"), std::string::npos) << entry.path();
+}
+
+}  // namespace
+}  // namespace lptn
