@@ -294,7 +294,7 @@ std::string num(double v) {
 std::string format_motor_file(const MotorFile& motor) {
   const MotorConstants<double>& c = motor.constants;
   std::ostringstream o;
-  o << "# Motor description for lptn (see docs/motor-file.md). Keys carry their units.\n";
+  o << "# Motor description for lptn (see README.md, 'The motor file'). Keys carry their units.\n";
   o << "name = \"" << motor.name << "\"\n\n";
   o << "[nameplate]\npole_pairs = " << c.pole_pairs << "\nrated_frequency_hz = " << num(c.rated_frequency_hz)
     << "\nrated_voltage_v = " << num(c.rated_voltage_v) << "          # line, RMS\nrated_current_a = " << num(c.rated_current_a)

@@ -42,7 +42,7 @@ inline double first_valid(const data::Cycle& cycle, data::Channel channel) {
 
 // Initial temperatures (documented rule): the stator nodes start at the first stator-winding
 // reading; the rotor nodes at the first rotor reading where the rotor is measured, else also at
-// the stator reading (a cycle starts after the motor has stood; see docs/model.md).
+// the stator reading (a cycle starts after the motor has stood; see README.md, "The model").
 template <class T>
 void initial_state_for(const Model<double>& model, const data::Cycle& cycle, T* x) {
   const double stator = first_valid(cycle, data::Channel::stator_winding_c);
