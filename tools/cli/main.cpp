@@ -8,6 +8,14 @@
 #include "trainer/data/dataset.hpp"
 #include "trainer/model/motor_file.hpp"
 
+namespace {
+// Bad input of any kind: one line naming what was wrong, exit code 2.
+int bad_input(const std::exception& e) {
+  std::fprintf(stderr, "lptn: error: %s\n", e.what());
+  return 2;
+}
+}  // namespace
+
 int main(int argc, char** argv) {
   CLI::App app{"lptn: lumped-parameter thermal network estimator for traction motors"};
   app.require_subcommand(1);
@@ -38,17 +46,13 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "lptn: error: %s (see --help)\n", e.what());
     return 2;
   } catch (const lptn::data::DataError& e) {
-    std::fprintf(stderr, "lptn: error: %s\n", e.what());
-    return 2;
+    return bad_input(e);
   } catch (const lptn::MotorFileError& e) {
-    std::fprintf(stderr, "lptn: error: %s\n", e.what());
-    return 2;
+    return bad_input(e);
   } catch (const lptn::cli::BadInput& e) {
-    std::fprintf(stderr, "lptn: error: %s\n", e.what());
-    return 2;
+    return bad_input(e);
   } catch (const std::invalid_argument& e) {
-    std::fprintf(stderr, "lptn: error: %s\n", e.what());
-    return 2;
+    return bad_input(e);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "lptn: failed: %s\n", e.what());
     return 1;
