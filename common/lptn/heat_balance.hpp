@@ -22,9 +22,6 @@ struct HeatBalance {
   T a[kMaxStates][kMaxStates]{};   // before finish(): W/K; after: 1/s
   T c[kMaxStates]{};               // before finish(): W;   after: K/s
   T capacitance[kMaxStates]{};     // J/K; 1 for states that carry a rate directly (sensor models)
-  // Which state each temperature sensor reads; a sensor model redirects these.
-  int stator_sensor_state = kStatorWinding;
-  int rotor_sensor_state = kRotorWinding;
 
   void reset(int states) {
     n = states;
@@ -33,8 +30,6 @@ struct HeatBalance {
       capacitance[i] = T(1);
       for (int j = 0; j < kMaxStates; ++j) a[i][j] = T(0);
     }
-    stator_sensor_state = kStatorWinding;
-    rotor_sensor_state = kRotorWinding;
   }
 
   // A conductance g (W/K) between two states: heat flows from the hotter to the colder.

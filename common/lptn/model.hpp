@@ -82,10 +82,8 @@ class Model {
   OperatingLosses<R> assemble(const Inputs<R>& in, const T* p, HeatBalance<T>& sys) const {
     using std::abs;
     const OperatingLosses<R> losses = operating_losses(motor_, in);
-    R airflow = in.airflow_m3s;
-    const R floor = motor_.min_airflow_fraction * motor_.nominal_airflow_m3s;
-    if (airflow < floor) airflow = floor;
-    const EffectInputs<R> e{motor_, in, losses, abs(in.speed_rpm) / motor_.base_speed_rpm(), airflow};
+    const EffectInputs<R> e{motor_, in, losses, abs(in.speed_rpm) / motor_.base_speed_rpm(),
+                            effective_airflow(motor_, in.airflow_m3s)};
 
     StepConductances<T> g = paper_conductances(motor_, in, p);
     EffectLibrary::for_each_enabled(effects_, [&](auto index, auto* tag) {

@@ -149,13 +149,18 @@ OperatingLosses<R> operating_losses(const MotorConstants<R>& m, const Inputs<R>&
   return l;
 }
 
+// The airflow that cools: the blower's, but never below the natural-convection floor.
+template <class R>
+R effective_airflow(const MotorConstants<R>& m, R airflow_m3s) {
+  const R floor = m.min_airflow_fraction * m.nominal_airflow_m3s;
+  return airflow_m3s < floor ? floor : airflow_m3s;
+}
+
 // Eq. 14: how much the conductances to the air grow or shrink with the cooling airflow.
 template <class R>
 R airflow_factor(const MotorConstants<R>& m, R airflow_m3s) {
   using std::pow;
-  R rel = airflow_m3s / m.nominal_airflow_m3s;
-  if (rel < m.min_airflow_fraction) rel = m.min_airflow_fraction;
-  return pow(rel, m.airflow_exponent);
+  return pow(effective_airflow(m, airflow_m3s) / m.nominal_airflow_m3s, m.airflow_exponent);
 }
 
 // Conductances of one step (W/K): those to the air already scaled with airflow (eq. 14).

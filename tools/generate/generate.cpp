@@ -159,35 +159,34 @@ std::vector<CycleSummary> generate(const GenerateOptions& options, const std::fi
 
       const double stamp = t + rng.uniform(-0.004, 0.004);
       if (!in_any(lost_rows, t)) {
-        std::string& line = csv;
-        put(line, stamp, 3);
-        line += ',';
-        if (!in_any(long_speed, t)) put(line, in.speed_rpm + 1.0 * rng.normal(), 1);
-        line += ',';
-        put(line, in.torque_nm + 5.0 * rng.normal(), 1);
-        line += ',';
-        put(line, std::max(0.0, in.current_a + 0.5 * rng.normal()), 2);
-        line += ',';
-        put(line, in.frequency_hz + 0.02 * rng.normal(), 3);
-        line += ',';
-        put(line, std::max(0.0, in.voltage_v + 3.0 * rng.normal()), 1);
-        line += ',';
-        if (k % 10 == 0) put(line, std::max(0.0, in.airflow_m3s + 0.01 * rng.normal()), 3);
-        line += ',';
-        if (k % 50 == 0) put(line, quantize(in.ambient_c + 0.1 * rng.normal(), 0.1), 1);
-        line += ',';
+        put(csv, stamp, 3);
+        csv += ',';
+        if (!in_any(long_speed, t)) put(csv, in.speed_rpm + 1.0 * rng.normal(), 1);
+        csv += ',';
+        put(csv, in.torque_nm + 5.0 * rng.normal(), 1);
+        csv += ',';
+        put(csv, std::max(0.0, in.current_a + 0.5 * rng.normal()), 2);
+        csv += ',';
+        put(csv, in.frequency_hz + 0.02 * rng.normal(), 3);
+        csv += ',';
+        put(csv, std::max(0.0, in.voltage_v + 3.0 * rng.normal()), 1);
+        csv += ',';
+        if (k % 10 == 0) put(csv, std::max(0.0, in.airflow_m3s + 0.01 * rng.normal()), 3);
+        csv += ',';
+        if (k % 50 == 0) put(csv, quantize(in.ambient_c + 0.1 * rng.normal(), 0.1), 1);
+        csv += ',';
         if (k % 10 == 0 && !in_any(lost_stator, t) && !in_any(long_stator, t)) {
           const double reading = plant_model.stator_sensor(x) + sensors.stator_noise_k * rng.normal();
-          put(line, quantize(reading, sensors.temperature_resolution_k), 1);
+          put(csv, quantize(reading, sensors.temperature_resolution_k), 1);
         }
         if (options.rotor_sensor) {
-          line += ',';
+          csv += ',';
           if (k % 10 == 5) {
             const double reading = plant_model.rotor_sensor(x) + sensors.rotor_noise_k * rng.normal();
-            put(line, quantize(reading, sensors.temperature_resolution_k), 1);
+            put(csv, quantize(reading, sensors.temperature_resolution_k), 1);
           }
         }
-        line += '\n';
+        csv += '\n';
       }
       for (int sub = 0; sub < kTruthSubsteps; ++sub) plant_model.step(x, in, truth.data(), kLogStepS / kTruthSubsteps);
     }

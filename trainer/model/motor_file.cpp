@@ -197,9 +197,9 @@ MotorFile parse_motor_file(const std::string& text, const std::filesystem::path&
     }
     c.harmonic_points = static_cast<int>(f.size());
     // The loss-split factors live here unless [parameters.NAME] takes them over for calibration.
+    const toml::table* params = root.get_as<toml::table>("parameters");
     for (int i = kKStemp; i <= kKPfe; ++i) {
       const std::string_view key = param_spec(i).name;
-      const toml::table* params = root.get_as<toml::table>("parameters");
       const bool calibrated_instead = params && params->get(key);
       if (calibrated_instead) {
         if (losses.get(key))

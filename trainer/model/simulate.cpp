@@ -3,6 +3,23 @@
 #include <algorithm>
 
 namespace lptn {
+namespace {
+
+// The statistics from running sums over `samples` residuals.
+ErrorMetrics finish(double sum, double sum_sq, double sum_abs, double max_abs, std::size_t samples) {
+  ErrorMetrics m;
+  m.max_abs_k = max_abs;
+  m.samples = samples;
+  if (samples > 0) {
+    const double n = static_cast<double>(samples);
+    m.rmse_k = std::sqrt(sum_sq / n);
+    m.mean_abs_k = sum_abs / n;
+    m.bias_k = sum / n;
+  }
+  return m;
+}
+
+}  // namespace
 
 CycleSimulation simulate_cycle(const Model<double>& model, const ParamVector<double>& params, const data::Cycle& cycle) {
   CycleSimulation out;
@@ -19,8 +36,8 @@ CycleSimulation simulate_cycle(const Model<double>& model, const ParamVector<dou
 }
 
 ErrorMetrics compare(const std::vector<float>& model, const data::Cycle& cycle, data::Channel measured) {
-  ErrorMetrics m;
-  double sum = 0, sum_sq = 0, sum_abs = 0;
+  double sum = 0, sum_sq = 0, sum_abs = 0, max_abs = 0;
+  std::size_t samples = 0;
   const std::size_t n = std::min(model.size(), cycle.steps);
   for (std::size_t k = 0; k < n; ++k) {
     const float y = cycle.at(measured, k);
@@ -29,36 +46,24 @@ ErrorMetrics compare(const std::vector<float>& model, const data::Cycle& cycle, 
     sum += e;
     sum_sq += e * e;
     sum_abs += std::abs(e);
-    m.max_abs_k = std::max(m.max_abs_k, std::abs(e));
-    ++m.samples;
+    max_abs = std::max(max_abs, std::abs(e));
+    ++samples;
   }
-  if (m.samples > 0) {
-    const double count = static_cast<double>(m.samples);
-    m.rmse_k = std::sqrt(sum_sq / count);
-    m.mean_abs_k = sum_abs / count;
-    m.bias_k = sum / count;
-  }
-  return m;
+  return finish(sum, sum_sq, sum_abs, max_abs, samples);
 }
 
 ErrorMetrics pool(const std::vector<ErrorMetrics>& parts) {
-  ErrorMetrics m;
-  double sum_sq = 0, sum_abs = 0, sum = 0;
+  double sum = 0, sum_sq = 0, sum_abs = 0, max_abs = 0;
+  std::size_t samples = 0;
   for (const ErrorMetrics& p : parts) {
     const double n = static_cast<double>(p.samples);
+    sum += p.bias_k * n;
     sum_sq += p.rmse_k * p.rmse_k * n;
     sum_abs += p.mean_abs_k * n;
-    sum += p.bias_k * n;
-    m.max_abs_k = std::max(m.max_abs_k, p.max_abs_k);
-    m.samples += p.samples;
+    max_abs = std::max(max_abs, p.max_abs_k);
+    samples += p.samples;
   }
-  if (m.samples > 0) {
-    const double n = static_cast<double>(m.samples);
-    m.rmse_k = std::sqrt(sum_sq / n);
-    m.mean_abs_k = sum_abs / n;
-    m.bias_k = sum / n;
-  }
-  return m;
+  return finish(sum, sum_sq, sum_abs, max_abs, samples);
 }
 
 }  // namespace lptn
