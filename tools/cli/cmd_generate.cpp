@@ -3,7 +3,7 @@
 #include <sstream>
 #include <string>
 
-#include "tools/cli/atomic_output.hpp"
+#include "trainer/io/atomic_output.hpp"
 #include "tools/cli/commands.hpp"
 #include "tools/generate/generate.hpp"
 

@@ -5,7 +5,7 @@
 #include <filesystem>
 #include <string>
 
-namespace lptn::cli {
+namespace lptn {
 
 // Writes `text` to `path` atomically (temporary file in the same directory, then rename).
 void write_file_atomically(const std::filesystem::path& path, const std::string& text);
@@ -30,4 +30,4 @@ class AtomicDirectory {
   bool committed_ = false;
 };
 
-}  // namespace lptn::cli
+}  // namespace lptn

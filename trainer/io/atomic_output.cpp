@@ -1,4 +1,4 @@
-#include "tools/cli/atomic_output.hpp"
+#include "trainer/io/atomic_output.hpp"
 
 #include <unistd.h>
 
@@ -6,7 +6,7 @@
 #include <stdexcept>
 #include <system_error>
 
-namespace lptn::cli {
+namespace lptn {
 namespace fs = std::filesystem;
 
 namespace {
@@ -73,4 +73,4 @@ void AtomicDirectory::commit() {
   committed_ = true;
 }
 
-}  // namespace lptn::cli
+}  // namespace lptn

@@ -1,0 +1,130 @@
+// calibration.json: what a calibration found, how, from which data, and how well it fits.
+// The key reference is docs/calibration.md; keys are stable (tests and the report read them).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "lptn/model.hpp"
+#include "trainer/model/simulate.hpp"
+
+namespace lptn {
+
+// Bumped whenever a key changes meaning; a reader refuses any other version.
+inline constexpr int kCalibrationFormatVersion = 1;
+
+// A bad calibration file; one line: "FILE: field 'a.b[3].c': reason".
+class CalibrationFileError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// Model-minus-measurement statistics of one cycle; rotor.samples == 0 where the rotor is not measured.
+struct CycleMetrics {
+  std::string name;
+  ErrorMetrics stator;
+  ErrorMetrics rotor;
+};
+
+// One side of the split: every cycle and the pooled figures.
+struct SplitMetrics {
+  ErrorMetrics stator;
+  ErrorMetrics rotor;
+  std::vector<CycleMetrics> cycles;
+};
+
+struct ParameterResult {
+  std::string name;  // as in param_spec(); the vector below is in the model's fixed parameter order
+  std::string unit;
+  double value = 0;     // the calibrated value (or the fixed one where calibrated == false)
+  double initial = 0;   // where the calibrator started
+  double min = 0, max = 0;
+  bool calibrated = false;
+  double std_error = std::numeric_limits<double>::quiet_NaN();  // LM only; NaN where unknown
+};
+
+// A parameter pair the data cannot tell apart (LM): |correlation| at or above the flag threshold.
+struct CorrelatedPair {
+  std::string a, b;
+  double correlation = 0;
+};
+
+// One dense layer, y = W x + b, W row-major (out rows of in columns).
+struct ActorLayer {
+  int in = 0, out = 0;
+  std::vector<float> weight;
+  std::vector<float> bias;
+};
+
+// The frozen TD3 actor: observation -> normalized parameters in [-1, 1] -> physical values.
+// obs_i = (raw_i - obs_offset_i) / obs_scale_i with raw = {speed_rpm, torque_nm}; layers with
+// ReLU between them and tanh after the last; output j drives parameter param_indices[j] through
+// from_normalized(u, min, max) with that parameter's bounds (ParameterResult::min/max).
+struct ActorExport {
+  std::array<double, 2> obs_offset{0, 0};
+  std::array<double, 2> obs_scale{1, 1};
+  std::vector<ActorLayer> layers;
+  std::vector<int> param_indices;
+  // libtorch's own output for a few observations, kept so that any other forward pass (the
+  // exported header's) can prove it matches: check_obs is n x 2 (normalized), check_actions n x P
+  // (tanh outputs, before scaling).
+  std::vector<float> check_obs;
+  std::vector<float> check_actions;
+};
+
+struct DataFile {
+  std::string cycle;  // cycle name
+  std::string file;   // file name as given
+  std::string sha256;  // of the file's bytes
+};
+
+struct CalibrationResult {
+  int format_version = kCalibrationFormatVersion;
+  std::string created_utc;   // ISO 8601, e.g. "2026-11-21T10:00:00Z"
+  std::string lptn_version;  // "lptn 0.1.0"
+
+  // The motor file the calibration started from, whole, so that the result alone rebuilds the model.
+  std::string motor_name;
+  std::string motor_file;  // path as given
+  std::string motor_text;  // its full TOML text
+  EffectSet effects = 0;
+
+  std::vector<ParameterResult> parameters;  // kNumParams entries, model order
+  std::vector<CorrelatedPair> correlated;   // LM only
+
+  std::string method;         // "lm", "td3" (the paper's per-step formulation) or "td3-episode"
+  nlohmann::json settings;    // the method's settings as used (free form, method-specific)
+  nlohmann::json details;     // what the run reported: iterations, cost, training curve, seconds...
+  double seconds = 0;         // wall time of the calibration itself
+
+  std::vector<DataFile> data;  // every file the run read, train and test
+  std::string data_sha256;     // over the per-file hashes in cycle order
+  std::vector<std::string> train_cycles, test_cycles;
+  std::string split_rule;      // "--test-cycles a,b" or "fraction 0.33, seed 1"
+
+  SplitMetrics train, test;
+
+  bool has_actor = false;
+  ActorExport actor;
+
+  ParamVector<double> values() const;  // parameters[i].value in model order
+};
+
+nlohmann::json to_json(const CalibrationResult& result);
+CalibrationResult calibration_from_json(const nlohmann::json& j, const std::string& shown_as);
+
+// Atomic: a temporary beside `path`, renamed over it.
+void save_calibration(const CalibrationResult& result, const std::filesystem::path& path);
+CalibrationResult load_calibration(const std::filesystem::path& path);
+
+// SHA-256 of a file's bytes, lower-case hex.
+std::string sha256_file(const std::filesystem::path& path);
+std::string sha256_hex(const void* data, std::size_t size);
+
+}  // namespace lptn
