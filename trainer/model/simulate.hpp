@@ -2,7 +2,9 @@
 // calibrators share (templated so that calibrators can run it with Jets).
 #pragma once
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstddef>
 #include <string>
 #include <vector>
@@ -40,25 +42,41 @@ inline double first_valid(const data::Cycle& cycle, data::Channel channel) {
   return std::nan("");
 }
 
-// Initial temperatures (documented rule): the stator nodes start at the first stator-winding
-// reading; the rotor nodes at the first rotor reading where the rotor is measured, else also at
-// the stator reading (a cycle starts after the motor has stood; see README.md, "The model").
+// The nodes no sensor sees start at the rule's value plus these offsets (K). Calibration
+// estimates them per cycle (trainer/calibrate/lm.hpp, estimate_initial_offsets); zero means the
+// rule alone.
 template <class T>
-void initial_state_for(const Model<double>& model, const data::Cycle& cycle, T* x) {
+struct InitialOffsets {
+  T stator_core = T(0);
+  T rotor_core = T(0);
+};
+
+// Initial temperatures (README.md "The model"): each measured node starts at its sensor's first
+// reading. The nodes no sensor sees start where a motor that has stood would be, soaked through:
+// the stator core at the stator winding's reading, the rotor core at the rotor reading (where the
+// rotor is not measured, both rotor nodes at the stator's), plus the cycle's offsets.
+template <class T>
+void initial_state_for(const Model<double>& model, const data::Cycle& cycle, T* x,
+                       const InitialOffsets<T>& offsets = {}) {
   const double stator = first_valid(cycle, data::Channel::stator_winding_c);
   const double rotor = first_valid(cycle, data::Channel::rotor_c);
   model.initial_state(x, T(stator), T(std::isnan(rotor) ? stator : rotor));
+  x[kStatorCore] = x[kStatorCore] + offsets.stator_core;
+  x[kRotorCore] = x[kRotorCore] + offsets.rotor_core;
+  if (std::isnan(rotor)) x[kRotorWinding] = x[kRotorWinding] + offsets.rotor_core;
 }
 
-// Runs the model over the whole cycle; on_step(k, x) sees the state after step k's inputs were
-// applied for one step, i.e. the estimate for grid time t0 + (k + 1) dt. Grid step 0 is the
-// initial state itself and is passed as on_step(-1, x) first.
+// Runs the model over the whole cycle (or its first `max_steps` grid steps); on_step(k, x) sees
+// the state after step k's inputs were applied for one step, i.e. the estimate for grid time
+// t0 + (k + 1) dt. Grid step 0 is the initial state itself and is passed as on_step(-1, x) first.
 template <class T, class OnStep>
-void run_cycle(const Model<double>& model, const T* params, const data::Cycle& cycle, OnStep&& on_step) {
+void run_cycle(const Model<double>& model, const T* params, const data::Cycle& cycle, OnStep&& on_step,
+               const InitialOffsets<T>& offsets = {}, std::size_t max_steps = SIZE_MAX) {
   T x[kMaxStates];
-  initial_state_for(model, cycle, x);
+  initial_state_for(model, cycle, x, offsets);
   on_step(std::ptrdiff_t{-1}, static_cast<const T*>(x));
-  for (std::size_t k = 0; k + 1 < cycle.steps; ++k) {
+  const std::size_t steps = std::min(cycle.steps, max_steps);
+  for (std::size_t k = 0; k + 1 < steps; ++k) {
     model.step(x, inputs_at(cycle, k), params, cycle.dt_s);
     on_step(static_cast<std::ptrdiff_t>(k), static_cast<const T*>(x));
   }
@@ -72,7 +90,8 @@ struct CycleSimulation {
   std::vector<float> rotor_sensor;
 };
 
-CycleSimulation simulate_cycle(const Model<double>& model, const ParamVector<double>& params, const data::Cycle& cycle);
+CycleSimulation simulate_cycle(const Model<double>& model, const ParamVector<double>& params, const data::Cycle& cycle,
+                               const InitialOffsets<double>& offsets = {});
 
 // Model-minus-measurement statistics over the steps where the measurement exists.
 struct ErrorMetrics {

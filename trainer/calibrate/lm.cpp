@@ -1,0 +1,328 @@
+#include "trainer/calibrate/lm.hpp"
+
+#include <ceres/ceres.h>
+
+#include <Eigen/Dense>
+#include <chrono>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <stdexcept>
+
+#include "trainer/model/simulate.hpp"
+
+namespace lptn {
+namespace {
+
+constexpr int kOffsets = 2;  // per cycle: the stator core's and the rotor core's initial offset
+
+// One cycle's residuals as a function of the free parameters' internal coordinates (block 0) and
+// the cycle's initial offsets (block 1). The Jacobian comes from running the same simulation with
+// ceres::Jet<double, N> (N >= free parameters + 2): derivatives propagate exactly through
+// assembly, LU and both SDIRK stages.
+template <int N>
+class CycleResiduals final : public ceres::CostFunction {
+ public:
+  CycleResiduals(const Model<double>& model, const data::Cycle& cycle, const FreeParameters& free,
+                 const ParamVector<double>& fixed, std::size_t max_steps)
+      : model_(model), cycle_(cycle), free_(free), fixed_(fixed), max_steps_(std::min(max_steps, cycle.steps)) {
+    int count = 0;
+    for (std::size_t k = 1; k < max_steps_; ++k)
+      count += measured(k, data::Channel::stator_winding_c) + measured(k, data::Channel::rotor_c);
+    set_num_residuals(count);
+    mutable_parameter_block_sizes()->push_back(static_cast<int>(free.size()));
+    mutable_parameter_block_sizes()->push_back(kOffsets);
+  }
+
+  bool Evaluate(double const* const* blocks, double* residuals, double** jacobians) const override {
+    const std::size_t nf = free_.size();
+    const double* theta = blocks[0];
+    const double* offset = blocks[1];
+    if (jacobians == nullptr || (jacobians[0] == nullptr && jacobians[1] == nullptr)) {
+      ParamVector<double> p = fixed_;
+      for (std::size_t j = 0; j < nf; ++j) p[free_.index[j]] = free_.to_physical(j, theta[j]);
+      return fill(p, InitialOffsets<double>{offset[0], offset[1]}, [&](std::size_t r, const double& e) { residuals[r] = e; });
+    }
+    using Jet = ceres::Jet<double, N>;
+    ParamVector<Jet> p;
+    for (int i = 0; i < kNumParams; ++i) p[i] = Jet(fixed_[i]);
+    for (std::size_t j = 0; j < nf; ++j) {
+      const double value = free_.to_physical(j, theta[j]);
+      p[free_.index[j]] = Jet(value, static_cast<int>(j));
+      p[free_.index[j]].v[static_cast<int>(j)] = free_.slope(j, value);  // chain rule into internal coordinates
+    }
+    const InitialOffsets<Jet> start{Jet(offset[0], static_cast<int>(nf)), Jet(offset[1], static_cast<int>(nf) + 1)};
+    return fill(p, start, [&](std::size_t r, const Jet& e) {
+      residuals[r] = e.a;
+      if (jacobians[0] != nullptr)
+        for (std::size_t j = 0; j < nf; ++j) jacobians[0][r * nf + j] = e.v[static_cast<int>(j)];
+      if (jacobians[1] != nullptr)
+        for (int j = 0; j < kOffsets; ++j) jacobians[1][r * kOffsets + static_cast<std::size_t>(j)] = e.v[static_cast<int>(nf) + j];
+    });
+  }
+
+ private:
+  bool measured(std::size_t k, data::Channel c) const { return !std::isnan(cycle_.at(c, k)); }
+
+  // Runs the cycle and hands each residual (model - measured) to `put` in a fixed order: per grid
+  // step after the first, the stator then the rotor, where measured. (Grid step 0 is the initial
+  // state, which starts at the measurement by construction.) False if the numbers left finite.
+  template <class T, class Put>
+  bool fill(const ParamVector<T>& p, const InitialOffsets<T>& start, Put&& put) const {
+    std::size_t r = 0;
+    bool finite = true;
+    run_cycle(model_, p.data(), cycle_, [&](std::ptrdiff_t k, const T* x) {
+      if (k < 0) return;
+      const auto grid = static_cast<std::size_t>(k + 1);
+      const float ys = cycle_.at(data::Channel::stator_winding_c, grid);
+      const float yr = cycle_.at(data::Channel::rotor_c, grid);
+      if (!std::isnan(ys)) put(r++, model_.stator_sensor(x) - T(ys));
+      if (!std::isnan(yr)) put(r++, model_.rotor_sensor(x) - T(yr));
+      finite = finite && std::isfinite(value_of(x[0]));
+    }, start, max_steps_);
+    return finite;
+  }
+
+  const Model<double>& model_;
+  const data::Cycle& cycle_;
+  const FreeParameters& free_;
+  const ParamVector<double>& fixed_;
+  std::size_t max_steps_;
+};
+
+// The smallest Jet that carries `n` derivatives.
+ceres::CostFunction* make_residuals(const Model<double>& model, const data::Cycle& cycle, const FreeParameters& free,
+                                    const ParamVector<double>& fixed, std::size_t max_steps) {
+  const std::size_t n = free.size() + kOffsets;
+  if (n <= 4) return new CycleResiduals<4>(model, cycle, free, fixed, max_steps);
+  if (n <= 10) return new CycleResiduals<10>(model, cycle, free, fixed, max_steps);
+  static_assert(kNumParams + kOffsets <= 18);
+  return new CycleResiduals<18>(model, cycle, free, fixed, max_steps);
+}
+
+constexpr double kOffsetBoundK = 40.0;
+
+// How many grid residuals carry the information of one independent one: 1 + 2 sum rho_k over the
+// residuals' autocorrelation, summed while it stays positive (Geyer's initial positive sequence).
+// Sensors read at 1 Hz are interpolated onto the 10 Hz grid, and a model that is not quite right
+// leaves slow residual structure; both make J^T J count the same information many times.
+double correlation_time(const std::vector<std::vector<double>>& series) {
+  constexpr std::size_t kMaxLag = 6000;  // ten minutes at 10 Hz
+  double var = 0, count = 0;
+  for (const auto& r : series)
+    for (double e : r) {
+      var += e * e;
+      count += 1;
+    }
+  if (count < 2 || var <= 0) return 1.0;
+  var /= count;
+  double tau = 1.0;
+  for (std::size_t lag = 1; lag < kMaxLag; ++lag) {
+    double c = 0, n = 0;
+    for (const auto& r : series)
+      for (std::size_t k = lag; k < r.size(); ++k) {
+        c += r[k] * r[k - lag];
+        n += 1;
+      }
+    if (n < 100) break;
+    const double rho = c / n / var;
+    if (rho <= 0) break;
+    tau += 2 * rho;
+  }
+  return tau;
+}
+
+// Residual series (model - measured, demeaned per cycle) of one channel over the fitted cycles.
+std::vector<std::vector<double>> residual_series(const Model<double>& model, const ParamVector<double>& p,
+                                                 const data::Dataset& dataset, const std::vector<std::size_t>& cycles,
+                                                 const std::vector<InitialOffsets<double>>& offsets, data::Channel channel) {
+  std::vector<std::vector<double>> out;
+  for (std::size_t i = 0; i < cycles.size(); ++i) {
+    const data::Cycle& cycle = dataset.cycles[cycles[i]];
+    const CycleSimulation sim = simulate_cycle(model, p, cycle, offsets[i]);
+    const std::vector<float>& modelled = channel == data::Channel::rotor_c ? sim.rotor_sensor : sim.stator_sensor;
+    std::vector<double> r;
+    double mean = 0;
+    for (std::size_t k = 0; k < cycle.steps; ++k) {
+      const float y = cycle.at(channel, k);
+      if (std::isnan(y)) continue;
+      r.push_back(static_cast<double>(modelled[k]) - y);
+      mean += r.back();
+    }
+    if (r.empty()) continue;
+    mean /= static_cast<double>(r.size());
+    for (double& e : r) e -= mean;
+    out.push_back(std::move(r));
+  }
+  return out;
+}
+
+class Progress final : public ceres::IterationCallback {
+ public:
+  Progress(const LmProgress& progress, std::size_t residuals, std::chrono::steady_clock::time_point start)
+      : progress_(progress), residuals_(residuals), start_(start) {}
+  ceres::CallbackReturnType operator()(const ceres::IterationSummary& s) override {
+    if (progress_) {
+      const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+      progress_(s.iteration, std::sqrt(2.0 * s.cost / static_cast<double>(residuals_)), seconds);
+    }
+    return ceres::SOLVER_CONTINUE;
+  }
+
+ private:
+  const LmProgress& progress_;
+  std::size_t residuals_;
+  std::chrono::steady_clock::time_point start_;
+};
+
+}  // namespace
+
+LmReport fit_lm(const MotorFile& motor, const ParamVector<double>& start, const data::Dataset& dataset,
+                const std::vector<std::size_t>& cycles, const LmSettings& settings, const LmProgress& progress) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const Model<double> model = motor.model();
+  const FreeParameters free = FreeParameters::from_motor(motor);
+  const std::size_t nf = free.size();
+  LmReport report;
+  report.values = start;
+  report.std_error.fill(std::nan(""));
+  if (nf == 0) throw std::runtime_error("no parameter is marked for calibration in " + motor.path.string());
+
+  std::vector<double> theta(nf);
+  for (std::size_t j = 0; j < nf; ++j) {
+    const double v = std::clamp(start[free.index[j]], free.min[j], free.max[j]);
+    theta[j] = free.to_internal(j, v);
+  }
+
+  ceres::Problem::Options problem_options;
+  problem_options.cost_function_ownership = ceres::TAKE_OWNERSHIP;
+  ceres::Problem problem(problem_options);
+  report.offsets.assign(cycles.size(), InitialOffsets<double>{});
+  std::vector<std::array<double, kOffsets>> offsets(cycles.size(), {0.0, 0.0});
+  for (std::size_t i = 0; i < cycles.size(); ++i) {
+    ceres::CostFunction* cost = make_residuals(model, dataset.cycles[cycles[i]], free, start, SIZE_MAX);
+    if (cost->num_residuals() == 0) {
+      delete cost;
+      continue;
+    }
+    report.residuals += static_cast<std::size_t>(cost->num_residuals());
+    problem.AddResidualBlock(cost, nullptr, theta.data(), offsets[i].data());
+    for (int j = 0; j < kOffsets; ++j) {
+      problem.SetParameterLowerBound(offsets[i].data(), j, -kOffsetBoundK);
+      problem.SetParameterUpperBound(offsets[i].data(), j, kOffsetBoundK);
+    }
+  }
+  if (report.residuals == 0) throw std::runtime_error("no training cycle has a stator or rotor measurement");
+  for (std::size_t j = 0; j < nf; ++j) {
+    problem.SetParameterLowerBound(theta.data(), static_cast<int>(j), free.to_internal(j, free.min[j]));
+    problem.SetParameterUpperBound(theta.data(), static_cast<int>(j), free.to_internal(j, free.max[j]));
+  }
+
+  ceres::Solver::Options options;
+  options.minimizer_type = ceres::TRUST_REGION;
+  options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+  options.linear_solver_type = ceres::DENSE_QR;
+  options.max_num_iterations = settings.max_iterations;
+  options.function_tolerance = settings.function_tolerance;
+  options.parameter_tolerance = settings.parameter_tolerance;
+  options.num_threads = settings.threads;
+  options.logging_type = ceres::SILENT;
+  Progress callback(progress, report.residuals, t0);
+  options.callbacks.push_back(&callback);
+  ceres::Solver::Summary summary;
+  ceres::Solve(options, &problem, &summary);
+
+  report.iterations = static_cast<int>(summary.iterations.size()) - 1;
+  report.initial_cost = summary.initial_cost;
+  report.final_cost = summary.final_cost;
+  report.converged = summary.termination_type == ceres::CONVERGENCE;
+  report.termination = summary.message;
+  report.rmse_k = std::sqrt(2.0 * summary.final_cost / static_cast<double>(report.residuals));
+  for (std::size_t j = 0; j < nf; ++j) report.values[free.index[j]] = free.to_physical(j, theta[j]);
+  for (std::size_t i = 0; i < cycles.size(); ++i) report.offsets[i] = {offsets[i][0], offsets[i][1]};
+
+  // Uncertainty from the Gauss-Newton approximation at the optimum: cov = s^2 (J^T J)^-1 with
+  // s^2 the residual variance, inflated by the residuals' correlation time (correlation_time):
+  // consecutive grid residuals are not independent, and treating them so would claim far too
+  // small errors.
+  ceres::CRSMatrix jacobian;
+  double cost = 0;
+  // The per-cycle offsets are nuisance parameters here: the Jacobian is taken for the model's
+  // parameters with the offsets held at their estimates.
+  for (auto& o : offsets) problem.SetParameterBlockConstant(o.data());
+  ceres::Problem::EvaluateOptions evaluate;
+  evaluate.parameter_blocks = {theta.data()};
+  evaluate.num_threads = settings.threads;
+  problem.Evaluate(evaluate, &cost, nullptr, nullptr, &jacobian);
+  Eigen::MatrixXd jtj = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(nf), static_cast<Eigen::Index>(nf));
+  for (int r = 0; r < jacobian.num_rows; ++r) {
+    const int begin = jacobian.rows[static_cast<std::size_t>(r)], end = jacobian.rows[static_cast<std::size_t>(r) + 1];
+    for (int a = begin; a < end; ++a)
+      for (int b = begin; b < end; ++b)
+        jtj(jacobian.cols[static_cast<std::size_t>(a)], jacobian.cols[static_cast<std::size_t>(b)]) +=
+            jacobian.values[static_cast<std::size_t>(a)] * jacobian.values[static_cast<std::size_t>(b)];
+  }
+  const double dof = std::max(1.0, static_cast<double>(report.residuals) - static_cast<double>(nf));
+  const double tau_stator = correlation_time(residual_series(model, report.values, dataset, cycles, report.offsets, data::Channel::stator_winding_c));
+  const double tau_rotor = correlation_time(residual_series(model, report.values, dataset, cycles, report.offsets, data::Channel::rotor_c));
+  report.correlation_time = std::max(tau_stator, tau_rotor);
+  const double s2 = 2.0 * cost / dof * report.correlation_time;
+  Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(jtj);
+  const Eigen::MatrixXd cov = s2 * cod.pseudoInverse();
+  const bool full_rank = cod.rank() == static_cast<Eigen::Index>(nf);
+  report.correlation.assign(nf, std::vector<double>(nf, 0.0));
+  report.at_bound.assign(nf, false);
+  for (std::size_t a = 0; a < nf; ++a) {
+    const auto ia = static_cast<Eigen::Index>(a);
+    const double value = report.values[free.index[a]];
+    report.at_bound[a] = std::abs(theta[a] - free.to_internal(a, free.min[a])) < 1e-6 ||
+                         std::abs(theta[a] - free.to_internal(a, free.max[a])) < 1e-6;
+    if (full_rank && cov(ia, ia) > 0) report.std_error[free.index[a]] = free.slope(a, value) * std::sqrt(cov(ia, ia));
+    for (std::size_t b = 0; b < nf; ++b) {
+      const auto ib = static_cast<Eigen::Index>(b);
+      const double d = std::sqrt(cov(ia, ia) * cov(ib, ib));
+      report.correlation[a][b] = d > 0 ? cov(ia, ib) / d : (a == b ? 1.0 : 0.0);
+    }
+  }
+  for (std::size_t a = 0; a < nf; ++a)
+    for (std::size_t b = a + 1; b < nf; ++b)
+      if (std::abs(report.correlation[a][b]) >= settings.correlation_flag)
+        report.correlated.push_back({std::string(param_spec(free.index[a]).name),
+                                     std::string(param_spec(free.index[b]).name), report.correlation[a][b]});
+  report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return report;
+}
+
+InitialOffsets<double> estimate_initial_offsets(const Model<double>& model, const ParamVector<double>& params,
+                                               const data::Cycle& cycle, double window_s) {
+  // Ceres needs a non-empty parameter block: the first parameter, held constant, stands in.
+  FreeParameters held;
+  held.index = {0};
+  held.min = {params[0]};
+  held.max = {params[0]};
+  held.log_scale = {false};
+  std::array<double, kOffsets> offsets{0.0, 0.0};
+  double unused = params[0];
+  const auto steps = static_cast<std::size_t>(std::max(2.0, window_s / cycle.dt_s));
+  ceres::Problem problem;
+  ceres::CostFunction* cost = make_residuals(model, cycle, held, params, steps);
+  if (cost->num_residuals() == 0) {
+    delete cost;
+    return {};
+  }
+  problem.AddResidualBlock(cost, nullptr, &unused, offsets.data());
+  problem.SetParameterBlockConstant(&unused);
+  for (int j = 0; j < kOffsets; ++j) {
+    problem.SetParameterLowerBound(offsets.data(), j, -kOffsetBoundK);
+    problem.SetParameterUpperBound(offsets.data(), j, kOffsetBoundK);
+  }
+  ceres::Solver::Options options;
+  options.linear_solver_type = ceres::DENSE_QR;
+  options.max_num_iterations = 20;
+  options.logging_type = ceres::SILENT;
+  ceres::Solver::Summary summary;
+  ceres::Solve(options, &problem, &summary);
+  return {offsets[0], offsets[1]};
+}
+
+}  // namespace lptn

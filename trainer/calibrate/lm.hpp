@@ -1,0 +1,56 @@
+// The deterministic baseline: a Levenberg-Marquardt fit of the model to several cycles at once
+// (Ceres), with exact derivatives through the whole simulation (Jets carried through every step
+// of the integrator), bounds on every parameter, and the uncertainty the data leaves.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "trainer/calibrate/problem.hpp"
+
+namespace lptn {
+
+struct LmSettings {
+  int max_iterations = 60;
+  double function_tolerance = 1e-9;   // relative change of the cost that ends the fit
+  double parameter_tolerance = 1e-9;  // relative step that ends the fit
+  int threads = 2;                    // residual blocks (cycles) evaluated in parallel
+  double correlation_flag = 0.95;     // |correlation| from which a parameter pair is flagged
+};
+
+struct LmReport {
+  ParamVector<double> values{};  // the fitted set (fixed parameters as given)
+  ParamVector<double> std_error{};  // NaN where not calibrated or not identifiable
+  std::vector<CorrelatedPair> correlated;
+  std::vector<std::vector<double>> correlation;  // free x free, order of FreeParameters::index
+  std::vector<InitialOffsets<double>> offsets;  // per fitted cycle, in the order given
+  std::vector<bool> at_bound;    // per free parameter: ended on its bound (its std error is then local only)
+  int iterations = 0;
+  double initial_cost = 0, final_cost = 0;  // 1/2 sum of squared residuals, K^2
+  std::size_t residuals = 0;
+  double rmse_k = 0;  // over all residuals at the end (stator and rotor pooled)
+  double correlation_time = 1;  // grid residuals per independent one (the std errors account for it)
+  bool converged = false;
+  std::string termination;
+  double seconds = 0;
+};
+
+// Called after every iteration: (iteration, RMSE over all residuals in K, seconds so far).
+using LmProgress = std::function<void(int, double, double)>;
+
+// Fits the free parameters of `motor` starting from `start`, on the listed cycles, together with
+// each cycle's initial offsets. Residuals are
+// model minus measurement of the stator winding sensor and, where measured, the rotor, at every
+// grid step where the measurement exists. Throws std::runtime_error if no cycle has a measurement.
+LmReport fit_lm(const MotorFile& motor, const ParamVector<double>& start, const data::Dataset& dataset,
+                const std::vector<std::size_t>& cycles, const LmSettings& settings, const LmProgress& progress = {});
+
+// The initial offsets of the nodes no sensor sees (InitialOffsets, trainer/model/simulate.hpp)
+// for one cycle and given parameters: least squares on the cycle's first `window_s` seconds.
+// Calibration fits them jointly for the training cycles; for evaluating any other cycle (a test
+// cycle, a TD3 episode) this estimates them from the start of that cycle only.
+InitialOffsets<double> estimate_initial_offsets(const Model<double>& model, const ParamVector<double>& params,
+                                               const data::Cycle& cycle, double window_s = 600.0);
+
+}  // namespace lptn

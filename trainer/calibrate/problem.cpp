@@ -1,0 +1,111 @@
+#include "trainer/calibrate/problem.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <stdexcept>
+#include <thread>
+
+#include "trainer/calibrate/lm.hpp"
+#include "trainer/model/simulate.hpp"
+
+namespace lptn {
+
+FreeParameters FreeParameters::from_motor(const MotorFile& motor) {
+  FreeParameters f;
+  for (int i = 0; i < kNumParams; ++i) {
+    const ParameterSetting& s = motor.parameters[static_cast<std::size_t>(i)];
+    if (!s.calibrate) continue;
+    // A parameter of an effect the model does not have cannot be seen in the data.
+    const int effect = effect_of_param(i);
+    if (effect >= 0 && !(motor.effects & effect_bit(effect))) continue;
+    f.index.push_back(i);
+    f.min.push_back(s.min);
+    f.max.push_back(s.max);
+    f.log_scale.push_back(uses_log_scale(s.min, s.max));
+  }
+  return f;
+}
+
+double FreeParameters::to_internal(std::size_t j, double value) const {
+  return log_scale[j] ? std::log(value) : value;
+}
+
+double FreeParameters::to_physical(std::size_t j, double internal) const {
+  return log_scale[j] ? std::exp(internal) : internal;
+}
+
+double FreeParameters::slope(std::size_t j, double value) const { return log_scale[j] ? value : 1.0; }
+
+Split split_cycles(const data::Dataset& dataset, const std::vector<std::string>& test_names, double test_fraction,
+                   std::uint64_t seed) {
+  const std::size_t n = dataset.cycles.size();
+  Split split;
+  std::vector<bool> is_test(n, false);
+  if (!test_names.empty()) {
+    for (const std::string& name : test_names) {
+      std::size_t found = n;
+      for (std::size_t i = 0; i < n; ++i)
+        if (dataset.cycles[i].name == name) found = i;
+      if (found == n) {
+        std::string known;
+        for (const data::Cycle& c : dataset.cycles) known += (known.empty() ? "" : ", ") + c.name;
+        throw std::invalid_argument("--test-cycles: no cycle named '" + name + "' in the data (cycles: " + known + ")");
+      }
+      is_test[found] = true;
+    }
+    split.rule = "--test-cycles";
+    for (const std::string& name : test_names) split.rule += (&name == &test_names.front() ? " " : ",") + name;
+  } else {
+    if (!(test_fraction >= 0.0 && test_fraction < 1.0))
+      throw std::invalid_argument("--test-fraction: must be in [0, 1), got " + std::to_string(test_fraction));
+    auto count = static_cast<std::size_t>(std::lround(test_fraction * static_cast<double>(n)));
+    if (test_fraction > 0 && n >= 2) count = std::clamp<std::size_t>(count, 1, n - 1);
+    std::vector<std::size_t> order(n);
+    for (std::size_t i = 0; i < n; ++i) order[i] = i;
+    std::mt19937_64 rng(seed);
+    std::shuffle(order.begin(), order.end(), rng);
+    for (std::size_t i = 0; i < count; ++i) is_test[order[i]] = true;
+    char rule[96];
+    std::snprintf(rule, sizeof rule, "fraction %.3g, seed %llu", test_fraction, static_cast<unsigned long long>(seed));
+    split.rule = rule;
+  }
+  for (std::size_t i = 0; i < n; ++i) (is_test[i] ? split.test : split.train).push_back(i);
+  if (split.train.empty()) throw std::invalid_argument("the split leaves no cycle to train on");
+  return split;
+}
+
+CycleMetrics evaluate_cycle(const Model<double>& model, const ParamVector<double>& params, const data::Cycle& cycle) {
+  const CycleSimulation sim = simulate_cycle(model, params, cycle, estimate_initial_offsets(model, params, cycle));
+  CycleMetrics m;
+  m.name = cycle.name;
+  m.stator = compare(sim.stator_sensor, cycle, data::Channel::stator_winding_c);
+  m.rotor = compare(sim.rotor_sensor, cycle, data::Channel::rotor_c);
+  return m;
+}
+
+SplitMetrics evaluate_split(const Model<double>& model, const ParamVector<double>& params, const data::Dataset& dataset,
+                            const std::vector<std::size_t>& cycles, int threads) {
+  SplitMetrics out;
+  out.cycles.resize(cycles.size());
+  // Cycles are independent: split them over the threads, each writing only its own slots.
+  const auto workers = static_cast<std::size_t>(std::max(1, threads));
+  std::vector<std::thread> pool_threads;
+  for (std::size_t w = 0; w < workers; ++w) {
+    pool_threads.emplace_back([&, w] {
+      for (std::size_t i = w; i < cycles.size(); i += workers)
+        out.cycles[i] = evaluate_cycle(model, params, dataset.cycles[cycles[i]]);
+    });
+  }
+  for (std::thread& t : pool_threads) t.join();
+  std::vector<ErrorMetrics> stator, rotor;
+  for (const CycleMetrics& c : out.cycles) {
+    stator.push_back(c.stator);
+    if (c.rotor.samples) rotor.push_back(c.rotor);
+  }
+  out.stator = pool(stator);
+  out.rotor = pool(rotor);
+  return out;
+}
+
+}  // namespace lptn
