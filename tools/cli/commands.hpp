@@ -8,6 +8,8 @@ namespace lptn::cli {
 void add_generate(CLI::App& app);
 void add_inspect(CLI::App& app);
 void add_simulate(CLI::App& app);
+void add_calibrate(CLI::App& app);
+void add_export(CLI::App& app);
 
 // A bad-input failure: reported as one line, exit code 2.
 struct BadInput : std::runtime_error {

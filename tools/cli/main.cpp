@@ -7,6 +7,7 @@
 #include "tools/cli/commands.hpp"
 #include "trainer/data/dataset.hpp"
 #include "trainer/model/motor_file.hpp"
+#include "trainer/td3/td3_settings.hpp"
 
 namespace {
 // Bad input of any kind: one line naming what was wrong, exit code 2.
@@ -23,6 +24,8 @@ int main(int argc, char** argv) {
   lptn::cli::add_generate(app);
   lptn::cli::add_inspect(app);
   lptn::cli::add_simulate(app);
+  lptn::cli::add_calibrate(app);
+  lptn::cli::add_export(app);
   // CLI11 would only say that a subcommand is required; name the word it did not know.
   std::string known;
   bool is_known = false;
@@ -48,6 +51,8 @@ int main(int argc, char** argv) {
   } catch (const lptn::data::DataError& e) {
     return bad_input(e);
   } catch (const lptn::MotorFileError& e) {
+    return bad_input(e);
+  } catch (const lptn::td3::SettingsError& e) {
     return bad_input(e);
   } catch (const lptn::cli::BadInput& e) {
     return bad_input(e);

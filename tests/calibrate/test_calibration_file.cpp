@@ -1,0 +1,257 @@
+// calibration.json: everything written comes back exactly; every kind of bad file gets one line
+// naming the file and the line or the field.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <string>
+
+#include "../cli/temp_dir.hpp"
+#include "sample_result.hpp"
+#include "trainer/calibrate/calibration_file.hpp"
+
+namespace lptn {
+namespace {
+
+const std::string kMotorText = "name = \"m\"\n# ünïcode, \"quotes\", \\backslash\\ and a tab\t\n";
+
+void expect_metrics_eq(const ErrorMetrics& a, const ErrorMetrics& b, const std::string& what) {
+  EXPECT_EQ(a.rmse_k, b.rmse_k) << what;
+  EXPECT_EQ(a.mean_abs_k, b.mean_abs_k) << what;
+  EXPECT_EQ(a.max_abs_k, b.max_abs_k) << what;
+  EXPECT_EQ(a.bias_k, b.bias_k) << what;
+  EXPECT_EQ(a.samples, b.samples) << what;
+}
+
+void expect_split_eq(const SplitMetrics& a, const SplitMetrics& b) {
+  expect_metrics_eq(a.stator, b.stator, "stator");
+  expect_metrics_eq(a.rotor, b.rotor, "rotor");
+  ASSERT_EQ(a.cycles.size(), b.cycles.size());
+  for (std::size_t i = 0; i < a.cycles.size(); ++i) {
+    EXPECT_EQ(a.cycles[i].name, b.cycles[i].name);
+    expect_metrics_eq(a.cycles[i].stator, b.cycles[i].stator, a.cycles[i].name);
+    expect_metrics_eq(a.cycles[i].rotor, b.cycles[i].rotor, a.cycles[i].name);
+  }
+}
+
+std::string slurp(const std::filesystem::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+// The message of the CalibrationFileError that `f` throws ("" if none).
+template <class F>
+std::string error_of(F&& f) {
+  try {
+    f();
+  } catch (const CalibrationFileError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+std::string error_for(const nlohmann::json& j) {
+  return error_of([&] { calibration_from_json(j, "cal.json"); });
+}
+
+TEST(CalibrationFile, RoundTripKeepsEveryField) {
+  testing::TempDir t;
+  const CalibrationResult a = testing::sample_result(kMotorText);
+  const auto path = t.path() / "calibration.json";
+  save_calibration(a, path);
+  const CalibrationResult b = load_calibration(path);
+
+  EXPECT_EQ(b.format_version, kCalibrationFormatVersion);
+  EXPECT_EQ(b.created_utc, a.created_utc);
+  EXPECT_EQ(b.lptn_version, a.lptn_version);
+  EXPECT_EQ(b.motor_name, a.motor_name);
+  EXPECT_EQ(b.motor_file, a.motor_file);
+  EXPECT_EQ(b.motor_text, a.motor_text);
+  EXPECT_EQ(b.effects, a.effects);
+  ASSERT_EQ(b.parameters.size(), static_cast<std::size_t>(kNumParams));
+  for (int i = 0; i < kNumParams; ++i) {
+    const ParameterResult &p = a.parameters[i], &q = b.parameters[i];
+    EXPECT_EQ(q.name, p.name);
+    EXPECT_EQ(q.unit, p.unit);
+    EXPECT_EQ(q.value, p.value) << p.name;  // bit for bit
+    EXPECT_EQ(q.initial, p.initial);
+    EXPECT_EQ(q.min, p.min);
+    EXPECT_EQ(q.max, p.max);
+    EXPECT_EQ(q.calibrated, p.calibrated);
+    if (std::isnan(p.std_error)) EXPECT_TRUE(std::isnan(q.std_error)) << p.name;
+    else EXPECT_EQ(q.std_error, p.std_error) << p.name;
+  }
+  EXPECT_EQ(b.values(), a.values());
+  ASSERT_EQ(b.correlated.size(), a.correlated.size());
+  for (std::size_t i = 0; i < a.correlated.size(); ++i) {
+    EXPECT_EQ(b.correlated[i].a, a.correlated[i].a);
+    EXPECT_EQ(b.correlated[i].b, a.correlated[i].b);
+    EXPECT_EQ(b.correlated[i].correlation, a.correlated[i].correlation);
+  }
+  EXPECT_EQ(b.method, a.method);
+  EXPECT_EQ(b.settings, a.settings);
+  EXPECT_EQ(b.details, a.details);
+  EXPECT_EQ(b.seconds, a.seconds);
+  ASSERT_EQ(b.data.size(), a.data.size());
+  for (std::size_t i = 0; i < a.data.size(); ++i) {
+    EXPECT_EQ(b.data[i].cycle, a.data[i].cycle);
+    EXPECT_EQ(b.data[i].file, a.data[i].file);
+    EXPECT_EQ(b.data[i].sha256, a.data[i].sha256);
+  }
+  EXPECT_EQ(b.data_sha256, a.data_sha256);
+  EXPECT_EQ(b.train_cycles, a.train_cycles);
+  EXPECT_EQ(b.test_cycles, a.test_cycles);
+  EXPECT_EQ(b.split_rule, a.split_rule);
+  expect_split_eq(b.train, a.train);
+  expect_split_eq(b.test, a.test);
+
+  ASSERT_TRUE(b.has_actor);
+  EXPECT_EQ(b.actor.obs_offset, a.actor.obs_offset);
+  EXPECT_EQ(b.actor.obs_scale, a.actor.obs_scale);
+  ASSERT_EQ(b.actor.layers.size(), a.actor.layers.size());
+  for (std::size_t l = 0; l < a.actor.layers.size(); ++l) {
+    EXPECT_EQ(b.actor.layers[l].in, a.actor.layers[l].in);
+    EXPECT_EQ(b.actor.layers[l].out, a.actor.layers[l].out);
+    EXPECT_EQ(b.actor.layers[l].weight, a.actor.layers[l].weight);  // floats bit for bit
+    EXPECT_EQ(b.actor.layers[l].bias, a.actor.layers[l].bias);
+  }
+  EXPECT_EQ(b.actor.param_indices, a.actor.param_indices);
+  EXPECT_EQ(b.actor.check_obs, a.actor.check_obs);
+  EXPECT_EQ(b.actor.check_actions, a.actor.check_actions);
+}
+
+TEST(CalibrationFile, LayoutAsDocumented) {
+  testing::TempDir t;
+  CalibrationResult a = testing::sample_result(kMotorText);
+  const auto path = t.path() / "calibration.json";
+  save_calibration(a, path);
+  const std::string text = slurp(path);
+  // The file reads top-down: the version first, parameters in model order.
+  EXPECT_EQ(text.find("\"format_version\""), 4u);
+  EXPECT_LT(text.find("\"lambda_1s\""), text.find("\"lambda_2s\""));
+  EXPECT_LT(text.find("\"k_pfe\""), text.find("\"airgap_lambda\""));
+  EXPECT_NE(text.find("\"std_error\": null"), std::string::npos);  // NaN is null
+  EXPECT_NE(text.find("-0.3,"), std::string::npos);                // floats in their short form
+  const auto j = nlohmann::json::parse(text);
+  EXPECT_EQ(j["effects"], nlohmann::json({"airgap", "sensor_lag"}));
+  EXPECT_EQ(j["parameters"][0]["unit"], "W/K");
+  EXPECT_EQ(j["metrics"]["train"]["samples_rotor"], 35000);
+  EXPECT_FALSE(j["metrics"]["test"].contains("rmse_rotor_k"));  // rotor not measured on the test side
+  EXPECT_EQ(j["actor"]["param_names"], nlohmann::json({"lambda_1s", "airgap_lambda"}));
+  EXPECT_EQ(nlohmann::json::parse(text), to_json(a));
+
+  a.has_actor = false;
+  save_calibration(a, path);
+  EXPECT_FALSE(nlohmann::json::parse(slurp(path)).contains("actor"));
+  EXPECT_FALSE(load_calibration(path).has_actor);
+}
+
+TEST(CalibrationFile, BadJsonNamesTheLine) {
+  testing::TempDir t;
+  const auto path = t.path() / "cal.json";
+  std::ofstream(path) << "{\n  \"format_version\": 1,\n  \"motor\": {\"name\": \"m\",\n";  // cut short
+  const std::string e = error_of([&] { load_calibration(path); });
+  EXPECT_EQ(e.rfind(path.string() + ": line 4: ", 0), 0u) << e;
+  EXPECT_NE(e.find("unexpected end of input"), std::string::npos) << e;
+  EXPECT_EQ(e.find("json.exception"), std::string::npos) << e;
+  EXPECT_EQ(e.find('\n'), std::string::npos) << e;
+
+  std::ofstream(path) << "{\n  \"a\": 1,\n  \"b\": ]\n}\n";
+  const std::string e2 = error_of([&] { load_calibration(path); });
+  EXPECT_EQ(e2.rfind(path.string() + ": line 3: ", 0), 0u) << e2;
+
+  // A truncated real file: the line is where the text ends.
+  save_calibration(testing::sample_result(kMotorText), path);
+  std::string text = slurp(path);
+  text.resize(text.size() / 2);
+  std::ofstream(path, std::ios::trunc) << text;
+  const auto lines = std::count(text.begin(), text.end(), '\n') + 1;
+  const std::string e3 = error_of([&] { load_calibration(path); });
+  EXPECT_EQ(e3.rfind(path.string() + ": line " + std::to_string(lines) + ": ", 0), 0u) << e3;
+
+  EXPECT_EQ(error_of([&] { load_calibration(t.path() / "missing.json"); }),
+            (t.path() / "missing.json").string() + ": cannot read (missing or not readable)");
+}
+
+TEST(CalibrationFile, WrongTypeNamesTheField) {
+  nlohmann::json j = to_json(testing::sample_result(kMotorText));
+  j["metrics"]["test"]["rmse_stator_k"] = "0.5";
+  EXPECT_EQ(error_for(j), "cal.json: field 'metrics.test.rmse_stator_k': expected a number");
+
+  j = to_json(testing::sample_result(kMotorText));
+  j["metrics"]["train"]["cycles"][0].erase("samples_stator");
+  EXPECT_EQ(error_for(j), "cal.json: field 'metrics.train.cycles[0].samples_stator': missing");
+
+  j = to_json(testing::sample_result(kMotorText));
+  j["parameters"][3]["calibrated"] = 1;
+  EXPECT_EQ(error_for(j), "cal.json: field 'parameters[3].calibrated': expected true or false");
+
+  j = to_json(testing::sample_result(kMotorText));
+  j["data"]["files"][1]["sha256"] = nullptr;
+  EXPECT_EQ(error_for(j), "cal.json: field 'data.files[1].sha256': expected a string");
+
+  j = to_json(testing::sample_result(kMotorText));
+  j["parameters"][0]["value"] = nullptr;  // only std_error may be null
+  EXPECT_EQ(error_for(j), "cal.json: field 'parameters[0].value': expected a number");
+
+  EXPECT_EQ(error_for(nlohmann::json::array()), "cal.json: not a calibration file (expected a JSON object)");
+}
+
+TEST(CalibrationFile, OtherVersionIsRefused) {
+  nlohmann::json j = to_json(testing::sample_result(kMotorText));
+  j["format_version"] = 2;
+  j.erase("parameters");  // the version is checked before anything else
+  EXPECT_EQ(error_for(j), "cal.json: field 'format_version': version 2, this lptn reads 1");
+}
+
+TEST(CalibrationFile, UnknownNamesAreRefused) {
+  nlohmann::json j = to_json(testing::sample_result(kMotorText));
+  j["parameters"][2]["name"] = "lambda_99";
+  EXPECT_EQ(error_for(j), "cal.json: field 'parameters[2].name': unknown parameter 'lambda_99'");
+
+  j = to_json(testing::sample_result(kMotorText));
+  j["effects"][1] = "flux_capacitor";
+  EXPECT_EQ(error_for(j), "cal.json: field 'effects[1]': unknown effect 'flux_capacitor'");
+
+  j = to_json(testing::sample_result(kMotorText));
+  j["correlated"][1]["b"] = "k_nope";
+  EXPECT_EQ(error_for(j), "cal.json: field 'correlated[1].b': unknown parameter 'k_nope'");
+
+  j = to_json(testing::sample_result(kMotorText));
+  j["actor"]["param_names"][0] = "k_nope";
+  EXPECT_EQ(error_for(j), "cal.json: field 'actor.param_names[0]': unknown parameter 'k_nope'");
+
+  j = to_json(testing::sample_result(kMotorText));
+  j["parameters"].erase(4);
+  EXPECT_NE(error_for(j).find("cal.json: field 'parameters': 'lambda_2r' is missing"), std::string::npos);
+
+  j = to_json(testing::sample_result(kMotorText));
+  j["parameters"][1]["name"] = "lambda_1s";
+  EXPECT_EQ(error_for(j), "cal.json: field 'parameters[1].name': 'lambda_1s' appears twice");
+
+  j = to_json(testing::sample_result(kMotorText));
+  j["parameters"][0]["unit"] = "W";
+  EXPECT_EQ(error_for(j), "cal.json: field 'parameters[0].unit': 'W', but this lptn has lambda_1s in 'W/K'");
+}
+
+TEST(CalibrationFile, InconsistentActorIsRefused) {
+  nlohmann::json j = to_json(testing::sample_result(kMotorText));
+  j["actor"]["layers"][1]["weight"].erase(0);
+  EXPECT_EQ(error_for(j), "cal.json: field 'actor.layers[1].weight': 8 numbers, expected in x out = 9");
+
+  j = to_json(testing::sample_result(kMotorText));
+  j["actor"]["layers"][1]["in"] = 4;
+  EXPECT_EQ(error_for(j), "cal.json: field 'actor.layers[1].in': 4, but the layer before gives 3");
+
+  j = to_json(testing::sample_result(kMotorText));
+  j["actor"]["param_indices"][1] = 3;
+  EXPECT_EQ(error_for(j), "cal.json: field 'actor.param_indices[1]': 3, but param_names[1] 'airgap_lambda' is parameter " +
+                              std::to_string(param_index("airgap_lambda")));
+
+  j = to_json(testing::sample_result(kMotorText));
+  j["actor"]["check_actions"].erase(0);
+  EXPECT_EQ(error_for(j), "cal.json: field 'actor.check_actions': 3 numbers, expected 2 checks x 2 outputs");
+}
+
+}  // namespace
+}  // namespace lptn

@@ -1,0 +1,107 @@
+// `lptn export` as a user meets it: --help, the header written whole, no silent overwrite, and
+// one-line errors with exit code 2.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <string>
+
+#include "../calibrate/sample_result.hpp"
+#include "../cli/temp_dir.hpp"
+
+namespace lptn {
+namespace {
+
+struct Result {
+  int code;
+  std::string out, err;
+};
+
+std::string slurp(const std::filesystem::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+Result run(const std::string& args, const std::filesystem::path& scratch) {
+  const auto out = scratch / "stdout.txt", err = scratch / "stderr.txt";
+  const std::string cmd = std::string(LPTN_BINARY) + " " + args + " >" + out.string() + " 2>" + err.string();
+  const int status = std::system(cmd.c_str());
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(out), slurp(err)};
+}
+
+int lines(const std::string& s) { return static_cast<int>(std::count(s.begin(), s.end(), '\n')); }
+
+// Only the header and the calibration: no temporaries left behind.
+int files_in(const std::filesystem::path& dir) {
+  int n = 0;
+  for (const auto& e : std::filesystem::directory_iterator(dir))
+    if (e.path().filename() != "stdout.txt" && e.path().filename() != "stderr.txt") ++n;
+  return n;
+}
+
+class ExportCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    CalibrationResult c = testing::sample_result(slurp(LPTN_MOTOR_EXAMPLE));
+    save_calibration(c, with_actor_);
+    c.has_actor = false;
+    save_calibration(c, without_actor_);
+  }
+  testing::TempDir t_;
+  std::filesystem::path with_actor_ = t_.path() / "td3.json", without_actor_ = t_.path() / "lm.json";
+  std::filesystem::path out_ = t_.path() / "thermal_calibration.hpp";
+};
+
+TEST_F(ExportCli, Help) {
+  const Result r = run("export --help", t_.path());
+  EXPECT_EQ(r.code, 0);
+  for (const char* opt : {"--calibration", "--out", "--actor", "--force"}) EXPECT_NE(r.out.find(opt), std::string::npos) << opt;
+}
+
+TEST_F(ExportCli, WritesTheHeader) {
+  const Result r = run("export --calibration " + with_actor_.string() + " --out " + out_.string() + " --actor", t_.path());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find(out_.string()), std::string::npos);  // says where the output went
+  const std::string h = slurp(out_);
+  EXPECT_NE(h.find("kSourceFile[] = \"td3.json\""), std::string::npos);
+  EXPECT_NE(h.find("kActor{"), std::string::npos);
+  EXPECT_EQ(files_in(t_.path()), 3);
+}
+
+TEST_F(ExportCli, RefusesToOverwriteWithoutForce) {
+  std::ofstream(out_) << "// mine\n";
+  const Result r = run("export --calibration " + without_actor_.string() + " --out " + out_.string(), t_.path());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(r.err, "lptn: error: " + out_.string() + ": exists (use --force to replace it)\n");
+  EXPECT_EQ(slurp(out_), "// mine\n");
+  const Result f = run("export --force --calibration " + without_actor_.string() + " --out " + out_.string(), t_.path());
+  EXPECT_EQ(f.code, 0) << f.err;
+  EXPECT_NE(slurp(out_).find("kParams"), std::string::npos);
+}
+
+TEST_F(ExportCli, ActorWithoutActorIsBadInput) {
+  const Result r = run("export --actor --calibration " + without_actor_.string() + " --out " + out_.string(), t_.path());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(lines(r.err), 1);
+  EXPECT_NE(r.err.find("lm.json: --actor: this calibration has no actor"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(out_));
+  EXPECT_EQ(files_in(t_.path()), 2);
+}
+
+TEST_F(ExportCli, BadCalibrationIsBadInput) {
+  std::string text = slurp(without_actor_);
+  std::ofstream(without_actor_, std::ios::trunc) << text.substr(0, text.size() / 3);
+  const Result r = run("export --calibration " + without_actor_.string() + " --out " + out_.string(), t_.path());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(lines(r.err), 1);
+  EXPECT_EQ(r.err.rfind("lptn: error: " + without_actor_.string() + ": line ", 0), 0u) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(out_));
+
+  const Result m = run("export --calibration " + (t_.path() / "nope.json").string() + " --out " + out_.string(), t_.path());
+  EXPECT_EQ(m.code, 2);
+  EXPECT_NE(m.err.find("nope.json: cannot read"), std::string::npos) << m.err;
+}
+
+}  // namespace
+}  // namespace lptn

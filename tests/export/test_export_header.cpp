@@ -1,0 +1,127 @@
+// export_header() and its literals: exact numbers, safe strings, clear refusals.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <limits>
+#include <random>
+#include <string>
+
+#include "../calibrate/sample_result.hpp"
+#include "tools/export/cpp_literals.hpp"
+#include "tools/export/export_header.hpp"
+#include "trainer/model/motor_file.hpp"
+
+namespace lptn {
+namespace {
+
+std::string example_motor_text() {
+  std::ifstream in(LPTN_MOTOR_EXAMPLE);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+template <class F>
+std::string error_of(F&& f) {
+  try {
+    f();
+  } catch (const ExportError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(CppLiterals, DoublesReadBackExactly) {
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> mantissa(1.0, 10.0);
+  std::uniform_int_distribution<int> exponent(-30, 30);
+  for (int i = 0; i < 10000; ++i) {
+    const double v = mantissa(rng) * std::pow(10.0, exponent(rng)) * (i % 2 ? -1 : 1);
+    const std::string s = exporter::double_literal(v, "v");
+    EXPECT_EQ(std::strtod(s.c_str(), nullptr), v) << s;
+  }
+  EXPECT_EQ(exporter::double_literal(24, "v"), "24.0");  // a floating literal, not an int
+  EXPECT_EQ(exporter::double_literal(0.1, "v"), "0.1");
+  EXPECT_EQ(exporter::double_literal(1e300, "v"), "1e+300");
+  EXPECT_THROW(exporter::double_literal(std::nan(""), "v"), std::invalid_argument);
+  EXPECT_THROW(exporter::double_literal(std::numeric_limits<double>::infinity(), "v"), std::invalid_argument);
+}
+
+TEST(CppLiterals, FloatsReadBackExactlyAsFloat) {
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<float> d(-2.0f, 2.0f);
+  for (int i = 0; i < 10000; ++i) {
+    const float v = d(rng);
+    const std::string s = exporter::float_literal(v, "v");
+    ASSERT_EQ(s.back(), 'f');
+    EXPECT_EQ(std::strtof(s.c_str(), nullptr), v) << s;
+  }
+  EXPECT_EQ(exporter::float_literal(1.0f, "v"), "1.0f");
+  EXPECT_EQ(exporter::float_literal(1e-7f / 3, "v"), "3.3333333e-08f");
+}
+
+TEST(CppLiterals, StringsAndComments) {
+  EXPECT_EQ(exporter::string_literal("a\"b\\c"), "\"a\\\"b\\\\c\"");
+  EXPECT_EQ(exporter::string_literal("x\ny\x01" "9"), "\"x\\012y\\0019\"");  // octal: never swallows a digit
+  EXPECT_EQ(exporter::string_literal("\xc3\xbc"), "\"\\303\\274\"");
+  EXPECT_EQ(exporter::comment_text("a\nb\r\tc\\"), "a b  c/");  // no line break, no splice
+}
+
+TEST(ExportHeader, HasEverySection) {
+  const CalibrationResult c = testing::sample_result(example_motor_text());
+  const std::string h = export_header(c, {"cal.json", true});
+  for (const char* s : {"#pragma once", "#include \"lptn/model.hpp\"", "#include \"lptn/motor_constants.hpp\"",
+                        "#include \"lptn/actor.hpp\"", "namespace lptn::calibration {", "kMethod[] = \"lm\"",
+                        "kSourceFile[] = \"cal.json\"", "kCalibrationFormatVersion = 1",
+                        "kEffects = effect_bit(effect_index(\"airgap\")) | effect_bit(effect_index(\"sensor_lag\"))",
+                        "static_assert(param_index(\"lambda_1s\") == 0", "ParamVector<double> kParams = {{",
+                        "constexpr MotorConstants<double> motor_constants()", "m.harmonic_loss_w[4] = 900.0;",
+                        "kHasRotorMetrics = false", "alignas(16) inline constexpr float kActorW1[]",
+                        "inline constexpr ActorView kActor{2, 3, 2, kActorW1", "kActorChecks = 2;"})
+    EXPECT_NE(h.find(s), std::string::npos) << s;
+  EXPECT_NE(h.find("// [1] lambda_2s [W/K] (calibrated)"), std::string::npos);  // NaN std_error: none shown
+  EXPECT_NE(h.find("// [0] lambda_1s [W/K] +- 0.00143 (calibrated)"), std::string::npos);
+
+  const std::string without = export_header(c, {"cal.json", false});
+  EXPECT_EQ(without.find("actor"), std::string::npos);
+  EXPECT_EQ(without.find("kActor"), std::string::npos);
+}
+
+TEST(ExportHeader, NoEffectsIsZero) {
+  CalibrationResult c = testing::sample_result(example_motor_text());
+  c.effects = 0;
+  EXPECT_NE(export_header(c, {}).find("kEffects = 0;  // the paper's model only"), std::string::npos);
+}
+
+TEST(ExportHeader, Refusals) {
+  CalibrationResult c = testing::sample_result(example_motor_text());
+  c.has_actor = false;
+  EXPECT_EQ(error_of([&] { export_header(c, {"cal.json", true}); }),
+            "cal.json: --actor: this calibration has no actor (method 'lm'; only a TD3 calibration keeps one)");
+
+  c = testing::sample_result(example_motor_text());
+  c.actor.layers.pop_back();
+  EXPECT_NE(error_of([&] { export_header(c, {"cal.json", true}); }).find("cal.json: field 'actor.layers'"), std::string::npos);
+
+  c = testing::sample_result(example_motor_text());
+  c.actor.check_obs.clear();
+  c.actor.check_actions.clear();
+  EXPECT_NE(error_of([&] { export_header(c, {"cal.json", true}); }).find("cal.json: field 'actor.check_obs': empty"),
+            std::string::npos);
+
+  c = testing::sample_result(example_motor_text());
+  c.parameters[2].value = std::nan("");
+  EXPECT_EQ(error_of([&] { export_header(c, {"cal.json", false}); }),
+            "cal.json: parameters.lambda_12s.value: nan has no C++ literal");
+
+  c = testing::sample_result("[nameplate]\npole_pairs = \"two\"\n");
+  try {
+    export_header(c, {"cal.json", false});
+    ADD_FAILURE() << "a bad motor text was exported";
+  } catch (const MotorFileError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("cal.json: motor.text:", 0), 0u) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace lptn

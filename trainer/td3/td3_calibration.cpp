@@ -1,0 +1,403 @@
+#include "trainer/td3/td3_calibration.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <numbers>
+#include <random>
+#include <sstream>
+#include <stdexcept>
+
+#include "trainer/calibrate/lm.hpp"
+#include "trainer/calibrate/problem.hpp"
+#include "trainer/io/atomic_output.hpp"
+#include "trainer/model/simulate.hpp"
+
+namespace lptn::td3 {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+constexpr int kObs = 2;
+
+// Everything the training loop needs to know about the data, fixed for the run.
+class Environment {
+ public:
+  Environment(const MotorFile& motor, const data::Dataset& dataset, const std::vector<std::size_t>& train,
+              const TrainingSettings& settings)
+      : model_(motor.model()), dataset_(dataset), train_(train), settings_(settings),
+        free_(FreeParameters::from_motor(motor)), fixed_(motor.initial_values()) {
+    if (free_.size() == 0) throw std::runtime_error("no parameter is marked for calibration in " + motor.path.string());
+    const MotorConstants<double>& m = motor.constants;
+    const double base_rpm = m.base_speed_rpm();
+    obs_scale_ = {base_rpm, m.rated_power_w / (2 * std::numbers::pi * base_rpm / 60.0)};
+    for (std::size_t c : train) {
+      const data::Cycle& cycle = dataset.cycles[c];
+      if (std::abs(cycle.dt_s - settings.agent_sample_time_s) > 1e-9)
+        throw std::runtime_error(cycle.file.string() + ": grid step " + std::to_string(cycle.dt_s) +
+                                 " s differs from agent_sample_time_s " + std::to_string(settings.agent_sample_time_s));
+      // The unmeasured nodes' start, estimated once with the starting parameters.
+      offsets_.push_back(estimate_initial_offsets(model_, fixed_, cycle));
+    }
+  }
+
+  std::size_t actions() const { return free_.size(); }
+  const FreeParameters& free() const { return free_; }
+  const Model<double>& model() const { return model_; }
+  std::array<double, 2> obs_scale() const { return obs_scale_; }
+  std::size_t cycles() const { return train_.size(); }
+  const data::Cycle& cycle(std::size_t i) const { return dataset_.cycles[train_[i]]; }
+  const InitialOffsets<double>& offsets(std::size_t i) const { return offsets_[i]; }
+
+  void observe(const data::Cycle& cycle, std::size_t k, float* obs) const {
+    const float torque = cycle.at(data::Channel::torque_nm, k);
+    obs[0] = static_cast<float>(cycle.at(data::Channel::speed_rpm, k) / obs_scale_[0]);
+    obs[1] = std::isnan(torque) ? 0.0f : static_cast<float>(torque / obs_scale_[1]);
+  }
+
+  // Action in [-1, 1]^P onto the full parameter vector.
+  ParamVector<double> params_for(const float* action) const {
+    ParamVector<double> p = fixed_;
+    for (std::size_t j = 0; j < free_.size(); ++j)
+      p[free_.index[j]] = from_normalized(static_cast<double>(std::clamp(action[j], -1.0f, 1.0f)), free_.min[j], free_.max[j]);
+    return p;
+  }
+
+  // Eq. 15 from the step's absolute errors.
+  double reward(double stator_abs_k, double rotor_abs_k, bool rotor_measured) const {
+    const RewardWeights& w = settings_.reward;
+    return -w.w1 / (w.w2 * stator_abs_k + (rotor_measured ? w.w3 : 0.0) * rotor_abs_k + w.w4);
+  }
+
+ private:
+  Model<double> model_;
+  const data::Dataset& dataset_;
+  std::vector<std::size_t> train_;
+  const TrainingSettings& settings_;
+  FreeParameters free_;
+  ParamVector<double> fixed_;
+  std::array<double, 2> obs_scale_{};
+  std::vector<InitialOffsets<double>> offsets_;
+};
+
+// Absolute errors of the sensors against the measurement at grid step k (0 where not measured).
+struct StepError {
+  double stator = 0, rotor = 0;
+};
+StepError step_error(const Model<double>& model, const double* x, const data::Cycle& cycle, std::size_t k) {
+  const float ys = cycle.at(data::Channel::stator_winding_c, k);
+  const float yr = cycle.at(data::Channel::rotor_c, k);
+  return {std::isnan(ys) ? 0.0 : std::abs(model.stator_sensor(x) - ys), std::isnan(yr) ? 0.0 : std::abs(model.rotor_sensor(x) - yr)};
+}
+
+// The run's state between episodes: what a checkpoint holds besides the agent.
+struct RunState {
+  int episode = 0;  // episodes done
+  std::mt19937_64 rng;
+  std::vector<EpisodeRecord> curve;
+  ParamVector<double> reference{};  // the policy's current constant set (warm-up of windows)
+  double seconds = 0;
+};
+
+nlohmann::json record_json(const EpisodeRecord& r) {
+  return {{"episode", r.episode}, {"cycle", r.cycle}, {"reward", r.reward}, {"average", r.average},
+          {"mean_abs_error_k", r.mean_abs_error_k}, {"seconds", r.seconds}};
+}
+
+// What must match for a checkpoint to be continued: the settings and the training data.
+nlohmann::json identity(const TrainingSettings& settings, const Environment& env) {
+  nlohmann::json cycles = nlohmann::json::array();
+  for (std::size_t i = 0; i < env.cycles(); ++i) cycles.push_back({env.cycle(i).name, env.cycle(i).steps});
+  nlohmann::json params = nlohmann::json::array();
+  for (int i : env.free().index) params.push_back(std::string(param_spec(i).name));
+  return {{"settings", to_json(settings)}, {"cycles", cycles}, {"parameters", params}};
+}
+
+class Trainer {
+ public:
+  Trainer(const MotorFile& motor, const data::Dataset& dataset, const std::vector<std::size_t>& train,
+          const TrainingSettings& settings)
+      : settings_(settings), env_(motor, dataset, train, settings),
+        agent_(kObs, static_cast<int>(env_.actions()), settings.agent) {
+    state_.rng.seed(settings.seed ^ 0x7d3c0ffeeULL);
+    state_.reference = motor.initial_values();
+    uniform_ = std::uniform_real_distribution<float>(-1.0f, 1.0f);
+  }
+
+  Agent& agent() { return agent_; }
+  const Environment& env() const { return env_; }
+  RunState& state() { return state_; }
+
+  // One episode: returns its record.
+  EpisodeRecord episode() {
+    const bool random = state_.episode < settings_.random_episodes;
+    const std::size_t ci = std::uniform_int_distribution<std::size_t>(0, env_.cycles() - 1)(state_.rng);
+    const data::Cycle& cycle = env_.cycle(ci);
+    const std::size_t length = std::min<std::size_t>(static_cast<std::size_t>(settings_.max_steps_per_episode), cycle.steps - 1);
+    const std::size_t start = std::uniform_int_distribution<std::size_t>(0, cycle.steps - 1 - length)(state_.rng);
+    EpisodeRecord rec;
+    rec.episode = state_.episode + 1;
+    rec.cycle = cycle.name;
+    if (settings_.formulation == Formulation::per_step)
+      per_step_episode(ci, start, length, random, rec);
+    else
+      bandit_episode(ci, start, length, random, rec);
+    if (!random && settings_.updates_per_episode > 0) agent_.train(settings_.updates_per_episode);
+    ++state_.episode;
+    const std::size_t window = static_cast<std::size_t>(settings_.averaging_window);
+    double sum = rec.reward;
+    std::size_t n = 1;
+    for (auto it = state_.curve.rbegin(); it != state_.curve.rend() && n < window; ++it, ++n) sum += it->reward;
+    rec.average = sum / static_cast<double>(n);
+    state_.curve.push_back(rec);
+    return rec;
+  }
+
+  // The constant set the policy condenses to over the training data's operating points.
+  ParamVector<double> condensed() const {
+    std::vector<float> obs;
+    if (settings_.formulation == Formulation::per_step) {
+      for (std::size_t i = 0; i < env_.cycles(); ++i) {
+        const data::Cycle& c = env_.cycle(i);
+        const auto stride = static_cast<std::size_t>(std::max(1.0, 5.0 / c.dt_s));
+        for (std::size_t k = 0; k < c.steps; k += stride) {
+          float o[kObs];
+          env_.observe(c, k, o);
+          obs.insert(obs.end(), o, o + kObs);
+        }
+      }
+    } else {
+      for (std::size_t i = 0; i < env_.cycles(); ++i) {
+        const data::Cycle& c = env_.cycle(i);
+        const auto length = std::min<std::size_t>(static_cast<std::size_t>(settings_.max_steps_per_episode), c.steps - 1);
+        for (std::size_t s = 0; s + length < c.steps; s += length) {
+          float o[kObs];
+          context(c, s, length, o);
+          obs.insert(obs.end(), o, o + kObs);
+        }
+      }
+    }
+    const std::size_t n = obs.size() / kObs, p = env_.actions();
+    std::vector<float> actions(n * p);
+    agent_.act(obs.data(), n, actions.data());
+    std::vector<float> mean(p, 0.0f);
+    for (std::size_t i = 0; i < n; ++i)
+      for (std::size_t j = 0; j < p; ++j) mean[j] += actions[i * p + j] / static_cast<float>(n);
+    return env_.params_for(mean.data());
+  }
+
+ private:
+  // The state at grid step `start`: the model run from the cycle's start with the reference set.
+  void warm_up(std::size_t ci, std::size_t start, const ParamVector<double>& p, double* x) const {
+    const data::Cycle& cycle = env_.cycle(ci);
+    initial_state_for(env_.model(), cycle, x, env_.offsets(ci));
+    for (std::size_t k = 0; k < start; ++k) env_.model().step(x, inputs_at(cycle, k), p.data(), cycle.dt_s);
+  }
+
+  // Exploration: before learning, uniform random actions (one per hold period); after, Gaussian
+  // noise on the policy's action, one draw held for exploration_hold_steps (0: the whole episode).
+  void explore(float* a, std::size_t steps, bool random) {
+    const std::size_t p = env_.actions();
+    const std::size_t hold = settings_.exploration_hold_steps > 0 ? static_cast<std::size_t>(settings_.exploration_hold_steps) : steps;
+    std::normal_distribution<float> noise(0.0f, static_cast<float>(settings_.exploration_noise));
+    std::vector<float> draw(p);
+    for (std::size_t t = 0; t < steps; ++t) {
+      if (t % hold == 0)
+        for (std::size_t j = 0; j < p; ++j) draw[j] = random ? uniform_(state_.rng) : noise(state_.rng);
+      for (std::size_t j = 0; j < p; ++j) a[t * p + j] = random ? draw[j] : std::clamp(a[t * p + j] + draw[j], -1.0f, 1.0f);
+    }
+  }
+
+  void per_step_episode(std::size_t ci, std::size_t start, std::size_t length, bool random, EpisodeRecord& rec) {
+    const data::Cycle& cycle = env_.cycle(ci);
+    const std::size_t p = env_.actions();
+    obs_.resize((length + 1) * kObs);
+    for (std::size_t t = 0; t <= length; ++t) env_.observe(cycle, start + t, &obs_[t * kObs]);
+    act_.resize(length * p);
+    if (!random) agent_.act(obs_.data(), length, act_.data());
+    explore(act_.data(), length, random);
+    double x[kMaxStates];
+    warm_up(ci, start, state_.reference, x);
+    rew_.resize(length);
+    done_.assign(length, 0);
+    done_.back() = 1;
+    const bool rotor = cycle.has(data::Channel::rotor_c);
+    double reward_sum = 0, error_sum = 0;
+    for (std::size_t t = 0; t < length; ++t) {
+      const ParamVector<double> params = env_.params_for(&act_[t * p]);
+      env_.model().step(x, inputs_at(cycle, start + t), params.data(), cycle.dt_s);
+      const StepError e = step_error(env_.model(), x, cycle, start + t + 1);
+      rew_[t] = static_cast<float>(env_.reward(e.stator, e.rotor, rotor));
+      reward_sum += rew_[t];
+      error_sum += e.stator + e.rotor;
+    }
+    agent_.remember(obs_.data(), act_.data(), rew_.data(), obs_.data() + kObs, done_.data(), length);
+    rec.reward = reward_sum / static_cast<double>(length);
+    rec.mean_abs_error_k = error_sum / static_cast<double>(length);
+  }
+
+  // The episode's context: its mean normalized speed and torque.
+  void context(const data::Cycle& cycle, std::size_t start, std::size_t length, float* ctx) const {
+    double sum[kObs] = {0, 0};
+    for (std::size_t t = 0; t < length; ++t) {
+      float o[kObs];
+      env_.observe(cycle, start + t, o);
+      sum[0] += o[0];
+      sum[1] += o[1];
+    }
+    ctx[0] = static_cast<float>(sum[0] / static_cast<double>(length));
+    ctx[1] = static_cast<float>(sum[1] / static_cast<double>(length));
+  }
+
+  void bandit_episode(std::size_t ci, std::size_t start, std::size_t length, bool random, EpisodeRecord& rec) {
+    const data::Cycle& cycle = env_.cycle(ci);
+    const std::size_t p = env_.actions();
+    float ctx[kObs];
+    context(cycle, start, length, ctx);
+    std::vector<float> a(p);
+    if (!random) agent_.act(ctx, 1, a.data());
+    explore(a.data(), 1, random);
+    const ParamVector<double> params = env_.params_for(a.data());
+    double x[kMaxStates];
+    warm_up(ci, start, params, x);  // the action holds from the cycle's start
+    const bool rotor = cycle.has(data::Channel::rotor_c);
+    double stator_sum = 0, rotor_sum = 0;
+    for (std::size_t t = 0; t < length; ++t) {
+      env_.model().step(x, inputs_at(cycle, start + t), params.data(), cycle.dt_s);
+      const StepError e = step_error(env_.model(), x, cycle, start + t + 1);
+      stator_sum += e.stator;
+      rotor_sum += e.rotor;
+    }
+    const double n = static_cast<double>(length);
+    const float r = static_cast<float>(env_.reward(stator_sum / n, rotor_sum / n, rotor));
+    const std::uint8_t done = 1;
+    agent_.remember(ctx, a.data(), &r, ctx, &done, 1);
+    rec.reward = r;
+    rec.mean_abs_error_k = (stator_sum + rotor_sum) / n;
+  }
+
+  const TrainingSettings& settings_;
+  Environment env_;
+  Agent agent_;
+  RunState state_;
+  std::uniform_real_distribution<float> uniform_;
+  std::vector<float> obs_, act_, rew_;
+  std::vector<std::uint8_t> done_;
+};
+
+const char* kStateFile = "state.json";
+
+void save_checkpoint(Trainer& trainer, const std::filesystem::path& dir, const nlohmann::json& id) {
+  std::filesystem::create_directories(dir);
+  RunState& s = trainer.state();
+  char name[32];
+  std::snprintf(name, sizeof name, "agent-%06d.bin", s.episode);
+  trainer.agent().save(dir / name);
+  std::ostringstream rng;
+  rng << s.rng;
+  nlohmann::json j;
+  j["identity"] = id;
+  j["episode"] = s.episode;
+  j["agent_file"] = name;
+  j["rng"] = rng.str();
+  j["seconds"] = s.seconds;
+  j["reference"] = std::vector<double>(s.reference.begin(), s.reference.end());
+  for (const EpisodeRecord& r : s.curve) j["curve"].push_back(record_json(r));
+  // The state file is the commit point: it names the agent file written just before it.
+  write_file_atomically(dir / kStateFile, j.dump() + "\n");
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+    const std::string f = entry.path().filename().string();
+    if (f.rfind("agent-", 0) == 0 && f != name) std::filesystem::remove(entry.path());
+  }
+}
+
+void load_checkpoint(Trainer& trainer, const std::filesystem::path& dir, const nlohmann::json& id) {
+  const std::filesystem::path file = dir / kStateFile;
+  std::ifstream in(file);
+  if (!in) throw std::runtime_error("--resume: no checkpoint at " + file.string());
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception& e) {
+    throw std::runtime_error(file.string() + ": unreadable checkpoint (" + e.what() + ")");
+  }
+  if (j.at("identity") != id)
+    throw std::runtime_error("--resume: the checkpoint in " + dir.string() +
+                             " was made with other settings, data or parameters; start afresh without --resume");
+  trainer.agent().load(dir / j.at("agent_file").get<std::string>());
+  RunState& s = trainer.state();
+  s.episode = j.at("episode").get<int>();
+  std::istringstream rng(j.at("rng").get<std::string>());
+  rng >> s.rng;
+  s.seconds = j.at("seconds").get<double>();
+  const auto ref = j.at("reference").get<std::vector<double>>();
+  std::copy(ref.begin(), ref.end(), s.reference.begin());
+  s.curve.clear();
+  for (const auto& r : j.value("curve", nlohmann::json::array()))
+    s.curve.push_back({r.at("episode").get<int>(), r.at("cycle").get<std::string>(), r.at("reward").get<double>(),
+                       r.at("average").get<double>(), r.at("mean_abs_error_k").get<double>(), r.at("seconds").get<double>()});
+}
+
+}  // namespace
+
+Td3Outcome train_td3(const MotorFile& motor, const data::Dataset& dataset, const std::vector<std::size_t>& train,
+                     const TrainingSettings& settings, const std::filesystem::path& checkpoint_dir, bool resume,
+                     const Td3Progress& progress) {
+  if (train.empty()) throw std::runtime_error("no training cycle");
+  Trainer trainer(motor, dataset, train, settings);
+  const nlohmann::json id = identity(settings, trainer.env());
+  Td3Outcome out;
+  RunState& s = trainer.state();
+  if (resume) {
+    load_checkpoint(trainer, checkpoint_dir, id);
+    out.resumed_from = s.episode;
+  }
+  const auto t0 = Clock::now();
+  const double seconds_before = s.seconds;
+  const int first = s.episode;
+  out.completed = true;
+  while (s.episode < settings.max_episodes) {
+    const EpisodeRecord rec = trainer.episode();
+    s.seconds = seconds_before + std::chrono::duration<double>(Clock::now() - t0).count();
+    s.curve.back().seconds = s.seconds;
+    const bool reached = s.episode >= settings.averaging_window && rec.average >= settings.stop_average_reward;
+    if (s.episode % settings.checkpoint_every == 0 || reached || s.episode == settings.max_episodes) {
+      s.reference = trainer.condensed();
+      save_checkpoint(trainer, checkpoint_dir, id);
+    }
+    if (progress) {
+      EpisodeReport r;
+      r.episode = s.episode;
+      r.max_episodes = settings.max_episodes;
+      r.reward = rec.reward;
+      r.average = rec.average;
+      r.seconds = s.seconds;
+      const double per = (s.seconds - seconds_before) / std::max(1, s.episode - first);
+      r.seconds_left = per * (settings.max_episodes - s.episode);
+      r.random = s.episode <= settings.random_episodes;
+      if (!progress(r)) {
+        out.completed = false;
+        break;
+      }
+    }
+    if (reached) {
+      out.reached_target = true;
+      break;
+    }
+  }
+  out.values = trainer.condensed();
+  out.actor = trainer.agent().actor_weights();
+  out.param_indices = trainer.env().free().index;
+  out.obs_scale = trainer.env().obs_scale();
+  // A spread of operating points for exported forward passes to prove themselves against.
+  out.check_obs = {0.0f, 0.0f, 0.25f, 0.5f, 0.5f, 1.0f, 1.0f, 1.0f, 1.5f, -0.5f, 0.1f, -1.0f, 2.0f, 2.0f, 0.75f, 0.1f};
+  const std::size_t checks = out.check_obs.size() / kObs;
+  out.check_actions.resize(checks * trainer.env().actions());
+  trainer.agent().act(out.check_obs.data(), checks, out.check_actions.data());
+  out.curve = s.curve;
+  out.episodes = s.episode;
+  out.seconds = s.seconds;
+  return out;
+}
+
+}  // namespace lptn::td3

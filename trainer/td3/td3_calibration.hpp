@@ -1,0 +1,66 @@
+// Calibration with TD3, as the paper sets it up: the parameterized model runs over a driving cycle
+// drawn at random per episode; the agent observes motor speed and torque (normalized) and acts
+// with the calibrated parameters (tanh, then scaled onto each parameter's bounds, log scale);
+// eq. 15 rewards it for every step's temperature error. A second formulation holds one action
+// for a whole episode and rewards it with the episode's error (a contextual bandit).
+#pragma once
+
+#include <array>
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "lptn/model.hpp"
+#include "trainer/data/dataset.hpp"
+#include "trainer/model/motor_file.hpp"
+#include "trainer/td3/td3_settings.hpp"
+
+namespace lptn::td3 {
+
+struct EpisodeRecord {
+  int episode = 0;          // 1-based
+  std::string cycle;
+  double reward = 0;        // eq. 15 per agent step, averaged over the episode
+  double average = 0;       // of `reward` over the last averaging_window episodes
+  double mean_abs_error_k = 0;  // |Ts - T1| (+ |Tr - T3| where measured), averaged over the episode
+  double seconds = 0;       // since the run started (across resumes)
+};
+
+struct EpisodeReport {
+  int episode = 0, max_episodes = 0;
+  double reward = 0, average = 0;
+  double seconds = 0, seconds_left = 0;
+  bool random = false;  // acting at random (before learning starts)
+};
+
+// Called after every episode; returning false stops the run at once, as a kill would (tests).
+using Td3Progress = std::function<bool(const EpisodeReport&)>;
+
+struct Td3Outcome {
+  // What the paper reports: one constant parameter set. The policy is evaluated at the operating
+  // points of the training data (every 5 s of every training cycle for the per-step formulation,
+  // each episode-length window's context for the episode one), its tanh outputs averaged, and the
+  // mean mapped onto the bounds: a geometric mean for log-scaled parameters.
+  ParamVector<double> values{};
+  ActorWeightsPlain actor;
+  std::vector<int> param_indices;       // which parameter each action drives
+  std::array<double, 2> obs_scale{1, 1};  // speed_rpm, torque_nm divided by these (offset 0)
+  std::vector<float> check_obs, check_actions;  // libtorch's own outputs, for exported forward passes
+  std::vector<EpisodeRecord> curve;
+  int episodes = 0;
+  bool reached_target = false;  // stopped because the average reward reached stop_average_reward
+  bool completed = false;       // false if the progress callback stopped it
+  int resumed_from = 0;         // episode the run continued after (0: fresh)
+  double seconds = 0;
+};
+
+// Trains on the listed cycles. Checkpoints go to `checkpoint_dir` every checkpoint_every episodes
+// (agent, replay buffer, every random generator's state, the curve), written atomically; with
+// `resume` the run continues after the last checkpoint there (same settings and data required,
+// else std::runtime_error says what differs). Deterministic for a given settings.seed.
+Td3Outcome train_td3(const MotorFile& motor, const data::Dataset& dataset, const std::vector<std::size_t>& train,
+                     const TrainingSettings& settings, const std::filesystem::path& checkpoint_dir, bool resume,
+                     const Td3Progress& progress = {});
+
+}  // namespace lptn::td3
