@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The main job, end to end, on the built-in demo: set up, build, generate a demo fleet dump with a
-# known truth, check it, and compare the model (as the motor file guesses it) with the sensors.
+# known truth, check it, compare the model (as the motor file guesses it) with the sensors,
+# calibrate it (Levenberg-Marquardt, then TD3 with a demo budget) and export the firmware header.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 tools/setup.sh
@@ -17,5 +18,14 @@ echo "== 2. inspect: rates, coverage, gaps and warnings per cycle"
 tail -n 3 "$out/inspect.txt"
 echo "== 3. simulate and compare: the paper's model with the motor file's initial guesses"
 "$lptn" simulate --data "$out/fleet" --motor "$out/fleet/motor.toml" --out "$out/simulation" --force
+echo "== 4. calibrate with Levenberg-Marquardt (Ceres): 6 cycles train, 3 test"
+"$lptn" calibrate --data "$out/fleet" --motor "$out/fleet/motor.toml" --method lm --seed 1 --out "$out/calibration-lm.json" --force
+echo "== 5. calibrate with TD3 (libtorch), the paper's formulation, demo budget of ${TD3_EPISODES:=20} episodes (the benchmark runs more)"
+"$lptn" calibrate --data "$out/fleet" --motor "$out/fleet/motor.toml" --method td3 --seed 1 --episodes "$TD3_EPISODES" \
+  --out "$out/calibration-td3.json" --checkpoint-dir "$out/td3-checkpoints" --force
+echo "== 6. export: the LM calibration as the firmware's header, and the TD3 actor with its forward pass"
+"$lptn" export --calibration "$out/calibration-lm.json" --out "$out/thermal_calibration.hpp" --force
+"$lptn" export --calibration "$out/calibration-td3.json" --out "$out/thermal_calibration_td3.hpp" --actor --force
 echo
-echo "demo output in $out/: fleet/ (cycle CSVs, motor.toml, truth.json, truth/), inspect.txt, simulation/ (traces, metrics.json)"
+echo "demo output in $out/: fleet/ (cycle CSVs, motor.toml, truth.json, truth/), inspect.txt, simulation/ (traces,"
+echo "metrics.json), calibration-lm.json, calibration-td3.json, td3-checkpoints/, thermal_calibration.hpp, thermal_calibration_td3.hpp"

@@ -8,33 +8,20 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "run_lptn.hpp"
 #include "temp_dir.hpp"
 
 namespace lptn {
 namespace {
 
-struct Result {
-  int code;
-  std::string out;  // stdout
-  std::string err;  // stderr
-};
-
-Result run(const std::string& args, const std::filesystem::path& scratch) {
-  const auto out = scratch / "stdout.txt", err = scratch / "stderr.txt";
-  const std::string cmd = std::string(LPTN_BINARY) + " " + args + " >" + out.string() + " 2>" + err.string();
-  const int status = std::system(cmd.c_str());
-  auto slurp = [](const std::filesystem::path& p) {
-    std::ifstream in(p);
-    return std::string(std::istreambuf_iterator<char>(in), {});
-  };
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(out), slurp(err)};
-}
+using testing::Result;
+using testing::run;
 
 int lines(const std::string& s) { return static_cast<int>(std::count(s.begin(), s.end(), '\n')); }
 
 TEST(Cli, EverySubcommandHasHelp) {
   testing::TempDir t;
-  for (const char* sub : {"generate", "inspect", "simulate"}) {
+  for (const char* sub : {"generate", "inspect", "simulate", "calibrate", "export"}) {
     const Result r = run(std::string(sub) + " --help", t.path());
     EXPECT_EQ(r.code, 0) << sub;
     EXPECT_NE(r.out.find("--"), std::string::npos) << sub;

@@ -213,6 +213,7 @@ void add_calibrate(CLI::App& app) {
     if (!a->quiet)
       std::printf("calibrating %s with %s on %zu cycles, testing on %zu (%s)\n", motor.name.c_str(), a->method.c_str(),
                   split.train.size(), split.test.size(), split.rule.c_str());
+    std::fflush(stdout);  // before the progress lines on stderr
 
     if (a->method == "lm") run_lm(*a, motor, dataset, split, r);
     else run_td3(*a, a->method == "td3" ? td3::Formulation::per_step : td3::Formulation::episode, motor, dataset, split, r);
@@ -229,7 +230,7 @@ void add_calibrate(CLI::App& app) {
         std::printf("   (start %g)\n", p.initial);
       }
       for (const CorrelatedPair& c : r.correlated)
-        std::printf("  warning: %s and %s are %.3f correlated: this data cannot tell them apart\n", c.a.c_str(), c.b.c_str(), c.correlation);
+        std::printf("  note: %s and %s are %+.3f correlated: this data pins their combination better than either\n", c.a.c_str(), c.b.c_str(), c.correlation);
       print_metrics("train", r.train);
       if (!r.test.cycles.empty()) print_metrics("test", r.test);
       std::printf("%s written (%.1f s of calibration)\n", a->out.c_str(), r.seconds);

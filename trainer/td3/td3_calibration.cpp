@@ -96,12 +96,14 @@ struct RunState {
   std::mt19937_64 rng;
   std::vector<EpisodeRecord> curve;
   ParamVector<double> reference{};  // the policy's current constant set (warm-up of windows)
+  double initial_evaluation = 0;
   double seconds = 0;
 };
 
 nlohmann::json record_json(const EpisodeRecord& r) {
   return {{"episode", r.episode}, {"cycle", r.cycle}, {"reward", r.reward}, {"average", r.average},
-          {"mean_abs_error_k", r.mean_abs_error_k}, {"seconds", r.seconds}};
+          {"mean_abs_error_k", r.mean_abs_error_k}, {"seconds", r.seconds},
+          {"evaluation", std::isnan(r.evaluation) ? nlohmann::json(nullptr) : nlohmann::json(r.evaluation)}};
 }
 
 // What must match for a checkpoint to be continued: the settings and the training data.
@@ -153,6 +155,20 @@ class Trainer {
     return rec;
   }
 
+  // The deterministic policy's mean reward on the first window of every training cycle.
+  double evaluate() {
+    double total = 0;
+    for (std::size_t ci = 0; ci < env_.cycles(); ++ci) {
+      const data::Cycle& cycle = env_.cycle(ci);
+      const std::size_t length = std::min<std::size_t>(static_cast<std::size_t>(settings_.max_steps_per_episode), cycle.steps - 1);
+      EpisodeRecord rec;
+      if (settings_.formulation == Formulation::per_step) per_step_episode(ci, 0, length, false, rec, false);
+      else bandit_episode(ci, 0, length, false, rec, false);
+      total += rec.reward;
+    }
+    return total / static_cast<double>(env_.cycles());
+  }
+
   // The constant set the policy condenses to over the training data's operating points.
   ParamVector<double> condensed() const {
     std::vector<float> obs;
@@ -199,7 +215,9 @@ class Trainer {
   void explore(float* a, std::size_t steps, bool random) {
     const std::size_t p = env_.actions();
     const std::size_t hold = settings_.exploration_hold_steps > 0 ? static_cast<std::size_t>(settings_.exploration_hold_steps) : steps;
-    std::normal_distribution<float> noise(0.0f, static_cast<float>(settings_.exploration_noise));
+    const double progress = settings_.max_episodes > 1 ? static_cast<double>(state_.episode) / (settings_.max_episodes - 1) : 1.0;
+    const double sigma = settings_.exploration_noise + (settings_.exploration_noise_final - settings_.exploration_noise) * progress;
+    std::normal_distribution<float> noise(0.0f, static_cast<float>(sigma));
     std::vector<float> draw(p);
     for (std::size_t t = 0; t < steps; ++t) {
       if (t % hold == 0)
@@ -208,14 +226,15 @@ class Trainer {
     }
   }
 
-  void per_step_episode(std::size_t ci, std::size_t start, std::size_t length, bool random, EpisodeRecord& rec) {
+  void per_step_episode(std::size_t ci, std::size_t start, std::size_t length, bool random, EpisodeRecord& rec,
+                        bool learn = true) {
     const data::Cycle& cycle = env_.cycle(ci);
     const std::size_t p = env_.actions();
     obs_.resize((length + 1) * kObs);
     for (std::size_t t = 0; t <= length; ++t) env_.observe(cycle, start + t, &obs_[t * kObs]);
     act_.resize(length * p);
     if (!random) agent_.act(obs_.data(), length, act_.data());
-    explore(act_.data(), length, random);
+    if (learn) explore(act_.data(), length, random);
     double x[kMaxStates];
     warm_up(ci, start, state_.reference, x);
     rew_.resize(length);
@@ -231,7 +250,7 @@ class Trainer {
       reward_sum += rew_[t];
       error_sum += e.stator + e.rotor;
     }
-    agent_.remember(obs_.data(), act_.data(), rew_.data(), obs_.data() + kObs, done_.data(), length);
+    if (learn) agent_.remember(obs_.data(), act_.data(), rew_.data(), obs_.data() + kObs, done_.data(), length);
     rec.reward = reward_sum / static_cast<double>(length);
     rec.mean_abs_error_k = error_sum / static_cast<double>(length);
   }
@@ -249,14 +268,15 @@ class Trainer {
     ctx[1] = static_cast<float>(sum[1] / static_cast<double>(length));
   }
 
-  void bandit_episode(std::size_t ci, std::size_t start, std::size_t length, bool random, EpisodeRecord& rec) {
+  void bandit_episode(std::size_t ci, std::size_t start, std::size_t length, bool random, EpisodeRecord& rec,
+                      bool learn = true) {
     const data::Cycle& cycle = env_.cycle(ci);
     const std::size_t p = env_.actions();
     float ctx[kObs];
     context(cycle, start, length, ctx);
     std::vector<float> a(p);
     if (!random) agent_.act(ctx, 1, a.data());
-    explore(a.data(), 1, random);
+    if (learn) explore(a.data(), 1, random);
     const ParamVector<double> params = env_.params_for(a.data());
     double x[kMaxStates];
     warm_up(ci, start, params, x);  // the action holds from the cycle's start
@@ -269,9 +289,14 @@ class Trainer {
       rotor_sum += e.rotor;
     }
     const double n = static_cast<double>(length);
-    const float r = static_cast<float>(env_.reward(stator_sum / n, rotor_sum / n, rotor));
+    // The episode's error as the reward: eq. 15's weighted error, -ln(w2 |e_s| + w3 |e_r| + w4)
+    // with the errors averaged over the episode. One number per episode makes a bandit; the
+    // logarithm keeps the critic's targets on one scale from 300 K off down to the sensors' noise,
+    // where 1/(error + w4) would be flat but near the optimum and -error dominated by the worst.
+    const RewardWeights& w = settings_.reward;
+    const float r = static_cast<float>(-std::log(w.w2 * stator_sum / n + (rotor ? w.w3 : 0.0) * rotor_sum / n + w.w4));
     const std::uint8_t done = 1;
-    agent_.remember(ctx, a.data(), &r, ctx, &done, 1);
+    if (learn) agent_.remember(ctx, a.data(), &r, ctx, &done, 1);
     rec.reward = r;
     rec.mean_abs_error_k = (stator_sum + rotor_sum) / n;
   }
@@ -302,6 +327,7 @@ void save_checkpoint(Trainer& trainer, const std::filesystem::path& dir, const n
   j["rng"] = rng.str();
   j["seconds"] = s.seconds;
   j["reference"] = std::vector<double>(s.reference.begin(), s.reference.end());
+  j["initial_evaluation"] = s.initial_evaluation;
   for (const EpisodeRecord& r : s.curve) j["curve"].push_back(record_json(r));
   // The state file is the commit point: it names the agent file written just before it.
   write_file_atomically(dir / kStateFile, j.dump() + "\n");
@@ -332,10 +358,12 @@ void load_checkpoint(Trainer& trainer, const std::filesystem::path& dir, const n
   s.seconds = j.at("seconds").get<double>();
   const auto ref = j.at("reference").get<std::vector<double>>();
   std::copy(ref.begin(), ref.end(), s.reference.begin());
+  s.initial_evaluation = j.at("initial_evaluation").get<double>();
   s.curve.clear();
   for (const auto& r : j.value("curve", nlohmann::json::array()))
     s.curve.push_back({r.at("episode").get<int>(), r.at("cycle").get<std::string>(), r.at("reward").get<double>(),
-                       r.at("average").get<double>(), r.at("mean_abs_error_k").get<double>(), r.at("seconds").get<double>()});
+                       r.at("average").get<double>(), r.at("mean_abs_error_k").get<double>(), r.at("seconds").get<double>(),
+                       r.at("evaluation").is_null() ? std::nan("") : r.at("evaluation").get<double>()});
 }
 
 }  // namespace
@@ -352,6 +380,7 @@ Td3Outcome train_td3(const MotorFile& motor, const data::Dataset& dataset, const
     load_checkpoint(trainer, checkpoint_dir, id);
     out.resumed_from = s.episode;
   }
+  if (!resume) s.initial_evaluation = trainer.evaluate();
   const auto t0 = Clock::now();
   const double seconds_before = s.seconds;
   const int first = s.episode;
@@ -363,6 +392,7 @@ Td3Outcome train_td3(const MotorFile& motor, const data::Dataset& dataset, const
     const bool reached = s.episode >= settings.averaging_window && rec.average >= settings.stop_average_reward;
     if (s.episode % settings.checkpoint_every == 0 || reached || s.episode == settings.max_episodes) {
       s.reference = trainer.condensed();
+      s.curve.back().evaluation = trainer.evaluate();
       save_checkpoint(trainer, checkpoint_dir, id);
     }
     if (progress) {
@@ -395,6 +425,7 @@ Td3Outcome train_td3(const MotorFile& motor, const data::Dataset& dataset, const
   out.check_actions.resize(checks * trainer.env().actions());
   trainer.agent().act(out.check_obs.data(), checks, out.check_actions.data());
   out.curve = s.curve;
+  out.initial_evaluation = s.initial_evaluation;
   out.episodes = s.episode;
   out.seconds = s.seconds;
   return out;

@@ -8,6 +8,7 @@
 #include <array>
 #include <filesystem>
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -25,6 +26,10 @@ struct EpisodeRecord {
   double average = 0;       // of `reward` over the last averaging_window episodes
   double mean_abs_error_k = 0;  // |Ts - T1| (+ |Tr - T3| where measured), averaged over the episode
   double seconds = 0;       // since the run started (across resumes)
+  // At checkpoints: the deterministic policy's reward (no exploration) on fixed windows, the first
+  // of each training cycle, as the TD3 authors evaluate; NaN between checkpoints. Episodes' own
+  // rewards vary with the window drawn; this does not.
+  double evaluation = std::numeric_limits<double>::quiet_NaN();
 };
 
 struct EpisodeReport {
@@ -48,6 +53,7 @@ struct Td3Outcome {
   std::array<double, 2> obs_scale{1, 1};  // speed_rpm, torque_nm divided by these (offset 0)
   std::vector<float> check_obs, check_actions;  // libtorch's own outputs, for exported forward passes
   std::vector<EpisodeRecord> curve;
+  double initial_evaluation = 0;  // the untrained policy's evaluation reward
   int episodes = 0;
   bool reached_target = false;  // stopped because the average reward reached stop_average_reward
   bool completed = false;       // false if the progress callback stopped it

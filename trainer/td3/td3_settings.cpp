@@ -80,6 +80,7 @@ TrainingSettings default_settings(Formulation formulation) {
     s.exploration_noise = 0.2;
     s.agent.batch_size = 64;
     s.agent.gamma = 0.0;  // a bandit: nothing follows the action
+    s.stop_average_reward = 0.1;  // reward = -ln(mean |error| in K + 0.1): the sensors' noise floor is about 0.8 K
   }
   return s;
 }
@@ -101,6 +102,7 @@ TrainingSettings load_settings(const std::filesystem::path& file, Formulation fo
   top.integer("max_steps_per_episode", s.max_steps_per_episode, 1, 100'000'000);
   top.number("agent_sample_time_s", s.agent_sample_time_s, 1e-6, 1e6);
   top.number("exploration_noise", s.exploration_noise, 0.0, 10.0);
+  top.number("exploration_noise_final", s.exploration_noise_final, 0.0, 10.0);
   top.integer("exploration_hold_steps", s.exploration_hold_steps, 0, 100'000'000);
   top.integer("random_episodes", s.random_episodes, 0, 10'000'000);
   top.integer("updates_per_episode", s.updates_per_episode, 0, 100'000'000);
@@ -141,6 +143,7 @@ nlohmann::json to_json(const TrainingSettings& s) {
           {"max_steps_per_episode", s.max_steps_per_episode},
           {"agent_sample_time_s", s.agent_sample_time_s},
           {"exploration_noise", s.exploration_noise},
+          {"exploration_noise_final", s.exploration_noise_final},
           {"exploration_hold_steps", s.exploration_hold_steps},
           {"random_episodes", s.random_episodes},
           {"updates_per_episode", s.updates_per_episode},

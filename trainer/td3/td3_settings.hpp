@@ -40,6 +40,9 @@ struct TrainingSettings {
   // Exploration (TD3 authors): Gaussian noise on the deterministic action, std in action units,
   // and uniformly random actions for the first episodes, before learning starts.
   double exploration_noise = 0.1;
+  // ... decaying linearly to this by the last episode. The TD3 authors keep it constant; here the
+  // bounds span decades and the last per cent of the fit needs a quieter hand (documented).
+  double exploration_noise_final = 0.01;
   // Steps one noise draw is held for (per-step formulation). The TD3 authors draw afresh every step
   // (1); a parameter offset held for one agent step moves the motor's temperature by nothing
   // measurable, so the critic could not learn from it. Held over the episode (0) the offset

@@ -1,0 +1,82 @@
+// lptn calibrate as a user runs it: calibration.json with its documented keys, train and test
+// metrics, and one-line errors that leave nothing behind.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "run_lptn.hpp"
+#include "temp_dir.hpp"
+
+namespace lptn {
+namespace {
+
+using testing::Result;
+using testing::run;
+
+class CalibrateCli : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new testing::TempDir;
+    const Result g = run("generate --out " + data().string() + " --cycles 3 --seed 4 --minutes-min 20 --minutes-max 25", dir_->path());
+    ASSERT_EQ(g.code, 0) << g.err;
+  }
+  static void TearDownTestSuite() { delete dir_; }
+  static std::filesystem::path data() { return dir_->path() / "fleet"; }
+  static std::string base() { return "calibrate --data " + data().string() + " --motor " + (data() / "motor.toml").string(); }
+  static testing::TempDir* dir_;
+};
+testing::TempDir* CalibrateCli::dir_ = nullptr;
+
+TEST_F(CalibrateCli, LmWritesTheDocumentedKeys) {
+  testing::TempDir t;
+  const auto out = t.path() / "calibration.json";
+  const Result r = run(base() + " --method lm --test-cycles cycle_02_regional --out " + out.string(), t.path());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(std::ifstream(out));
+  EXPECT_EQ(j["method"]["name"], "lm");
+  EXPECT_EQ(j["data"]["split"]["test"], nlohmann::json::array({"cycle_02_regional"}));
+  EXPECT_EQ(j["data"]["files"].size(), 3u);
+  EXPECT_EQ(j["data"]["sha256"].get<std::string>().size(), 64u);
+  for (const char* side : {"train", "test"})
+    for (const char* key : {"rmse_stator_k", "mean_abs_stator_k", "max_abs_stator_k", "bias_stator_k", "rmse_rotor_k"}) {
+      ASSERT_TRUE(j["metrics"][side].contains(key)) << side << "." << key;
+      EXPECT_GE(j["metrics"][side][key].get<double>(), side == std::string("train") && key == std::string("bias_stator_k") ? -10.0 : 0.0);
+    }
+  // The fit brought the test cycle to the sensors' noise (0.4 K stator, 0.5 K rotor).
+  EXPECT_LT(j["metrics"]["test"]["rmse_stator_k"].get<double>(), 0.6);
+  EXPECT_LT(j["metrics"]["test"]["rmse_rotor_k"].get<double>(), 0.75);
+  EXPECT_EQ(j["metrics"]["test"]["cycles"].size(), 1u);
+  bool std_errors = false;
+  for (const auto& p : j["parameters"])
+    if (p["calibrated"].get<bool>()) std_errors = !p["std_error"].is_null();
+  EXPECT_TRUE(std_errors);
+  // The result feeds export.
+  const Result e = run("export --calibration " + out.string() + " --out " + (t.path() / "h.hpp").string(), t.path());
+  EXPECT_EQ(e.code, 0) << e.err;
+}
+
+TEST_F(CalibrateCli, BadInputIsOneLineAndLeavesNothing) {
+  testing::TempDir t;
+  const auto out = t.path() / "calibration.json";
+  const Result unknown = run(base() + " --method lm --test-cycles no_such_cycle --out " + out.string(), t.path());
+  EXPECT_EQ(unknown.code, 2);
+  EXPECT_NE(unknown.err.find("no cycle named 'no_such_cycle'"), std::string::npos) << unknown.err;
+  EXPECT_FALSE(std::filesystem::exists(out));
+  const Result method = run(base() + " --method sgd --out " + out.string(), t.path());
+  EXPECT_EQ(method.code, 2);
+  std::ofstream(t.path() / "bad.toml") << "[agent]\nhidden = -3\n";
+  const Result config = run(base() + " --method td3 --config " + (t.path() / "bad.toml").string() + " --out " + out.string(), t.path());
+  EXPECT_EQ(config.code, 2);
+  EXPECT_NE(config.err.find("bad.toml:2: key 'agent.hidden'"), std::string::npos) << config.err;
+  EXPECT_FALSE(std::filesystem::exists(out));
+  std::ofstream(out) << "keep me";
+  const Result exists = run(base() + " --method lm --out " + out.string(), t.path());
+  EXPECT_EQ(exists.code, 2);
+  EXPECT_NE(exists.err.find("--force"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace lptn

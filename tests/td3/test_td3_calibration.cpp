@@ -1,0 +1,140 @@
+// TD3 calibration on generated data: it learns with a small budget, a killed run resumes to the
+// same result, and the shipped config file is the built-in defaults.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+
+#include "../cli/temp_dir.hpp"
+#include "tools/generate/generate.hpp"
+#include "trainer/calibrate/problem.hpp"
+#include "trainer/td3/td3_calibration.hpp"
+
+namespace lptn::td3 {
+namespace {
+
+struct Data {
+  testing::TempDir dir;
+  data::Dataset dataset;
+  MotorFile motor;
+  Split split;
+};
+
+const Data& generated() {
+  static const Data* d = [] {
+    auto* x = new Data;
+    gen::GenerateOptions o;
+    o.cycles = 4;
+    o.seed = 11;
+    o.min_duration_s = 1200;
+    o.max_duration_s = 1500;
+    gen::generate(o, x->dir.path());
+    x->dataset = data::load_fleet_dump({x->dir.path()});
+    x->motor = load_motor_file(x->dir.path() / "motor.toml");
+    x->split = split_cycles(x->dataset, {}, 0.25, 1);
+    return x;
+  }();
+  return *d;
+}
+
+// A budget that runs in seconds: smaller networks and episodes than the paper's.
+TrainingSettings small(Formulation f, int episodes) {
+  TrainingSettings s = default_settings(f);
+  s.max_episodes = episodes;
+  s.max_steps_per_episode = 3000;
+  s.agent.hidden = 64;
+  s.updates_per_episode = f == Formulation::per_step ? 60 : 40;
+  s.random_episodes = f == Formulation::per_step ? 3 : 15;
+  s.checkpoint_every = 5;
+  return s;
+}
+
+double average(const std::vector<EpisodeRecord>& curve, std::size_t from, std::size_t to) {
+  double sum = 0;
+  for (std::size_t i = from; i < to; ++i) sum += curve[i].reward;
+  return sum / static_cast<double>(to - from);
+}
+
+void expect_learns(Formulation f, int episodes, int random) {
+  const Data& d = generated();
+  testing::TempDir checkpoints;
+  TrainingSettings s = small(f, episodes);
+  const Td3Outcome o = train_td3(d.motor, d.dataset, d.split.train, s, checkpoints.path(), false);
+  ASSERT_EQ(o.curve.size(), static_cast<std::size_t>(episodes));
+  const Model<double> model = d.motor.model();
+  const SplitMetrics before = evaluate_split(model, d.motor.initial_values(), d.dataset, d.split.test);
+  const SplitMetrics after = evaluate_split(model, o.values, d.dataset, d.split.test);
+  // The deterministic policy's reward on fixed windows (evaluated at every checkpoint) rises from
+  // the untrained policy's; so does the training episodes' own average where windows vary less.
+  double last_evaluation = std::nan("");
+  for (const EpisodeRecord& r : o.curve)
+    if (!std::isnan(r.evaluation)) last_evaluation = r.evaluation;
+  const std::size_t n = o.curve.size(), q = (n - static_cast<std::size_t>(random)) / 3;
+  const double early = average(o.curve, static_cast<std::size_t>(random), static_cast<std::size_t>(random) + q);
+  const double late = average(o.curve, n - q, n);
+  std::printf("%s: evaluation reward %.4f -> %.4f, episode reward %.4f -> %.4f; test stator RMSE %.2f K -> %.2f K (%.1f s)\n",
+              to_string(f), o.initial_evaluation, last_evaluation, early, late, before.stator.rmse_k, after.stator.rmse_k, o.seconds);
+  EXPECT_GT(last_evaluation, o.initial_evaluation);
+  if (f == Formulation::episode) {
+    EXPECT_GT(late, early);
+  }
+  EXPECT_LT(after.stator.rmse_k, before.stator.rmse_k);
+}
+
+TEST(Td3Calibration, PaperFormulationLearnsWithASmallBudget) { expect_learns(Formulation::per_step, 30, 3); }
+
+TEST(Td3Calibration, EpisodeFormulationLearnsWithASmallBudget) { expect_learns(Formulation::episode, 150, 15); }
+
+TEST(Td3Calibration, AKilledRunResumesToTheSameResult) {
+  const Data& d = generated();
+  TrainingSettings s = small(Formulation::per_step, 7);
+  s.max_steps_per_episode = 400;
+  s.agent.hidden = 16;
+  s.updates_per_episode = 10;
+  s.random_episodes = 2;
+  s.checkpoint_every = 2;
+  testing::TempDir straight_dir, killed_dir;
+  const Td3Outcome straight = train_td3(d.motor, d.dataset, d.split.train, s, straight_dir.path(), false);
+  // Killed in episode 6: the last checkpoint is after episode 4; episodes 5 and 6 are lost.
+  const Td3Outcome killed = train_td3(d.motor, d.dataset, d.split.train, s, killed_dir.path(), false,
+                                      [](const EpisodeReport& r) { return r.episode < 5; });
+  EXPECT_FALSE(killed.completed);
+  const Td3Outcome resumed = train_td3(d.motor, d.dataset, d.split.train, s, killed_dir.path(), true);
+  EXPECT_EQ(resumed.resumed_from, 4);
+  ASSERT_EQ(resumed.curve.size(), straight.curve.size());
+  for (std::size_t i = 0; i < straight.curve.size(); ++i) {
+    EXPECT_EQ(resumed.curve[i].cycle, straight.curve[i].cycle) << i;
+    EXPECT_EQ(resumed.curve[i].reward, straight.curve[i].reward) << i;
+  }
+  for (int i = 0; i < kNumParams; ++i) EXPECT_EQ(resumed.values[i], straight.values[i]) << param_spec(i).name;
+  EXPECT_EQ(resumed.actor.w3, straight.actor.w3);
+  // Other settings cannot continue this checkpoint.
+  s.agent.tau = 0.01;
+  EXPECT_THROW(train_td3(d.motor, d.dataset, d.split.train, s, killed_dir.path(), true), std::runtime_error);
+}
+
+TEST(Td3Settings, ShippedConfigFileIsTheBuiltInDefaults) {
+  const auto file = std::filesystem::path(LPTN_SOURCE_DIR) / "docs" / "td3.toml";
+  EXPECT_EQ(to_json(load_settings(file, Formulation::per_step)), to_json(default_settings(Formulation::per_step)));
+}
+
+TEST(Td3Settings, BadKeysAndValuesNameTheFileLineAndKey) {
+  testing::TempDir dir;
+  const auto file = dir.path() / "bad.toml";
+  auto expect_error = [&](const std::string& text, const std::string& part) {
+    std::ofstream(file) << text;
+    try {
+      load_settings(file, Formulation::per_step);
+      ADD_FAILURE() << "no error for: " << text;
+    } catch (const SettingsError& e) {
+      EXPECT_NE(std::string(e.what()).find(part), std::string::npos) << e.what();
+    }
+  };
+  expect_error("max_episodes = 10\nmax_episodez = 3\n", "bad.toml:2: key 'max_episodez': unknown key");
+  expect_error("[agent]\ntau = 2.0\n", "bad.toml:2: key 'agent.tau': must lie between 0 and 1");
+  expect_error("max_episodes = 1.5\n", "key 'max_episodes': must be an integer");
+  expect_error("max_episodes = \n", "bad.toml:1:");
+}
+
+}  // namespace
+}  // namespace lptn::td3
