@@ -9,7 +9,7 @@ cmake --preset host >/dev/null
 cmake --build --preset host --target lptn >/dev/null
 lptn=build/host/tools/cli/lptn
 out=${1:-bench-out}
-td3_episodes=${TD3_EPISODES:-150}
+td3_episodes=${TD3_EPISODES:-200}
 td3e_episodes=${TD3E_EPISODES:-1000}
 mkdir -p "$out"
 "$lptn" generate --out "$out/fleet" --cycles 9 --seed 1 --force >/dev/null

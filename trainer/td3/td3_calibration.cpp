@@ -33,6 +33,7 @@ class Environment {
     obs_scale_ = {base_rpm, m.rated_power_w / (2 * std::numbers::pi * base_rpm / 60.0)};
     for (std::size_t c : train) {
       const data::Cycle& cycle = dataset.cycles[c];
+      if (cycle.steps < 2) throw std::runtime_error(cycle.file.string() + ": cycle '" + cycle.name + "' is too short for an episode");
       if (std::abs(cycle.dt_s - settings.agent_sample_time_s) > 1e-9)
         throw std::runtime_error(cycle.file.string() + ": grid step " + std::to_string(cycle.dt_s) +
                                  " s differs from agent_sample_time_s " + std::to_string(settings.agent_sample_time_s));
