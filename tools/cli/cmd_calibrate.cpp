@@ -132,8 +132,10 @@ void run_td3(const Args& a, td3::Formulation formulation, const MotorFile& motor
   nlohmann::json curve = nlohmann::json::array();
   for (const td3::EpisodeRecord& e : o.curve)
     curve.push_back({{"episode", e.episode}, {"cycle", e.cycle}, {"reward", e.reward}, {"average", e.average},
-                     {"mean_abs_error_k", e.mean_abs_error_k}, {"seconds", e.seconds}});
+                     {"mean_abs_error_k", e.mean_abs_error_k}, {"seconds", e.seconds},
+                     {"evaluation", std::isnan(e.evaluation) ? nlohmann::json(nullptr) : nlohmann::json(e.evaluation)}});
   r.details = {{"episodes", o.episodes},
+               {"initial_evaluation", o.initial_evaluation},
                {"reached_target", o.reached_target},
                {"resumed_from_episode", o.resumed_from},
                {"checkpoints", checkpoints.string()},

@@ -73,6 +73,7 @@ const char* to_string(Formulation f) { return f == Formulation::per_step ? "td3"
 TrainingSettings default_settings(Formulation formulation) {
   TrainingSettings s;
   s.formulation = formulation;
+  s.agent.actor_lr = 1e-4;  // see TrainingSettings::updates_per_episode
   if (formulation == Formulation::episode) {
     // One transition per episode: the buffer holds every episode, updates are cheap per episode.
     s.updates_per_episode = 50;
@@ -80,6 +81,8 @@ TrainingSettings default_settings(Formulation formulation) {
     s.exploration_noise = 0.2;
     s.agent.batch_size = 64;
     s.agent.gamma = 0.0;  // a bandit: nothing follows the action
+    s.agent.actor_lr = 1e-3;
+    s.exploration_noise_final = 0.01;
     s.stop_average_reward = 0.1;  // reward = -ln(mean |error| in K + 0.1): the sensors' noise floor is about 0.8 K
   }
   return s;
