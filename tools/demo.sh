@@ -20,8 +20,9 @@ echo "== 3. simulate and compare: the paper's model with the motor file's initia
 "$lptn" simulate --data "$out/fleet" --motor "$out/fleet/motor.toml" --out "$out/simulation" --force
 echo "== 4. calibrate with Levenberg-Marquardt (Ceres): 6 cycles train, 3 test"
 "$lptn" calibrate --data "$out/fleet" --motor "$out/fleet/motor.toml" --method lm --seed 1 --out "$out/calibration-lm.json" --force
-echo "== 5. calibrate with TD3 (libtorch), the paper's formulation, demo budget of ${TD3_EPISODES:=20} episodes (the benchmark runs more)"
-"$lptn" calibrate --data "$out/fleet" --motor "$out/fleet/motor.toml" --method td3 --seed 1 --episodes "$TD3_EPISODES" \
+echo "== 5. calibrate with TD3 (libtorch), one action per episode, demo budget of ${TD3_EPISODES:=300} episodes"
+echo "      (the paper's per-step formulation, --method td3, needs hundreds of episodes: see README.md, Benchmark)"
+"$lptn" calibrate --data "$out/fleet" --motor "$out/fleet/motor.toml" --method td3-episode --seed 1 --episodes "$TD3_EPISODES" \
   --out "$out/calibration-td3.json" --checkpoint-dir "$out/td3-checkpoints" --force
 echo "== 6. export: the LM calibration as the firmware's header, and the TD3 actor with its forward pass"
 "$lptn" export --calibration "$out/calibration-lm.json" --out "$out/thermal_calibration.hpp" --force

@@ -139,7 +139,10 @@ void run_td3(const Args& a, td3::Formulation formulation, const MotorFile& motor
                {"reached_target", o.reached_target},
                {"resumed_from_episode", o.resumed_from},
                {"checkpoints", checkpoints.string()},
-               {"constant_set", "policy over the training data's operating points, tanh outputs averaged, mapped onto the bounds"},
+               {"constant_set", "policy over the training data's operating points, tanh outputs averaged, mapped onto the bounds; "
+                                "of the checkpoints' sets the one with the lowest training RMSE (episode 0: the starting guess)"},
+               {"best_episode", o.best_episode},
+               {"best_train_rmse_k", o.best_train_rmse_k},
                {"training_curve", curve}};
   r.seconds = o.seconds;
   r.has_actor = true;

@@ -98,6 +98,11 @@ struct RunState {
   std::vector<EpisodeRecord> curve;
   ParamVector<double> reference{};  // the policy's current constant set (warm-up of windows)
   double initial_evaluation = 0;
+  // The constant set that fit the training cycles best so far (the starting guess until one does
+  // better), its training RMSE (stator and rotor pooled) and the episode it was condensed at.
+  ParamVector<double> best{};
+  double best_train_rmse_k = std::numeric_limits<double>::infinity();
+  int best_episode = 0;
   double seconds = 0;
 };
 
@@ -154,6 +159,21 @@ class Trainer {
     rec.average = sum / static_cast<double>(n);
     state_.curve.push_back(rec);
     return rec;
+  }
+
+  // RMSE over the training cycles (stator and rotor residuals pooled) of a constant set.
+  double train_rmse(const ParamVector<double>& p) const {
+    double sum = 0, n = 0;
+    for (std::size_t ci = 0; ci < env_.cycles(); ++ci) {
+      const data::Cycle& cycle = env_.cycle(ci);
+      const CycleSimulation sim = simulate_cycle(env_.model(), p, cycle, env_.offsets(ci));
+      for (const ErrorMetrics& m : {compare(sim.stator_sensor, cycle, data::Channel::stator_winding_c),
+                                    compare(sim.rotor_sensor, cycle, data::Channel::rotor_c)}) {
+        sum += m.rmse_k * m.rmse_k * static_cast<double>(m.samples);
+        n += static_cast<double>(m.samples);
+      }
+    }
+    return n > 0 ? std::sqrt(sum / n) : 0.0;
   }
 
   // The deterministic policy's mean reward on the first window of every training cycle.
@@ -329,6 +349,9 @@ void save_checkpoint(Trainer& trainer, const std::filesystem::path& dir, const n
   j["seconds"] = s.seconds;
   j["reference"] = std::vector<double>(s.reference.begin(), s.reference.end());
   j["initial_evaluation"] = s.initial_evaluation;
+  j["best"] = std::vector<double>(s.best.begin(), s.best.end());
+  j["best_train_rmse_k"] = s.best_train_rmse_k;
+  j["best_episode"] = s.best_episode;
   for (const EpisodeRecord& r : s.curve) j["curve"].push_back(record_json(r));
   // The state file is the commit point: it names the agent file written just before it.
   write_file_atomically(dir / kStateFile, j.dump() + "\n");
@@ -360,6 +383,10 @@ void load_checkpoint(Trainer& trainer, const std::filesystem::path& dir, const n
   const auto ref = j.at("reference").get<std::vector<double>>();
   std::copy(ref.begin(), ref.end(), s.reference.begin());
   s.initial_evaluation = j.at("initial_evaluation").get<double>();
+  const auto best = j.at("best").get<std::vector<double>>();
+  std::copy(best.begin(), best.end(), s.best.begin());
+  s.best_train_rmse_k = j.at("best_train_rmse_k").get<double>();
+  s.best_episode = j.at("best_episode").get<int>();
   s.curve.clear();
   for (const auto& r : j.value("curve", nlohmann::json::array()))
     s.curve.push_back({r.at("episode").get<int>(), r.at("cycle").get<std::string>(), r.at("reward").get<double>(),
@@ -381,7 +408,11 @@ Td3Outcome train_td3(const MotorFile& motor, const data::Dataset& dataset, const
     load_checkpoint(trainer, checkpoint_dir, id);
     out.resumed_from = s.episode;
   }
-  if (!resume) s.initial_evaluation = trainer.evaluate();
+  if (!resume) {
+    s.initial_evaluation = trainer.evaluate();
+    s.best = motor.initial_values();
+    s.best_train_rmse_k = trainer.train_rmse(s.best);
+  }
   const auto t0 = Clock::now();
   const double seconds_before = s.seconds;
   const int first = s.episode;
@@ -394,6 +425,12 @@ Td3Outcome train_td3(const MotorFile& motor, const data::Dataset& dataset, const
     if (s.episode % settings.checkpoint_every == 0 || reached || s.episode == settings.max_episodes) {
       s.reference = trainer.condensed();
       s.curve.back().evaluation = trainer.evaluate();
+      const double rmse = trainer.train_rmse(s.reference);
+      if (rmse < s.best_train_rmse_k) {
+        s.best = s.reference;
+        s.best_train_rmse_k = rmse;
+        s.best_episode = s.episode;
+      }
       save_checkpoint(trainer, checkpoint_dir, id);
     }
     if (progress) {
@@ -416,7 +453,9 @@ Td3Outcome train_td3(const MotorFile& motor, const data::Dataset& dataset, const
       break;
     }
   }
-  out.values = trainer.condensed();
+  out.values = s.best;
+  out.best_episode = s.best_episode;
+  out.best_train_rmse_k = s.best_train_rmse_k;
   out.actor = trainer.agent().actor_weights();
   out.param_indices = trainer.env().free().index;
   out.obs_scale = trainer.env().obs_scale();

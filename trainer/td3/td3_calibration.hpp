@@ -43,11 +43,15 @@ struct EpisodeReport {
 using Td3Progress = std::function<bool(const EpisodeReport&)>;
 
 struct Td3Outcome {
-  // What the paper reports: one constant parameter set. The policy is evaluated at the operating
-  // points of the training data (every 5 s of every training cycle for the per-step formulation,
-  // each episode-length window's context for the episode one), its tanh outputs averaged, and the
-  // mean mapped onto the bounds: a geometric mean for log-scaled parameters.
+  // What the paper reports: one constant parameter set. At every checkpoint the policy is
+  // evaluated at the operating points of the training data (every 5 s of every training cycle for
+  // the per-step formulation, each episode-length window's context for the episode one), its tanh
+  // outputs averaged, and the mean mapped onto the bounds (a geometric mean for log-scaled
+  // parameters). The set returned is the one of these that fit the training cycles best (the
+  // starting guess if none did better: best_episode 0); the actor is the one at the end.
   ParamVector<double> values{};
+  int best_episode = 0;
+  double best_train_rmse_k = 0;
   ActorWeightsPlain actor;
   std::vector<int> param_indices;       // which parameter each action drives
   std::array<double, 2> obs_scale{1, 1};  // speed_rpm, torque_nm divided by these (offset 0)
