@@ -2,11 +2,9 @@
 // and write calibration.json (docs/calibration.md).
 #include <chrono>
 #include <cmath>
-#include <fstream>
 #include <map>
 #include <cstdio>
 #include <ctime>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -37,13 +35,6 @@ std::string utc_now() {
   char buf[32];
   std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&t));
   return buf;
-}
-
-std::string read_text(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
 }
 
 // The files behind the cycles, hashed, and one hash over them all (in cycle order).
@@ -130,10 +121,7 @@ void run_td3(const Args& a, td3::Formulation formulation, const MotorFile& motor
   r.method = td3::to_string(formulation);
   r.settings = td3::to_json(settings);
   nlohmann::json curve = nlohmann::json::array();
-  for (const td3::EpisodeRecord& e : o.curve)
-    curve.push_back({{"episode", e.episode}, {"cycle", e.cycle}, {"reward", e.reward}, {"average", e.average},
-                     {"mean_abs_error_k", e.mean_abs_error_k}, {"seconds", e.seconds},
-                     {"evaluation", std::isnan(e.evaluation) ? nlohmann::json(nullptr) : nlohmann::json(e.evaluation)}});
+  for (const td3::EpisodeRecord& e : o.curve) curve.push_back(td3::to_json(e));
   r.details = {{"episodes", o.episodes},
                {"initial_evaluation", o.initial_evaluation},
                {"reached_target", o.reached_target},
@@ -196,7 +184,7 @@ void add_calibrate(CLI::App& app) {
     r.lptn_version = "lptn 0.1.0";
     r.motor_name = motor.name;
     r.motor_file = a->motor;
-    r.motor_text = read_text(a->motor);
+    r.motor_text = motor.text;
     r.effects = motor.effects;
     const ParamVector<double> start = motor.initial_values();
     for (int i = 0; i < kNumParams; ++i) {

@@ -5,6 +5,7 @@
 #include <Eigen/Dense>
 #include <chrono>
 #include <array>
+#include <utility>
 #include <cmath>
 #include <cstdint>
 #include <stdexcept>
@@ -132,27 +133,32 @@ double correlation_time(const std::vector<std::vector<double>>& series) {
   return tau;
 }
 
-// Residual series (model - measured, demeaned per cycle) of one channel over the fitted cycles.
-std::vector<std::vector<double>> residual_series(const Model<double>& model, const ParamVector<double>& p,
-                                                 const data::Dataset& dataset, const std::vector<std::size_t>& cycles,
-                                                 const std::vector<InitialOffsets<double>>& offsets, data::Channel channel) {
-  std::vector<std::vector<double>> out;
+// Residual series (model - measured, demeaned per cycle) over the fitted cycles, per sensor:
+// [0] the stator winding, [1] the rotor. One simulation per cycle serves both.
+std::array<std::vector<std::vector<double>>, 2> residual_series(const Model<double>& model, const ParamVector<double>& p,
+                                                               const data::Dataset& dataset,
+                                                               const std::vector<std::size_t>& cycles,
+                                                               const std::vector<InitialOffsets<double>>& offsets) {
+  std::array<std::vector<std::vector<double>>, 2> out;
   for (std::size_t i = 0; i < cycles.size(); ++i) {
     const data::Cycle& cycle = dataset.cycles[cycles[i]];
     const CycleSimulation sim = simulate_cycle(model, p, cycle, offsets[i]);
-    const std::vector<float>& modelled = channel == data::Channel::rotor_c ? sim.rotor_sensor : sim.stator_sensor;
-    std::vector<double> r;
-    double mean = 0;
-    for (std::size_t k = 0; k < cycle.steps; ++k) {
-      const float y = cycle.at(channel, k);
-      if (std::isnan(y)) continue;
-      r.push_back(static_cast<double>(modelled[k]) - y);
-      mean += r.back();
+    const std::pair<data::Channel, const std::vector<float>*> sensors[2] = {
+        {data::Channel::stator_winding_c, &sim.stator_sensor}, {data::Channel::rotor_c, &sim.rotor_sensor}};
+    for (int s = 0; s < 2; ++s) {
+      std::vector<double> r;
+      double mean = 0;
+      for (std::size_t k = 0; k < cycle.steps; ++k) {
+        const float y = cycle.at(sensors[s].first, k);
+        if (std::isnan(y)) continue;
+        r.push_back(static_cast<double>((*sensors[s].second)[k]) - y);
+        mean += r.back();
+      }
+      if (r.empty()) continue;
+      mean /= static_cast<double>(r.size());
+      for (double& e : r) e -= mean;
+      out[static_cast<std::size_t>(s)].push_back(std::move(r));
     }
-    if (r.empty()) continue;
-    mean /= static_cast<double>(r.size());
-    for (double& e : r) e -= mean;
-    out.push_back(std::move(r));
   }
   return out;
 }
@@ -263,9 +269,8 @@ LmReport fit_lm(const MotorFile& motor, const ParamVector<double>& start, const 
             jacobian.values[static_cast<std::size_t>(a)] * jacobian.values[static_cast<std::size_t>(b)];
   }
   const double dof = std::max(1.0, static_cast<double>(report.residuals) - static_cast<double>(nf));
-  const double tau_stator = correlation_time(residual_series(model, report.values, dataset, cycles, report.offsets, data::Channel::stator_winding_c));
-  const double tau_rotor = correlation_time(residual_series(model, report.values, dataset, cycles, report.offsets, data::Channel::rotor_c));
-  report.correlation_time = std::max(tau_stator, tau_rotor);
+  const auto series = residual_series(model, report.values, dataset, cycles, report.offsets);
+  report.correlation_time = std::max(correlation_time(series[0]), correlation_time(series[1]));
   const double s2 = 2.0 * cost / dof * report.correlation_time;
   Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(jtj);
   const Eigen::MatrixXd cov = s2 * cod.pseudoInverse();

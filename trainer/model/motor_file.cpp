@@ -141,6 +141,7 @@ MotorFile parse_motor_file(const std::string& text, const std::filesystem::path&
   }
   MotorFile motor;
   motor.path = shown_as;
+  motor.text = text;
   motor.parameters = default_parameter_settings();
   TableReader top(root, "", shown_as);
   if (const toml::node* n = root.get("name")) {

@@ -28,6 +28,7 @@ struct ParameterSetting {
 struct MotorFile {
   std::string name;
   std::filesystem::path path;
+  std::string text;  // the file as read (a calibration keeps it, to rebuild the model from the result alone)
   MotorConstants<double> constants;
   EffectSet effects = 0;
   std::array<ParameterSetting, kNumParams> parameters{};

@@ -106,11 +106,6 @@ struct RunState {
   double seconds = 0;
 };
 
-nlohmann::json record_json(const EpisodeRecord& r) {
-  return {{"episode", r.episode}, {"cycle", r.cycle}, {"reward", r.reward}, {"average", r.average},
-          {"mean_abs_error_k", r.mean_abs_error_k}, {"seconds", r.seconds},
-          {"evaluation", std::isnan(r.evaluation) ? nlohmann::json(nullptr) : nlohmann::json(r.evaluation)}};
-}
 
 // What must match for a checkpoint to be continued: the settings and the training data.
 nlohmann::json identity(const TrainingSettings& settings, const Environment& env) {
@@ -136,12 +131,17 @@ class Trainer {
   const Environment& env() const { return env_; }
   RunState& state() { return state_; }
 
+  // Agent steps in an episode on `cycle`: at most max_steps_per_episode, at most the cycle.
+  std::size_t episode_length(const data::Cycle& cycle) const {
+    return std::min<std::size_t>(static_cast<std::size_t>(settings_.max_steps_per_episode), cycle.steps - 1);
+  }
+
   // One episode: returns its record.
   EpisodeRecord episode() {
     const bool random = state_.episode < settings_.random_episodes;
     const std::size_t ci = std::uniform_int_distribution<std::size_t>(0, env_.cycles() - 1)(state_.rng);
     const data::Cycle& cycle = env_.cycle(ci);
-    const std::size_t length = std::min<std::size_t>(static_cast<std::size_t>(settings_.max_steps_per_episode), cycle.steps - 1);
+    const std::size_t length = episode_length(cycle);
     const std::size_t start = std::uniform_int_distribution<std::size_t>(0, cycle.steps - 1 - length)(state_.rng);
     EpisodeRecord rec;
     rec.episode = state_.episode + 1;
@@ -163,17 +163,14 @@ class Trainer {
 
   // RMSE over the training cycles (stator and rotor residuals pooled) of a constant set.
   double train_rmse(const ParamVector<double>& p) const {
-    double sum = 0, n = 0;
+    std::vector<ErrorMetrics> parts;
     for (std::size_t ci = 0; ci < env_.cycles(); ++ci) {
       const data::Cycle& cycle = env_.cycle(ci);
       const CycleSimulation sim = simulate_cycle(env_.model(), p, cycle, env_.offsets(ci));
-      for (const ErrorMetrics& m : {compare(sim.stator_sensor, cycle, data::Channel::stator_winding_c),
-                                    compare(sim.rotor_sensor, cycle, data::Channel::rotor_c)}) {
-        sum += m.rmse_k * m.rmse_k * static_cast<double>(m.samples);
-        n += static_cast<double>(m.samples);
-      }
+      parts.push_back(compare(sim.stator_sensor, cycle, data::Channel::stator_winding_c));
+      parts.push_back(compare(sim.rotor_sensor, cycle, data::Channel::rotor_c));
     }
-    return n > 0 ? std::sqrt(sum / n) : 0.0;
+    return pool(parts).rmse_k;
   }
 
   // The deterministic policy's mean reward on the first window of every training cycle.
@@ -181,7 +178,7 @@ class Trainer {
     double total = 0;
     for (std::size_t ci = 0; ci < env_.cycles(); ++ci) {
       const data::Cycle& cycle = env_.cycle(ci);
-      const std::size_t length = std::min<std::size_t>(static_cast<std::size_t>(settings_.max_steps_per_episode), cycle.steps - 1);
+      const std::size_t length = episode_length(cycle);
       EpisodeRecord rec;
       if (settings_.formulation == Formulation::per_step) per_step_episode(ci, 0, length, false, rec, false);
       else bandit_episode(ci, 0, length, false, rec, false);
@@ -206,7 +203,7 @@ class Trainer {
     } else {
       for (std::size_t i = 0; i < env_.cycles(); ++i) {
         const data::Cycle& c = env_.cycle(i);
-        const auto length = std::min<std::size_t>(static_cast<std::size_t>(settings_.max_steps_per_episode), c.steps - 1);
+        const auto length = episode_length(c);
         for (std::size_t s = 0; s + length < c.steps; s += length) {
           float o[kObs];
           context(c, s, length, o);
@@ -352,7 +349,7 @@ void save_checkpoint(Trainer& trainer, const std::filesystem::path& dir, const n
   j["best"] = std::vector<double>(s.best.begin(), s.best.end());
   j["best_train_rmse_k"] = s.best_train_rmse_k;
   j["best_episode"] = s.best_episode;
-  for (const EpisodeRecord& r : s.curve) j["curve"].push_back(record_json(r));
+  for (const EpisodeRecord& r : s.curve) j["curve"].push_back(to_json(r));
   // The state file is the commit point: it names the agent file written just before it.
   write_file_atomically(dir / kStateFile, j.dump() + "\n");
   for (const auto& entry : std::filesystem::directory_iterator(dir)) {
@@ -395,6 +392,12 @@ void load_checkpoint(Trainer& trainer, const std::filesystem::path& dir, const n
 }
 
 }  // namespace
+
+nlohmann::json to_json(const EpisodeRecord& r) {
+  return {{"episode", r.episode}, {"cycle", r.cycle}, {"reward", r.reward}, {"average", r.average},
+          {"mean_abs_error_k", r.mean_abs_error_k}, {"seconds", r.seconds},
+          {"evaluation", std::isnan(r.evaluation) ? nlohmann::json(nullptr) : nlohmann::json(r.evaluation)}};
+}
 
 Td3Outcome train_td3(const MotorFile& motor, const data::Dataset& dataset, const std::vector<std::size_t>& train,
                      const TrainingSettings& settings, const std::filesystem::path& checkpoint_dir, bool resume,

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <functional>
 #include <limits>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -31,6 +32,10 @@ struct EpisodeRecord {
   // rewards vary with the window drawn; this does not.
   double evaluation = std::numeric_limits<double>::quiet_NaN();
 };
+
+// One record as calibration.json's training curve and the checkpoints hold it (null evaluation
+// between checkpoints).
+nlohmann::json to_json(const EpisodeRecord& record);
 
 struct EpisodeReport {
   int episode = 0, max_episodes = 0;
