@@ -27,6 +27,34 @@ struct Sdirk2 {
   // (and leaves x unchanged) only if the stage matrix is singular.
   template <class R>
   static bool step(const HeatBalance<T>& sys, T* x, const R& h) {
+    internal::SmallLu<T> lu;
+    if (!factor_stage_matrix(sys, h, lu)) return false;
+    advance(sys, lu, x, h, true);
+    return true;
+  }
+
+  // The same step as an affine map, x_new = phi x + (the step from x = 0), with phi built column
+  // by column from the very arithmetic step() does (the input term c left out), so that a Kalman
+  // filter propagates its covariance through exactly the step that moves its state. Returns false
+  // (phi untouched) if the stage matrix is singular.
+  template <class R>
+  static bool transition(const HeatBalance<T>& sys, const R& h, T (&phi)[kMaxStates][kMaxStates]) {
+    internal::SmallLu<T> lu;
+    if (!factor_stage_matrix(sys, h, lu)) return false;
+    const int n = sys.n;
+    for (int j = 0; j < n; ++j) {
+      T column[kMaxStates];
+      for (int i = 0; i < n; ++i) column[i] = T(i == j ? 1 : 0);
+      advance(sys, lu, column, h, false);
+      for (int i = 0; i < n; ++i) phi[i][j] = column[i];
+    }
+    return true;
+  }
+
+ private:
+  // Both stages share one matrix, I - gamma h A.
+  template <class R>
+  static bool factor_stage_matrix(const HeatBalance<T>& sys, const R& h, internal::SmallLu<T>& lu) {
     const int n = sys.n;
     T m[kMaxStates][kMaxStates];
     const T gh = T(kGamma * h);
@@ -34,24 +62,32 @@ struct Sdirk2 {
       for (int j = 0; j < n; ++j) m[i][j] = -gh * sys.a[i][j];
       m[i][i] += T(1);
     }
-    internal::SmallLu<T> lu;
-    if (!lu.factor(m, n)) return false;
+    return lu.factor(m, n);
+  }
 
+  // The two stages; with_input = false drops c (the homogeneous part, for transition()).
+  template <class R>
+  static void advance(const HeatBalance<T>& sys, const internal::SmallLu<T>& lu, T* x, const R& h, bool with_input) {
+    const int n = sys.n;
+    auto rate = [&](int i, const T* at) {  // sys.derivative(), with or without c
+      T p = with_input ? sys.c[i] : T(0);
+      for (int j = 0; j < n; ++j) p += sys.a[i][j] * at[j];
+      return p;
+    };
     // Stage 1: k1 = A (x + gamma h k1) + c.
     T k1[kMaxStates];
-    for (int i = 0; i < n; ++i) k1[i] = sys.derivative(i, x);
+    for (int i = 0; i < n; ++i) k1[i] = rate(i, x);
     lu.solve(k1);
     // Stage 2: k2 = A (x + (1 - gamma) h k1 + gamma h k2) + c.
     T x1[kMaxStates];
     const T w1 = T((1.0 - kGamma) * h);
     for (int i = 0; i < n; ++i) x1[i] = x[i] + w1 * k1[i];
     T k2[kMaxStates];
-    for (int i = 0; i < n; ++i) k2[i] = sys.derivative(i, x1);
+    for (int i = 0; i < n; ++i) k2[i] = rate(i, x1);
     lu.solve(k2);
     // Stiffly accurate: the new state is the second stage's.
     const T w2 = T(kGamma * h);
     for (int i = 0; i < n; ++i) x[i] = x1[i] + w2 * k2[i];
-    return true;
   }
 };
 

@@ -166,5 +166,37 @@ TEST(Integrator, HandlesStiffParameterSets) {
   for (int i = 0; i < model.num_states(); ++i) EXPECT_NEAR(big[i], settled[i], 1e-3 * settled[i]) << i;
 }
 
+
+// The transition matrix the observer propagates its covariance with is the step itself: the step
+// is affine in the state, so step(x + d) - step(x) = phi d for any d, with every effect on.
+TEST(Integrator, TransitionMatrixIsTheStepsOwnLinearPart) {
+  const EffectSet all = (EffectSet{1} << kNumEffects) - 1;
+  const Model<double> model(testing::example_motor(), all);
+  auto p = default_params<double>();
+  p[param_index("sensor_time_constant_s")] = 20.0;
+  HeatBalance<double> sys;
+  model.assemble(reference_inputs(50.0), p.data(), sys);
+  double phi[kMaxStates][kMaxStates];
+  ASSERT_TRUE(Sdirk2<double>::transition(sys, 0.1, phi));
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> temperature(0.0, 150.0), delta(-20.0, 20.0);
+  const int n = model.num_states();
+  for (int trial = 0; trial < 20; ++trial) {
+    double x[kMaxStates], xd[kMaxStates], d[kMaxStates];
+    for (int i = 0; i < n; ++i) {
+      x[i] = temperature(rng);
+      d[i] = delta(rng);
+      xd[i] = x[i] + d[i];
+    }
+    Sdirk2<double>::step(sys, x, 0.1);
+    Sdirk2<double>::step(sys, xd, 0.1);
+    for (int i = 0; i < n; ++i) {
+      double predicted = 0;
+      for (int j = 0; j < n; ++j) predicted += phi[i][j] * d[j];
+      EXPECT_NEAR(xd[i] - x[i], predicted, 1e-9) << "state " << i;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace lptn

@@ -253,7 +253,11 @@ std::string header(const CalibrationResult& c, const ExportOptions& o) {
   const std::string actor = o.actor ? actor_source(c, o) : "";  // first: a missing actor fails before any work
   std::string s = provenance(c, o);
   s += "#pragma once\n\n#include \"lptn/model.hpp\"\n#include \"lptn/motor_constants.hpp\"\n";
-  if (o.actor) s += "#include \"lptn/actor.hpp\"\n";
+  if (o.actor) {
+    s += "#include \"lptn/actor.hpp\"\n\n";
+    s += "// Code that may or may not get an actor (the firmware's exported_calibration.hpp) asks this.\n";
+    s += "#define LPTN_CALIBRATION_HAS_ACTOR 1\n";
+  }
   s += "\nnamespace lptn::calibration {\n\n";
   s += constants(c, o) + "\n";
   s += effects_source(c) + "\n";

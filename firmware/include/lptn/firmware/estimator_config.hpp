@@ -1,0 +1,112 @@
+// Everything the estimator is built from: the calibrated model, the observer's noise settings,
+// the sensor monitor, each input's limits and the nodes' temperature limits. Filled once at
+// start-up (default_config() for the documented defaults), then held by value: no heap.
+#pragma once
+
+#include "lptn/actor.hpp"
+#include "lptn/can/lptn_frames.hpp"
+#include "lptn/firmware/input_conditioner.hpp"
+#include "lptn/firmware/observer.hpp"
+#include "lptn/firmware/sensor_monitor.hpp"
+#include "lptn/model.hpp"
+
+namespace lptn::fw {
+
+// The frozen TD3 actor of an exported calibration (lptn export --actor): the parameters it drives
+// follow speed and torque, obs = ((speed_rpm, torque_nm) - obs_offset) / obs_scale.
+struct ActorSchedule {
+  const ActorView* actor = nullptr;
+  double obs_offset[2] = {0, 0};
+  double obs_scale[2] = {1, 1};
+  const int* param_index = nullptr;  // outputs() entries each
+  const double* param_min = nullptr;
+  const double* param_max = nullptr;
+  int outputs() const { return actor ? actor->outputs : 0; }
+};
+
+template <class T>
+struct EstimatorConfig {
+  MotorConstants<T> motor{};
+  EffectSet effects = 0;
+  ParamVector<T> params{};  // the constant set (model order)
+  ActorSchedule actor{};
+  bool use_actor = false;  // schedule the actor's parameters (needs torque on the bus)
+  bool fuse_stator_sensor = true;  // false: open loop
+  ObserverSettings<T> observer{};
+  SensorMonitorSettings<T> sensor{};
+  InputLimits<T> inputs[kNumInputs]{};
+  // Insulation limits per node (class H winding, 180 C; the cage and core by their materials).
+  T node_limit_c[kNumNodes] = {T(180), T(180), T(200), T(200)};
+  // Without a stator reading the observer waits this long, then starts every node at
+  // start_without_sensor_c with a wide uncertainty (a motor that may have just run).
+  TimeUs start_without_sensor_after_us = 30 * kUsPerS;
+  T start_without_sensor_c = T(120);
+};
+
+namespace internal {
+
+constexpr TimeUs cycle_us(std::uint32_t cycle_ms) { return static_cast<TimeUs>(cycle_ms) * 1000; }
+
+// The stator frequency at which the frequency-driven losses (stray, iron on the nominal V/f
+// profile, harmonic) are largest at the given current: the conservative stand-in for a lost
+// frequency signal. A scan over 0..3 fnom, once at start-up.
+template <class T>
+T worst_frequency(const MotorConstants<T>& m, T current_a) {
+  T best_f = m.rated_frequency_hz, best_p = T(-1);
+  for (int k = 0; k <= 96; ++k) {
+    Inputs<T> in;
+    in.current_a = current_a;
+    in.frequency_hz = T(3) * m.rated_frequency_hz * T(k) / T(96);
+    const OperatingLosses<T> l = operating_losses(m, in);
+    const T p = l.stray_w + l.iron_w + l.harmonic_w;
+    if (p > best_p) {
+      best_p = p;
+      best_f = in.frequency_hz;
+    }
+  }
+  return best_f;
+}
+
+}  // namespace internal
+
+// The documented defaults. Ranges follow the nameplate; timeouts are 3 cycle times of the input's
+// frame (from the DBC); grace periods match what the trainer's loader bridges (2 s electrical,
+// 10 s airflow, 120 s ambient). Conservative values, each one that can only raise the estimate:
+//   speed       0 rpm: no speed-driven cooling (effects); the rotor loss is taken from the
+//               currents instead of the slip power (windage, if enabled, is then left out)
+//   current     2 x rated: the converter's current limit (set your converter's)
+//   frequency   the frequency of the largest frequency-driven losses (internal::worst_frequency)
+//   airflow     0: natural convection only (the model's floor)
+//   ambient     45 C: a hot day's cooling air (set the vehicle's design ambient)
+//   torque      not used after its grace: rotor loss from the currents (the nameplate route)
+//   voltage     not used after its grace: flux from the nominal V/f profile
+template <class T>
+EstimatorConfig<T> default_config(const MotorConstants<T>& m, EffectSet effects, const ParamVector<T>& params) {
+  EstimatorConfig<T> c;
+  c.motor = m;
+  c.effects = effects;
+  c.params = params;
+  constexpr T kPi = T(3.14159265358979);
+  const T rated_torque = m.rated_power_w / (T(2) * kPi * m.base_speed_rpm() / T(60));
+  const TimeUs electrical = 3 * internal::cycle_us(can::TcElectrical::kCycleTimeMs);
+  const TimeUs cooling = 3 * internal::cycle_us(can::TcCooling::kCycleTimeMs);
+  const T current_limit = T(2) * m.rated_current_a;
+  auto set = [&](Input i, T lo, T hi, TimeUs timeout, T grace_s, T conservative) {
+    c.inputs[index_of(i)] = InputLimits<T>{lo, hi, timeout, static_cast<TimeUs>(grace_s * T(kUsPerS)), conservative};
+  };
+  set(Input::speed, -T(3) * m.base_speed_rpm(), T(3) * m.base_speed_rpm(), electrical, T(2), T(0));
+  set(Input::current, T(0), T(4) * m.rated_current_a, electrical, T(2), current_limit);
+  set(Input::frequency, -T(3.2) * m.rated_frequency_hz, T(3.2) * m.rated_frequency_hz, electrical, T(2),
+      internal::worst_frequency(m, current_limit));
+  set(Input::airflow, T(0), T(5) * m.nominal_airflow_m3s, cooling, T(10), T(0));
+  set(Input::ambient, T(-50), T(60), cooling, T(120), T(45));
+  set(Input::torque, -T(4) * rated_torque, T(4) * rated_torque, 3 * internal::cycle_us(can::TcTorque::kCycleTimeMs),
+      T(2), T(0));
+  set(Input::voltage, T(0), T(1.3) * m.rated_voltage_v, 3 * internal::cycle_us(can::TcVoltage::kCycleTimeMs), T(2),
+      T(0));
+  set(Input::stator_sensor, T(-50), T(250), 3 * internal::cycle_us(can::TcStatorTemp::kCycleTimeMs), T(0), T(0));
+  set(Input::rotor_sensor, T(-50), T(300), 3 * internal::cycle_us(can::BenchRotorTemp::kCycleTimeMs), T(0), T(0));
+  return c;
+}
+
+}  // namespace lptn::fw

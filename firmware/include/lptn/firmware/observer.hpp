@@ -1,0 +1,166 @@
+// The observer core: the shared model and integrator as a Kalman filter.
+//
+// Prediction is the model's own step (common/: Model::assemble and Sdirk2, the very code the
+// trainer simulates with); the covariance goes through the same step's transition matrix,
+//     x+ = step(x, u),   P+ = Phi P Phi' + Q,   Q = diag(q_i^2 dt).
+// Correction fuses one scalar reading, the stator winding sensor (the state it reads is the
+// layout's stator_sensor_state: node 1, or the sensor's own state with sensor_lag):
+//     nu = y - x_s,  S = P_ss + r^2,  K = P e_s / S,  x += K nu,  P = (I - K e_s') P (I - K e_s')' + r^2 K K'
+// (Joseph form: stays symmetric and positive in float). A reading whose test ratio
+// nu^2 / (S gate^2) exceeds one is rejected, as PX4's EKF2 gates its fusions.
+// Plain library: settings struct, setters, no heap, no exceptions, bounded loops.
+#pragma once
+
+#include <cmath>
+
+#include "lptn/model.hpp"
+
+namespace lptn::fw {
+
+template <class T>
+struct ObserverSettings {
+  T dt_s = T(0.1);
+  T sensor_noise_k = T(0.5);  // stator winding sensor, 1 sigma (PT100 + quantization)
+  T rotor_sensor_noise_k = T(1.0);
+  // How fast the model's own error may grow: a random walk per node, K per sqrt(s). 0.02 K/sqrt(s)
+  // lets a node drift about 1.2 K in an hour unobserved, a little more than the calibrated
+  // model's error on unseen cycles.
+  T process_noise_k_per_sqrt_s[kNumNodes] = {T(0.02), T(0.02), T(0.03), T(0.03)};
+  T process_noise_extra_k_per_sqrt_s = T(0.02);  // effects' extra states (e.g. the lagged sensor)
+  T initial_std_unmeasured_k = T(5);  // nodes no sensor sees at start (soaked-motor guess)
+  T gate_sigma = T(4);  // innovations beyond this many predicted standard deviations are rejected
+};
+
+// One fusion's figures, published every tick for the last reading (EKF2's innovation reporting).
+template <class T>
+struct Fusion {
+  T innovation_k = T(0);      // reading minus prediction
+  T innovation_std_k = T(0);  // sqrt(S)
+  T test_ratio = T(0);        // nu^2 / (S gate^2); > 1 rejected
+  bool accepted = false;      // fused
+};
+
+template <class T>
+class Observer {
+ public:
+  Observer(const MotorConstants<T>& motor, EffectSet effects, const ObserverSettings<T>& settings)
+      : model_(motor, effects), settings_(settings) {}
+
+  const Model<T>& model() const { return model_; }
+  const ObserverSettings<T>& settings() const { return settings_; }
+  int num_states() const { return model_.num_states(); }
+
+  // Start as the trainer does (trainer/model/simulate.hpp): the stator nodes at the stator
+  // reading, the rotor nodes at the rotor reading, or at the stator's where the rotor is not
+  // measured (a motor that has stood is soaked through). Unmeasured nodes start uncertain; so
+  // does everything when there was no stator reading to start from.
+  void initialize(T stator_c, bool stator_measured, T rotor_c, bool rotor_measured) {
+    model_.initial_state(x_, stator_c, rotor_measured ? rotor_c : stator_c);
+    const int n = num_states();
+    for (int i = 0; i < kMaxStates; ++i)
+      for (int j = 0; j < kMaxStates; ++j) p_[i][j] = T(0);
+    const T unmeasured = settings_.initial_std_unmeasured_k * settings_.initial_std_unmeasured_k;
+    const T stator = stator_measured ? settings_.sensor_noise_k * settings_.sensor_noise_k : unmeasured;
+    const T rotor = rotor_measured ? settings_.rotor_sensor_noise_k * settings_.rotor_sensor_noise_k : unmeasured;
+    for (int i = 0; i < n; ++i) p_[i][i] = unmeasured;
+    p_[kStatorWinding][kStatorWinding] = stator;
+    p_[model_.layout().stator_sensor_state][model_.layout().stator_sensor_state] = stator;
+    p_[kRotorWinding][kRotorWinding] = rotor;
+  }
+
+  // One step of dt with the inputs held over it. Returns false (state and covariance unchanged)
+  // only if the step's matrix was singular, which a passive parameter set cannot produce.
+  bool predict(const Inputs<T>& in, const T* params) {
+    HeatBalance<T> sys;
+    losses_ = model_.assemble(in, params, sys);
+    T phi[kMaxStates][kMaxStates];
+    if (!Sdirk2<T>::transition(sys, settings_.dt_s, phi)) return false;
+    Sdirk2<T>::step(sys, x_, settings_.dt_s);
+    propagate_covariance(phi);
+    return true;
+  }
+
+  // A stator winding reading against the prediction: innovation, its spread and the test ratio.
+  Fusion<T> test(T reading_c) const {
+    using std::sqrt;
+    const int s = model_.layout().stator_sensor_state;
+    const T innovation_var = p_[s][s] + settings_.sensor_noise_k * settings_.sensor_noise_k;
+    Fusion<T> f;
+    f.innovation_k = reading_c - x_[s];
+    f.innovation_std_k = sqrt(innovation_var);
+    f.test_ratio = f.innovation_k * f.innovation_k / (innovation_var * settings_.gate_sigma * settings_.gate_sigma);
+    return f;
+  }
+
+  // Fuses a tested reading (the caller decides, on the test ratio and the sensor's health).
+  void fuse(Fusion<T>& f) {
+    const int s = model_.layout().stator_sensor_state;
+    update(s, f.innovation_k, f.innovation_std_k * f.innovation_std_k, settings_.sensor_noise_k * settings_.sensor_noise_k);
+    f.accepted = true;
+  }
+
+  const T* state() const { return x_; }
+  T node_c(int node) const { return x_[node]; }
+  T node_std_k(int node) const {
+    using std::sqrt;
+    return sqrt(p_[node][node] > T(0) ? p_[node][node] : T(0));
+  }
+  T stator_sensor_c() const { return model_.stator_sensor(x_); }
+  const OperatingLosses<T>& losses() const { return losses_; }
+
+ private:
+  void propagate_covariance(const T (&phi)[kMaxStates][kMaxStates]) {
+    const int n = num_states();
+    T tmp[kMaxStates][kMaxStates];  // Phi P
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j) {
+        T acc = T(0);
+        for (int k = 0; k < n; ++k) acc += phi[i][k] * p_[k][j];
+        tmp[i][j] = acc;
+      }
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j) {
+        T acc = T(0);
+        for (int k = 0; k < n; ++k) acc += tmp[i][k] * phi[j][k];
+        p_[i][j] = acc;
+      }
+    for (int i = 0; i < n; ++i) {
+      const T q = i < kNumNodes ? settings_.process_noise_k_per_sqrt_s[i] : settings_.process_noise_extra_k_per_sqrt_s;
+      p_[i][i] += q * q * settings_.dt_s;
+    }
+    symmetrize();
+  }
+
+  // Joseph-form update for the scalar measurement of state s.
+  void update(int s, T innovation, T innovation_var, T r) {
+    const int n = num_states();
+    T k[kMaxStates];
+    for (int i = 0; i < n; ++i) k[i] = p_[i][s] / innovation_var;
+    for (int i = 0; i < n; ++i) x_[i] += k[i] * innovation;
+    // A = I - k e_s'; P = A P A' + r k k'
+    T ap[kMaxStates][kMaxStates];
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j) ap[i][j] = p_[i][j] - k[i] * p_[s][j];
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j) p_[i][j] = ap[i][j] - ap[i][s] * k[j] + r * k[i] * k[j];
+    symmetrize();
+  }
+
+  void symmetrize() {
+    const int n = num_states();
+    for (int i = 0; i < n; ++i)
+      for (int j = i + 1; j < n; ++j) {
+        const T m = T(0.5) * (p_[i][j] + p_[j][i]);
+        p_[i][j] = m;
+        p_[j][i] = m;
+      }
+  }
+
+  Model<T> model_;
+  ObserverSettings<T> settings_;
+  T x_[kMaxStates]{};
+  T p_[kMaxStates][kMaxStates]{};
+  OperatingLosses<T> losses_{};
+};
+
+}  // namespace lptn::fw

@@ -1,0 +1,121 @@
+#include "candump_log.hpp"
+
+#include <cstdio>
+
+namespace lptn::fw {
+namespace {
+
+int hex_value(char c) {
+  if (c >= '0' && c <= '9') return c - '0';
+  if (c >= 'a' && c <= 'f') return c - 'a' + 10;
+  if (c >= 'A' && c <= 'F') return c - 'A' + 10;
+  return -1;
+}
+
+// Digits only, at most `max_digits`, into an integer; false on anything else or an empty field.
+bool decimal(std::string_view s, std::size_t max_digits, long long& out) {
+  if (s.empty() || s.size() > max_digits) return false;
+  out = 0;
+  for (char c : s) {
+    if (c < '0' || c > '9') return false;
+    out = out * 10 + (c - '0');
+  }
+  return true;
+}
+
+constexpr std::uint32_t kErrorFlag = 0x20000000u;
+
+}  // namespace
+
+const char* parse_candump_line(std::string_view line, CandumpRecord& out) {
+  if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+  // (sec.usec)
+  if (line.size() < 3 || line.front() != '(') return "expected '(seconds.microseconds)' at the start";
+  const std::size_t close = line.find(')');
+  if (close == std::string_view::npos) return "time stamp has no closing ')'";
+  const std::string_view stamp = line.substr(1, close - 1);
+  const std::size_t dot = stamp.find('.');
+  long long sec = 0, usec = 0;
+  if (dot == std::string_view::npos || !decimal(stamp.substr(0, dot), 12, sec) || stamp.size() - dot - 1 != 6 ||
+      !decimal(stamp.substr(dot + 1), 6, usec))
+    return "time stamp is not seconds.microseconds (six digits)";
+  out.time_us = static_cast<TimeUs>(sec) * kUsPerS + static_cast<TimeUs>(usec);
+
+  // interface
+  std::string_view rest = line.substr(close + 1);
+  if (rest.empty() || rest.front() != ' ') return "expected a space after the time stamp";
+  rest.remove_prefix(1);
+  const std::size_t space = rest.find(' ');
+  if (space == std::string_view::npos || space == 0) return "expected an interface name and a frame";
+  out.interface = rest.substr(0, space);
+  std::string_view frame = rest.substr(space + 1);
+  while (!frame.empty() && frame.back() == ' ') frame.remove_suffix(1);
+
+  // id#data
+  const std::size_t hash = frame.find('#');
+  if (hash == std::string_view::npos) return "frame has no '#' between id and data";
+  const std::string_view id = frame.substr(0, hash);
+  if (id.size() != 3 && id.size() != 8) return "frame id must have 3 (standard) or 8 (extended) hex digits";
+  std::uint32_t value = 0;
+  for (char c : id) {
+    const int v = hex_value(c);
+    if (v < 0) return "frame id is not hexadecimal";
+    value = value << 4 | static_cast<std::uint32_t>(v);
+  }
+  CanFrame f;
+  f.extended = id.size() == 8;
+  f.error = f.extended && (value & kErrorFlag) != 0;
+  f.id = f.extended ? (value & 0x1FFFFFFFu) : value;
+  if (!f.extended && value > 0x7FF) return "standard frame id above 7FF";
+  std::string_view data = frame.substr(hash + 1);
+  std::size_t max_len = 8;
+  if (!data.empty() && data.front() == '#') {  // CAN FD: flags nibble, then data
+    if (data.size() < 2 || hex_value(data[1]) < 0) return "CAN FD frame has no flags digit after '##'";
+    f.fd = true;
+    max_len = 64;
+    data.remove_prefix(2);
+  } else if (!data.empty() && (data.front() == 'R' || data.front() == 'r')) {
+    f.remote = true;
+    if (data.size() == 2 && data[1] >= '0' && data[1] <= '8') {
+      f.len = static_cast<std::uint8_t>(data[1] - '0');
+    } else if (data.size() != 1) {
+      return "remote frame: 'R' may only be followed by a length digit 0-8";
+    }
+    out.frame = f;
+    return nullptr;
+  }
+  if (data.size() % 2 != 0) return "data has an odd number of hex digits";
+  if (data.size() / 2 > max_len) return f.fd ? "CAN FD data longer than 64 bytes" : "data longer than 8 bytes";
+  for (std::size_t i = 0; i < data.size(); i += 2) {
+    const int hi = hex_value(data[i]), lo = hex_value(data[i + 1]);
+    if (hi < 0 || lo < 0) return "data is not hexadecimal";
+    f.data[i / 2] = static_cast<std::uint8_t>(hi << 4 | lo);
+  }
+  f.len = static_cast<std::uint8_t>(data.size() / 2);
+  out.frame = f;
+  return nullptr;
+}
+
+std::size_t format_candump_line(char* buf, std::size_t size, TimeUs time_us, std::string_view interface,
+                                const CanFrame& f) {
+  const long long sec = time_us / kUsPerS, usec = time_us % kUsPerS;
+  int n = std::snprintf(buf, size, "(%010lld.%06lld) %.*s ", sec, usec, static_cast<int>(interface.size()),
+                        interface.data());
+  if (n < 0 || static_cast<std::size_t>(n) >= size) return 0;
+  std::size_t at = static_cast<std::size_t>(n);
+  auto put = [&](const char* fmt, unsigned v) {
+    const int k = std::snprintf(buf + at, size - at, fmt, v);
+    if (k < 0 || at + static_cast<std::size_t>(k) >= size) return false;
+    at += static_cast<std::size_t>(k);
+    return true;
+  };
+  const std::uint32_t id = f.error ? (f.id | kErrorFlag) : f.id;
+  if (!put(f.extended || f.error ? "%08X#" : "%03X#", id)) return 0;
+  if (f.remote) return put(f.len ? "R%u" : "R", f.len) ? at : 0;
+  if (f.fd && !put("#%X", 0u)) return 0;
+  for (unsigned i = 0; i < f.len; ++i)
+    if (!put("%02X", f.data[i])) return 0;
+  return at;
+}
+
+}  // namespace lptn::fw

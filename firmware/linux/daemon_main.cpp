@@ -1,0 +1,321 @@
+// lptn-daemon: the estimator on the drive controller, with the calibration compiled in
+// (calibration/default_calibration.hpp, an `lptn export`). Three ways to get frames:
+//   --interface IF   a SocketCAN interface: kernel filters for the input ids, a monotonic timer
+//                    ticks every dt (divided by --time-scale for accelerated benches), outputs
+//                    are sent on the same interface every tick; SIGTERM/SIGINT stop it cleanly
+//   --log FILE       a candump log played in (scaled) real time through the same timer loop;
+//                    outputs written as candump lines to --out (default stdout)
+//   --replay FILE    as fast as possible, time stamps driving the ticks (as `lptn replay`), the
+//                    estimates as CSV to --csv
+#include <getopt.h>
+#include <poll.h>
+#include <sys/signalfd.h>
+#include <sys/timerfd.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <ctime>
+#include <string>
+#include <string_view>
+#include <iterator>
+
+#include "default_calibration.hpp"
+#include "atomic_file.hpp"
+#include "estimate_csv.hpp"
+#include "lptn/firmware/exported_calibration.hpp"
+#include "lptn/firmware/output_frames.hpp"
+#include "replay.hpp"
+#include "socketcan.hpp"
+
+namespace {
+
+using lptn::fw::TimeUs;
+using lptn::fw::kUsPerS;
+
+constexpr const char* kUsage =
+    "usage: lptn-daemon (--interface IF | --log FILE | --replay FILE) [options]\n"
+    "The lptn thermal estimator with its calibration compiled in.\n"
+    "  --interface IF     read inputs from SocketCAN interface IF, send estimates on it every tick\n"
+    "  --log FILE         take frames from a candump -L log, played in (scaled) real time\n"
+    "  --replay FILE      replay a candump log as fast as possible (time stamps drive the ticks)\n"
+    "  --csv FILE         with --replay: the estimates as CSV (default stdout)\n"
+    "  --out FILE         with --log: the output frames as candump lines (default stdout)\n"
+    "  --time-scale S     run S times faster than real time (timer and ages scaled; default 1)\n"
+    "  --duration S       stop after S seconds of estimator time (default: until SIGTERM or log end)\n"
+    "  --open-loop        do not fuse the stator winding sensor\n"
+    "  --use-actor        let the calibration's TD3 actor schedule the parameters (needs torque)\n"
+    "  --help, --version\n"
+    "Exit: 0 after SIGTERM/SIGINT or the end of the input, 1 on a runtime failure, 2 on bad arguments.\n";
+
+struct Options {
+  std::string interface, log, replay, csv, out;
+  double time_scale = 1.0;
+  double duration_s = 0.0;
+  bool open_loop = false, use_actor = false;
+};
+
+int usage_error(const char* what) {
+  std::fprintf(stderr, "lptn-daemon: error: %s (see --help)\n", what);
+  return 2;
+}
+
+bool parse_number(const char* text, double& out) {
+  char* end = nullptr;
+  errno = 0;
+  out = std::strtod(text, &end);
+  return errno == 0 && end != text && *end == '\0';
+}
+
+// 0 to go on, otherwise the exit code.
+int parse_options(int argc, char** argv, Options& o) {
+  static const option kLong[] = {{"interface", required_argument, nullptr, 'i'}, {"log", required_argument, nullptr, 'l'},
+                                 {"replay", required_argument, nullptr, 'r'},    {"csv", required_argument, nullptr, 'c'},
+                                 {"out", required_argument, nullptr, 'o'},       {"time-scale", required_argument, nullptr, 's'},
+                                 {"duration", required_argument, nullptr, 'd'},  {"open-loop", no_argument, nullptr, 'L'},
+                                 {"use-actor", no_argument, nullptr, 'A'},       {"help", no_argument, nullptr, 'h'},
+                                 {"version", no_argument, nullptr, 'V'},         {nullptr, 0, nullptr, 0}};
+  opterr = 0;
+  int c;
+  while ((c = getopt_long(argc, argv, "", kLong, nullptr)) != -1) {
+    switch (c) {
+      case 'i': o.interface = optarg; break;
+      case 'l': o.log = optarg; break;
+      case 'r': o.replay = optarg; break;
+      case 'c': o.csv = optarg; break;
+      case 'o': o.out = optarg; break;
+      case 's':
+        if (!parse_number(optarg, o.time_scale) || !(o.time_scale > 0)) return usage_error("--time-scale: expected a number > 0");
+        break;
+      case 'd':
+        if (!parse_number(optarg, o.duration_s) || !(o.duration_s > 0)) return usage_error("--duration: expected seconds > 0");
+        break;
+      case 'L': o.open_loop = true; break;
+      case 'A': o.use_actor = true; break;
+      case 'h': std::fputs(kUsage, stdout); return -1;
+      case 'V': std::printf("lptn-daemon 0.1.0 (calibration: %s, %s)\n", lptn::calibration::kMethod, lptn::calibration::kCreatedUtc); return -1;
+      default: return usage_error(argv[optind - 1] ? argv[optind - 1] : "bad option");
+    }
+  }
+  if (optind < argc) return usage_error(argv[optind]);
+  const int sources = !o.interface.empty() + !o.log.empty() + !o.replay.empty();
+  if (sources != 1) return usage_error("give exactly one of --interface, --log, --replay");
+  if (!o.csv.empty() && o.replay.empty()) return usage_error("--csv goes with --replay");
+  if (!o.out.empty() && o.log.empty()) return usage_error("--out goes with --log");
+  return 0;
+}
+
+lptn::fw::EstimatorConfig<double> make_config(const Options& o) {
+  auto config = lptn::fw::config_from_exported_header<double>();
+  config.fuse_stator_sensor = !o.open_loop;
+  config.use_actor = o.use_actor;
+  return config;
+}
+
+TimeUs monotonic_us() {
+  timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return static_cast<TimeUs>(ts.tv_sec) * kUsPerS + ts.tv_nsec / 1000;
+}
+
+int run_replay(const Options& o) {
+  std::FILE* log = std::fopen(o.replay.c_str(), "r");
+  if (!log) {
+    std::fprintf(stderr, "lptn-daemon: error: %s: %s\n", o.replay.c_str(), std::strerror(errno));
+    return 2;
+  }
+  lptn::fw::AtomicFile csv;
+  if (!csv.open(o.csv)) {
+    std::fprintf(stderr, "lptn-daemon: error: %s: %s\n", o.csv.c_str(), std::strerror(errno));
+    std::fclose(log);
+    return 1;
+  }
+  lptn::fw::Estimator<double> estimator(make_config(o));
+  lptn::fw::write_estimate_header(csv.get());
+  lptn::fw::ReplaySinks sinks;
+  sinks.row = [&](const lptn::fw::EstimatorOutput<double>& out, TimeUs log_start_us) {
+    lptn::fw::write_estimate_row(csv.get(), out, log_start_us);
+  };
+  sinks.bad_line = [&](std::size_t line, const char* why) {
+    std::fprintf(stderr, "%s:%zu: %s (line skipped)\n", o.replay.c_str(), line, why);
+  };
+  const lptn::fw::ReplayStats s = lptn::fw::replay_candump(log, estimator, sinks);
+  std::fclose(log);
+  if (!csv.commit()) {
+    std::fprintf(stderr, "lptn-daemon: error: writing %s failed\n", o.csv.empty() ? "stdout" : o.csv.c_str());
+    return 1;
+  }
+  std::fprintf(stderr, "lptn-daemon: replayed %zu frames, %zu ticks, %zu estimates, %zu bad lines\n", s.frames, s.ticks,
+               s.rows, s.bad_lines);
+  return 0;
+}
+
+// Frames from a candump log, handed over once the estimator's clock reaches their time (relative
+// to the log's first frame), for the timer loop's --log mode.
+class PacedLog {
+ public:
+  explicit PacedLog(std::FILE* f, const char* name) : f_(f), name_(name) { advance(); }
+  ~PacedLog() { std::free(buf_); }
+  bool done() const { return !have_; }
+  template <class Deliver>
+  void deliver_until(TimeUs t, Deliver&& deliver) {
+    while (have_ && rec_.time_us - first_ <= t) {
+      deliver(rec_.frame, rec_.time_us - first_);
+      advance();
+    }
+  }
+
+ private:
+  void advance() {
+    have_ = false;
+    if (!f_) return;
+    ssize_t n;
+    while ((n = getline(&buf_, &cap_, f_)) != -1) {
+      ++line_;
+      std::string_view line(buf_, static_cast<std::size_t>(n));
+      if (!line.empty() && line.back() == '\n') line.remove_suffix(1);
+      if (line.empty()) continue;
+      if (const char* why = lptn::fw::parse_candump_line(line, rec_)) {
+        std::fprintf(stderr, "%s:%zu: %s (line skipped)\n", name_, line_, why);
+        continue;
+      }
+      if (first_ < 0) first_ = rec_.time_us;
+      have_ = true;
+      return;
+    }
+  }
+  std::FILE* f_;
+  const char* name_;
+  char* buf_ = nullptr;
+  std::size_t cap_ = 0, line_ = 0;
+  lptn::fw::CandumpRecord rec_;
+  TimeUs first_ = -1;
+  bool have_ = false;
+};
+
+// SIGTERM and SIGINT as a readable descriptor, so the loop stops between two ticks.
+int stop_signals_fd() {
+  sigset_t set;
+  sigemptyset(&set);
+  sigaddset(&set, SIGTERM);
+  sigaddset(&set, SIGINT);
+  if (sigprocmask(SIG_BLOCK, &set, nullptr) != 0) return -1;
+  return signalfd(-1, &set, SFD_CLOEXEC | SFD_NONBLOCK);
+}
+
+// The live loop: a monotonic timer every dt / time-scale; the estimator's clock is the monotonic
+// clock since start, times the scale, so its ages and the ticks agree however fast it runs.
+int run_live(const Options& o) {
+  lptn::fw::CanSocket socket;
+  std::FILE* log = nullptr;
+  if (!o.interface.empty()) {
+    std::string error;
+    if (!socket.open(o.interface, lptn::can::kReceivedIds, std::size(lptn::can::kReceivedIds), error)) {
+      std::fprintf(stderr, "lptn-daemon: error: %s\n", error.c_str());
+      return 1;
+    }
+  } else if (!(log = std::fopen(o.log.c_str(), "r"))) {
+    std::fprintf(stderr, "lptn-daemon: error: %s: %s\n", o.log.c_str(), std::strerror(errno));
+    return 2;
+  }
+  lptn::fw::AtomicFile out;
+  if (log && !out.open(o.out)) {
+    std::fprintf(stderr, "lptn-daemon: error: %s: %s\n", o.out.c_str(), std::strerror(errno));
+    std::fclose(log);
+    return 1;
+  }
+  const int signals = stop_signals_fd();
+  const int timer = timerfd_create(CLOCK_MONOTONIC, TFD_CLOEXEC | TFD_NONBLOCK);
+  const auto config = make_config(o);
+  const TimeUs dt_us = static_cast<TimeUs>(config.observer.dt_s * kUsPerS + 0.5);
+  const TimeUs period_ns = static_cast<TimeUs>(static_cast<double>(dt_us) * 1000.0 / o.time_scale);
+  itimerspec spec{};
+  spec.it_interval.tv_sec = static_cast<time_t>(period_ns / 1000000000);
+  spec.it_interval.tv_nsec = static_cast<long>(period_ns % 1000000000);
+  spec.it_value = spec.it_interval;
+  if (signals < 0 || timer < 0 || timerfd_settime(timer, 0, &spec, nullptr) != 0) {
+    std::fprintf(stderr, "lptn-daemon: error: timer or signal set-up failed: %s\n", std::strerror(errno));
+    return 1;
+  }
+  std::fprintf(stderr, "lptn-daemon: %s, calibration %s of %s (%s), tick %lld ms, time scale %g\n",
+               log ? o.log.c_str() : o.interface.c_str(), lptn::calibration::kMethod, lptn::calibration::kMotorName,
+               lptn::calibration::kCreatedUtc, static_cast<long long>(dt_us / 1000), o.time_scale);
+
+  lptn::fw::Estimator<double> estimator(config);
+  PacedLog paced = log ? PacedLog(log, o.log.c_str()) : PacedLog(nullptr, "");
+  const TimeUs start = monotonic_us();
+  auto now = [&] { return static_cast<TimeUs>(static_cast<double>(monotonic_us() - start) * o.time_scale); };
+  const TimeUs stop_at = o.duration_s > 0 ? static_cast<TimeUs>(o.duration_s * kUsPerS) : -1;
+  TimeUs tick_time = 0;
+  std::uint64_t ticks = 0, frames_in = 0, frames_out = 0;
+  lptn::fw::CanFrame outputs[lptn::fw::kMaxOutputFrames];
+  char line[160];
+  int rc = 0;
+  for (bool running = true; running;) {
+    pollfd fds[3] = {{signals, POLLIN, 0}, {timer, POLLIN, 0}, {socket.fd(), POLLIN, 0}};
+    if (poll(fds, log ? 2 : 3, -1) < 0 && errno != EINTR) {
+      rc = 1;
+      break;
+    }
+    if (fds[0].revents & POLLIN) break;  // SIGTERM or SIGINT: stop between ticks
+    if (!log && (fds[2].revents & POLLIN)) {
+      lptn::fw::CanFrame f;
+      bool overrun = false;
+      for (lptn::fw::CanSocket::Read r; (r = socket.read(f, overrun)) != lptn::fw::CanSocket::Read::none;) {
+        if (r == lptn::fw::CanSocket::Read::failed) {
+          std::fprintf(stderr, "lptn-daemon: error: reading %s: %s\n", o.interface.c_str(), std::strerror(errno));
+          return 1;
+        }
+        if (overrun) estimator.note_overrun();
+        estimator.receive(f, now());
+        ++frames_in;
+      }
+    }
+    if (!(fds[1].revents & POLLIN)) continue;
+    std::uint64_t expirations = 0;
+    if (::read(timer, &expirations, sizeof expirations) != sizeof expirations) continue;
+    // A late wake-up runs the missed ticks, so the estimator's time stays dt per tick.
+    for (std::uint64_t k = 0; k < expirations && running; ++k) {
+      tick_time += dt_us;
+      if (log) {
+        paced.deliver_until(tick_time, [&](const lptn::fw::CanFrame& f, TimeUs t) {
+          estimator.receive(f, t);
+          ++frames_in;
+        });
+      }
+      const lptn::fw::EstimatorOutput<double>& est = estimator.tick(tick_time);
+      ++ticks;
+      const int n = lptn::fw::pack_outputs(est, outputs);
+      for (int i = 0; i < n; ++i) {
+        if (log) {
+          if (lptn::fw::format_candump_line(line, sizeof line, tick_time, "lptn", outputs[i]))
+            std::fprintf(out.get(), "%s\n", line);
+        } else if (!socket.write(outputs[i])) {
+          continue;  // a full transmit queue drops this tick's frame; the next tick sends anew
+        }
+        ++frames_out;
+      }
+      if ((stop_at >= 0 && tick_time >= stop_at) || (log && paced.done())) running = false;
+    }
+  }
+  if (log) {
+    std::fclose(log);
+    if (!out.commit()) rc = 1;
+  }
+  std::fprintf(stderr, "lptn-daemon: stopped after %llu ticks, %llu frames in, %llu frames out\n",
+               static_cast<unsigned long long>(ticks), static_cast<unsigned long long>(frames_in),
+               static_cast<unsigned long long>(frames_out));
+  return rc;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options o;
+  if (const int rc = parse_options(argc, argv, o)) return rc < 0 ? 0 : rc;
+  if (!o.replay.empty()) return run_replay(o);
+  return run_live(o);
+}

@@ -1,0 +1,43 @@
+// Replay of a candump log through the estimator, as fast as the CPU allows: the frames' time
+// stamps drive the ticks. Frames at or before a tick's time reach the estimator before that tick;
+// ticks run every dt from the first frame's time. Shared by `lptn replay` (calibration from JSON)
+// and `lptn-daemon --replay` (calibration compiled in), so the two differ in nothing else.
+#pragma once
+
+#include <cstddef>
+#include <cstdio>
+#include <functional>
+#include <string>
+
+#include "candump_log.hpp"
+#include "lptn/firmware/estimator.hpp"
+
+namespace lptn::fw {
+
+struct ReplayStats {
+  std::size_t lines = 0;
+  std::size_t frames = 0;      // well-formed frames handed to the estimator
+  std::size_t bad_lines = 0;   // malformed, reported and skipped
+  std::size_t ticks = 0;
+  std::size_t rows = 0;        // ticks with an initialized estimate
+  std::size_t re_anchored = 0; // forward jumps too long to tick through
+  TimeUs first_us = 0, last_us = 0;
+};
+
+struct ReplaySinks {
+  // Every tick once the estimator is initialized, with the log's first time stamp.
+  std::function<void(const EstimatorOutput<double>&, TimeUs log_start_us)> row;
+  // A malformed line (1-based number) and why; replay goes on with the next line.
+  std::function<void(std::size_t line, const char* reason)> bad_line;
+  // Called every `progress_every` frames (for a progress line); may be empty.
+  std::function<void(const ReplayStats&)> progress;
+  std::size_t progress_every = 1000000;
+};
+
+// A forward jump in the time stamps longer than this is not ticked through: the ticks restart at
+// the next frame (the estimator reports the jump in its status).
+inline constexpr TimeUs kMaxTickedGapUs = 3600 * kUsPerS;
+
+ReplayStats replay_candump(std::FILE* log, Estimator<double>& estimator, const ReplaySinks& sinks);
+
+}  // namespace lptn::fw

@@ -1,0 +1,88 @@
+// lptn replay: a candump log through the firmware's estimator, in-process and as fast as the CPU
+// allows, the frames' time stamps driving the ticks; the estimates and status as CSV.
+#include <cstdio>
+#include <filesystem>
+#include <string>
+
+#include "atomic_file.hpp"
+#include "estimate_csv.hpp"
+#include "replay.hpp"
+#include "tools/cli/commands.hpp"
+#include "tools/cli/progress.hpp"
+#include "tools/replay/calibrated_estimator.hpp"
+#include "trainer/calibrate/calibration_file.hpp"
+
+namespace lptn::cli {
+
+void add_replay(CLI::App& app) {
+  auto* cmd = app.add_subcommand("replay", "Replay a candump log through the firmware's estimator, as fast as possible");
+  cmd->footer(
+      "The same estimator as the daemon (firmware/), configured from calibration.json instead of a compiled-in "
+      "header. Ticks every 0.1 s from the log's first frame; frames at or before a tick reach it first. One CSV "
+      "row per tick once the estimator has started: time_s and the inputs as the model ran on them (fleet-dump "
+      "columns, so the CSV loads as a cycle), the four node estimates (est_*_c) and their standard deviations "
+      "(std_*_k), the limiting node's margin, mode, stator sensor state, innovation and test ratio, input masks. "
+      "Malformed log lines are reported with their line number and skipped.");
+  struct Args {
+    std::string log, calibration, out;
+    bool open_loop = false, use_actor = false, force = false, quiet = false;
+  };
+  auto args = std::make_shared<Args>();
+  cmd->add_option("--log", args->log, "candump -L log (e.g. from lptn convert or a drive's recorder)")->required();
+  cmd->add_option("--calibration", args->calibration, "calibration.json (from lptn calibrate)")->required();
+  cmd->add_option("--out", args->out, "CSV of estimates and status to write")->required();
+  cmd->add_flag("--open-loop", args->open_loop, "Do not fuse the stator winding sensor (the model alone)");
+  cmd->add_flag("--use-actor", args->use_actor, "Let the calibration's TD3 actor schedule the parameters");
+  cmd->add_flag("--force", args->force, "Replace --out if it exists");
+  cmd->add_flag("--quiet", args->quiet, "No progress line");
+  cmd->callback([args] {
+    if (std::filesystem::exists(args->out) && !args->force)
+      throw BadInput(args->out + ": exists (use --force to replace it)");
+    std::FILE* log = std::fopen(args->log.c_str(), "r");
+    if (!log) throw BadInput(args->log + ": cannot be opened");
+    std::unique_ptr<CalibratedEstimatorConfig> cal;
+    try {
+      cal = estimator_config_from(load_calibration(args->calibration), args->calibration);
+    } catch (const CalibrationFileError& e) {
+      std::fclose(log);
+      throw BadInput(e.what());
+    }
+    if (args->use_actor && !cal->config.actor.actor) {
+      std::fclose(log);
+      throw BadInput(args->calibration + ": --use-actor: this calibration has no actor");
+    }
+    cal->config.fuse_stator_sensor = !args->open_loop;
+    cal->config.use_actor = args->use_actor;
+    auto estimator = std::make_unique<fw::Estimator<double>>(cal->config);
+
+    fw::AtomicFile csv;
+    if (!csv.open(args->out)) {
+      std::fclose(log);
+      throw BadInput(args->out + ": cannot be written");
+    }
+    fw::write_estimate_header(csv.get());
+    ProgressLine progress(args->quiet);
+    fw::ReplaySinks sinks;
+    sinks.row = [&](const fw::EstimatorOutput<double>& o, fw::TimeUs start) { fw::write_estimate_row(csv.get(), o, start); };
+    sinks.bad_line = [&](std::size_t line, const char* why) {
+      progress.finish();
+      std::fprintf(stderr, "%s:%zu: %s (line skipped)\n", args->log.c_str(), line, why);
+    };
+    sinks.progress_every = 200000;
+    sinks.progress = [&](const fw::ReplayStats& s) {
+      progress.update("replay: " + std::to_string(s.frames) + " frames, " +
+                      ProgressLine::clock(static_cast<double>(s.last_us - s.first_us) / 1e6) + " of log");
+    };
+    const fw::ReplayStats s = fw::replay_candump(log, *estimator, sinks);
+    std::fclose(log);
+    progress.finish();
+    if (s.frames == 0) throw BadInput(args->log + ": no CAN frame could be read");
+    if (!csv.commit()) throw std::runtime_error(args->out + ": writing failed");
+    std::printf("replayed %s: %zu frames, %s of log, %zu estimates%s -> %s\n", args->log.c_str(), s.frames,
+                ProgressLine::clock(static_cast<double>(s.last_us - s.first_us) / 1e6).c_str(), s.rows,
+                s.bad_lines ? (", " + std::to_string(s.bad_lines) + " bad lines skipped").c_str() : "",
+                args->out.c_str());
+  });
+}
+
+}  // namespace lptn::cli

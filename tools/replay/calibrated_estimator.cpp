@@ -1,0 +1,47 @@
+#include "tools/replay/calibrated_estimator.hpp"
+
+#include "trainer/model/motor_file.hpp"
+
+namespace lptn {
+
+std::unique_ptr<CalibratedEstimatorConfig> estimator_config_from(const CalibrationResult& c, const std::string& shown_as) {
+  auto out = std::make_unique<CalibratedEstimatorConfig>();
+  const MotorConstants<double> motor = parse_motor_file(c.motor_text, shown_as + ": motor.text").constants;
+  out->config = fw::default_config<double>(motor, c.effects, c.values());
+  if (!c.has_actor) return out;
+
+  const ActorExport& a = c.actor;
+  if (a.layers.size() != 3 || a.layers[0].in != 2 || a.layers[0].out > 256 || a.layers[2].out > 32 ||
+      a.layers[2].out != static_cast<int>(a.param_indices.size()))
+    throw CalibrationFileError(shown_as + ": field 'actor': not the firmware's shape (2 -> at most 256 -> 256 -> at most 32)");
+  for (int l = 0; l < 3; ++l) {
+    out->weights[l] = a.layers[l].weight;
+    out->biases[l] = a.layers[l].bias;
+  }
+  out->actor_view = ActorView{2,
+                              a.layers[0].out,
+                              a.layers[2].out,
+                              out->weights[0].data(),
+                              out->biases[0].data(),
+                              out->weights[1].data(),
+                              out->biases[1].data(),
+                              out->weights[2].data(),
+                              out->biases[2].data()};
+  for (int j : a.param_indices) {
+    out->param_index.push_back(j);
+    out->param_min.push_back(c.parameters[j].min);
+    out->param_max.push_back(c.parameters[j].max);
+  }
+  fw::ActorSchedule& s = out->config.actor;
+  s.actor = &out->actor_view;
+  for (int k = 0; k < 2; ++k) {
+    s.obs_offset[k] = a.obs_offset[k];
+    s.obs_scale[k] = a.obs_scale[k];
+  }
+  s.param_index = out->param_index.data();
+  s.param_min = out->param_min.data();
+  s.param_max = out->param_max.data();
+  return out;
+}
+
+}  // namespace lptn
