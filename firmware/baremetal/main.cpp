@@ -22,6 +22,9 @@ void receive(const volatile std::uint8_t (&mailbox)[8], std::uint8_t (&frame)[8]
 }  // namespace
 
 int main() {
+  using lptn::can::LptnTemperatures;
+  using lptn::can::TcCooling;
+  using lptn::can::TcElectrical;
   const lptn::Model<float> model;
   static constexpr lptn::ParamVector<float> kParams = lptn::default_params<float>();
   float x[lptn::kMaxStates];
@@ -30,23 +33,23 @@ int main() {
   for (;;) {
     std::uint8_t frame[8];
     receive(g_rx_electrical, frame);
-    if (lptn::can::TcElectrical m; m.unpack(frame, sizeof frame)) {
-      in.speed_rpm = m.motor_speed;
-      in.frequency_hz = m.stator_frequency;
-      in.current_a = m.stator_current;
+    if (TcElectrical m; m.unpack(frame, sizeof frame)) {
+      in.speed_rpm = static_cast<float>(TcElectrical::motor_speed_decode(m.motor_speed));
+      in.frequency_hz = static_cast<float>(TcElectrical::stator_frequency_decode(m.stator_frequency));
+      in.current_a = static_cast<float>(TcElectrical::stator_current_decode(m.stator_current));
     }
     receive(g_rx_cooling, frame);
-    if (lptn::can::TcCooling m; m.unpack(frame, sizeof frame)) {
-      in.airflow_m3s = m.cooling_airflow;
-      in.ambient_c = m.ambient_temp;
+    if (TcCooling m; m.unpack(frame, sizeof frame)) {
+      in.airflow_m3s = static_cast<float>(TcCooling::cooling_airflow_decode(m.cooling_airflow));
+      in.ambient_c = static_cast<float>(TcCooling::ambient_temp_decode(m.ambient_temp));
     }
     model.step(x, in, kParams.data(), 0.1f);
 
-    lptn::can::LptnTemperatures out;
-    out.stator_winding_temp = x[lptn::kStatorWinding];
-    out.stator_core_temp = x[lptn::kStatorCore];
-    out.rotor_winding_temp = x[lptn::kRotorWinding];
-    out.rotor_core_temp = x[lptn::kRotorCore];
+    LptnTemperatures out;
+    out.stator_winding_temp = LptnTemperatures::stator_winding_temp_encode(x[lptn::kStatorWinding]);
+    out.stator_core_temp = LptnTemperatures::stator_core_temp_encode(x[lptn::kStatorCore]);
+    out.rotor_winding_temp = LptnTemperatures::rotor_winding_temp_encode(x[lptn::kRotorWinding]);
+    out.rotor_core_temp = LptnTemperatures::rotor_core_temp_encode(x[lptn::kRotorCore]);
     if (out.pack(frame, sizeof frame))
       for (std::size_t i = 0; i < sizeof frame; ++i) g_tx_temperatures[i] = frame[i];
   }

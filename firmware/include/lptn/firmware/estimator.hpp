@@ -140,7 +140,9 @@ class Estimator {
     if (!out_.initialized) {
       if (!try_initialize(t)) return publish_uninitialized(t);
     } else {
+      const T before = observer_.stator_sensor_c();
       observer_.predict(next_inputs_, params_.data());
+      model_motion_ += observer_.stator_sensor_c() - before;
       fuse_stator_reading(t);
       ++out_.ticks;
     }
@@ -221,7 +223,8 @@ class Estimator {
     if (sequence == last_stator_sequence_) return;  // fused already: the state from then stands
     last_stator_sequence_ = sequence;
     Fusion<T> f = observer_.test(reading.value);
-    const bool may_fuse = monitor_.on_reading(reading.value, observer_.stator_sensor_c(), f.test_ratio <= T(1), t);
+    const bool may_fuse = monitor_.on_reading(reading.value, model_motion_, f.test_ratio <= T(1), t);
+    model_motion_ = T(0);
     if (monitor_.failed()) {
       sensor_ = SensorState::failed_open_loop;
     } else if (!config_.fuse_stator_sensor) {
@@ -352,6 +355,7 @@ class Estimator {
   SensorState sensor_ = SensorState::unavailable;
   InputMask substituted_ = 0, held_ = 0;
   bool actor_active_ = false;
+  T model_motion_ = T(0);  // the model's own steps since the last stator reading (sensor monitor)
   unsigned last_stator_sequence_ = 0;
   std::uint8_t events_ = 0;
   TimeUs last_rx_ = 0, last_tick_ = 0, waiting_since_ = 0;

@@ -32,19 +32,23 @@ class SensorMonitor {
   // Rejected readings since start (the status frame saturates it at 255).
   std::uint32_t rejections() const { return rejections_; }
 
-  // A new reading at time t, the model's prediction of it, and whether it passed the gate.
-  // Returns true if the observer may fuse it.
-  bool on_reading(T reading, T predicted, bool passes_gate, TimeUs t) {
+  // A new reading at time t; `model_motion` is how far the model's own steps (predictions, not
+  // corrections) moved the sensor's temperature since the previous reading. Fused readings pull
+  // the estimate towards a frozen value, so only the model's motion can show that it is stuck.
+  // Returns true if the observer may fuse the reading.
+  bool on_reading(T reading, T model_motion, bool passes_gate, TimeUs t) {
     using std::fabs;
     const bool frozen = have_last_ && reading == last_reading_;
     if (!frozen) {
       frozen_since_ = t;
-      predicted_at_freeze_ = predicted;
+      motion_while_frozen_ = T(0);
+    } else {
+      motion_while_frozen_ += model_motion;
     }
     have_last_ = true;
     last_reading_ = reading;
     const bool stuck = frozen && t - frozen_since_ >= s_.stuck_after_us &&
-                       fabs(predicted - predicted_at_freeze_) >= s_.stuck_model_change_k;
+                       fabs(motion_while_frozen_) >= s_.stuck_model_change_k;
 
     if (failed_) {
       good_run_ = passes_gate && !stuck ? good_run_ + 1 : 0;
@@ -76,7 +80,7 @@ class SensorMonitor {
   bool have_last_ = false;
   T last_reading_ = T(0);
   TimeUs frozen_since_ = 0;
-  T predicted_at_freeze_ = T(0);
+  T motion_while_frozen_ = T(0);
   int rejected_run_ = 0;
   int good_run_ = 0;
   std::uint32_t rejections_ = 0;
