@@ -1,13 +1,34 @@
 #!/usr/bin/env bash
-# Builds and runs every test: the host build as CI runs it (warnings are errors) and the
-# firmware-only build (no libtorch, no Ceres). Installs what is missing first.
+# Builds and runs every test (what CI runs): the host build as CI runs it (warnings are errors),
+# the firmware-only build (no libtorch, no Ceres), the firmware cross-compiled for aarch64 Linux
+# with its tests under qemu, and the Cortex-M7 image checked for heap and exception code.
+# Installs what each step is missing first. Any failing step fails the script.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-tools/setup.sh
 jobs=$(nproc)
+step() { printf '\n==== %s ====\n' "$*"; }
+
+step "host build (preset ci) and tests"
+tools/setup.sh
 cmake --preset ci >/dev/null
 cmake --build --preset ci -j"$jobs"
 ctest --preset ci -j"$jobs"
+
+step "firmware-only build (preset firmware) and tests"
 cmake --preset firmware -DLPTN_WERROR=ON >/dev/null
 cmake --build --preset firmware -j"$jobs"
 ctest --preset firmware -j"$jobs"
+
+step "aarch64 cross build (preset aarch64) and tests under qemu-aarch64"
+tools/setup.sh cross
+cmake --preset aarch64 -DLPTN_WERROR=ON >/dev/null
+cmake --build --preset aarch64 -j"$jobs"
+ctest --preset aarch64 -j"$jobs"
+
+step "Cortex-M7 image (preset cortex-m7): sizes, no heap, no exceptions"
+cmake --preset cortex-m7 -DLPTN_WERROR=ON >/dev/null
+cmake --build --preset cortex-m7 -j"$jobs"
+tools/check-m7-image.sh build/cortex-m7/firmware/baremetal/lptn_m7_image.elf
+
+# ==== vcan bench (the lead adds it here): tools/setup.sh bench, then the daemon's payload through
+# tools/vcan-bench/run-guest.sh (tools/vcan-bench/selftest.sh checks the runner itself) ====

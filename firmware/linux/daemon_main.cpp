@@ -160,10 +160,12 @@ class PacedLog {
   explicit PacedLog(std::FILE* f, const char* name) : f_(f), name_(name) { advance(); }
   ~PacedLog() { std::free(buf_); }
   bool done() const { return !have_; }
+  TimeUs last_delivered() const { return last_; }
   template <class Deliver>
   void deliver_until(TimeUs t, Deliver&& deliver) {
     while (have_ && rec_.time_us - first_ <= t) {
-      deliver(rec_.frame, rec_.time_us - first_);
+      last_ = rec_.time_us - first_;
+      deliver(rec_.frame, last_);
       advance();
     }
   }
@@ -192,7 +194,7 @@ class PacedLog {
   char* buf_ = nullptr;
   std::size_t cap_ = 0, line_ = 0;
   lptn::fw::CandumpRecord rec_;
-  TimeUs first_ = -1;
+  TimeUs first_ = -1, last_ = 0;
   bool have_ = false;
 };
 
@@ -249,7 +251,7 @@ int run_live(const Options& o) {
   const TimeUs start = monotonic_us();
   auto now = [&] { return static_cast<TimeUs>(static_cast<double>(monotonic_us() - start) * o.time_scale); };
   const TimeUs stop_at = o.duration_s > 0 ? static_cast<TimeUs>(o.duration_s * kUsPerS) : -1;
-  TimeUs tick_time = 0;
+  TimeUs tick_time = -dt_us;  // the first tick at 0: a log's first frames start the estimator as in a replay
   std::uint64_t ticks = 0, frames_in = 0, frames_out = 0;
   lptn::fw::CanFrame outputs[lptn::fw::kMaxOutputFrames];
   char line[160];
@@ -285,6 +287,11 @@ int run_live(const Options& o) {
           estimator.receive(f, t);
           ++frames_in;
         });
+        // The log has ended: no tick beyond its last frame (where a replay stops too).
+        if (paced.done() && tick_time > paced.last_delivered()) {
+          running = false;
+          break;
+        }
       }
       const lptn::fw::EstimatorOutput<double>& est = estimator.tick(tick_time);
       ++ticks;
@@ -298,7 +305,7 @@ int run_live(const Options& o) {
         }
         ++frames_out;
       }
-      if ((stop_at >= 0 && tick_time >= stop_at) || (log && paced.done())) running = false;
+      if (stop_at >= 0 && tick_time >= stop_at) running = false;
     }
   }
   if (log) {

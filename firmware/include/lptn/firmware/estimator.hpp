@@ -199,6 +199,10 @@ class Estimator {
     const InputSample<T> rotor = inputs_.sample(Input::rotor_sensor, t);
     const bool stator_ok = stator.use == InputUse::fresh;
     const bool rotor_ok = rotor.use == InputUse::fresh;
+    // A rotor telemetry (benches) is given its timeout to show up, so that the rotor nodes start
+    // at its reading as the trainer starts them (trainer/model/simulate.hpp), not at the stator's.
+    const bool rotor_waited = rotor_ok || t - waiting_since_ >= config_.inputs[index_of(Input::rotor_sensor)].timeout_us;
+    if (stator_ok && !rotor_waited) return false;
     if (stator_ok) {
       observer_.initialize(stator.value, true, rotor.value, rotor_ok);
       last_stator_sequence_ = inputs_.sequence(Input::stator_sensor);  // the start is that reading
