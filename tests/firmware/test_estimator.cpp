@@ -90,6 +90,19 @@ TEST(Estimator, StartsOnceTheRequiredInputsAndTheStatorReadingAreFresh) {
   EXPECT_NEAR(o.node_c[kRotorCore], 70.0, 0.006);
   EXPECT_LT(o.node_std_k[kStatorWinding], o.node_std_k[kStatorCore]) << "the measured node starts surer";
   EXPECT_EQ(pack_outputs(o, frames), 5);
+
+  // Without rotor telemetry the start waits the rotor reading's timeout (3 s), then goes ahead
+  // with the rotor nodes at the stator's reading.
+  Estimator<double> f(config_with(testing::true_params()));
+  Converter d;
+  TimeUs t = 0;
+  for (; t < 10 * kUsPerS && !f.output().initialized; t += kTick) {
+    d.frames_at(t, s, [&](const CanFrame& frame) { f.receive(frame, t); });
+    f.tick(t);
+  }
+  ASSERT_TRUE(f.output().initialized);
+  EXPECT_EQ(t - kTick, 3 * kUsPerS);
+  EXPECT_NEAR(f.output().node_c[kRotorWinding], f.output().node_c[kStatorWinding], 0.05);
 }
 
 // Open loop, the estimator is the model: the same steps on the same (decoded) inputs, bit for bit.
@@ -98,6 +111,7 @@ TEST(Estimator, OpenLoopIsTheModelStepForStepOnTheDecodedInputs) {
   c.fuse_stator_sensor = false;
   Estimator<double> e(c);
   Converter conv;
+  conv.send_rotor = true;  // the rotor's reading starts the rotor nodes at once
   const Model<double> model(testing::example_motor(), 0);
   const ParamVector<double> p = testing::true_params();
   double x[kMaxStates];
@@ -105,7 +119,7 @@ TEST(Estimator, OpenLoopIsTheModelStepForStepOnTheDecodedInputs) {
   bool started = false;
   for (TimeUs t = 0; t < 3600 * kUsPerS; t += kTick) {
     DriveState s = testing::drive_at(static_cast<double>(t) / kUsPerS);
-    s.stator_c = 40.0;
+    s.stator_c = s.rotor_c = 40.0;
     conv.frames_at(t, s, [&](const CanFrame& f) { e.receive(f, t); });
     const EstimatorOutput<double>& o = e.tick(t);
     ASSERT_TRUE(o.initialized);

@@ -1,15 +1,15 @@
 // lptn replay: a candump log through the firmware's estimator, in-process and as fast as the CPU
 // allows, the frames' time stamps driving the ticks; the estimates and status as CSV.
 #include <cstdio>
+#include <memory>
+#include <stdexcept>
 #include <filesystem>
 #include <string>
 
-#include "atomic_file.hpp"
-#include "estimate_csv.hpp"
-#include "replay.hpp"
 #include "tools/cli/commands.hpp"
 #include "tools/cli/progress.hpp"
 #include "tools/replay/calibrated_estimator.hpp"
+#include "tools/replay/replay_to_csv.hpp"
 #include "trainer/calibrate/calibration_file.hpp"
 
 namespace lptn::cli {
@@ -38,46 +38,22 @@ void add_replay(CLI::App& app) {
   cmd->callback([args] {
     if (std::filesystem::exists(args->out) && !args->force)
       throw BadInput(args->out + ": exists (use --force to replace it)");
-    std::FILE* log = std::fopen(args->log.c_str(), "r");
-    if (!log) throw BadInput(args->log + ": cannot be opened");
     std::unique_ptr<CalibratedEstimatorConfig> cal;
     try {
       cal = estimator_config_from(load_calibration(args->calibration), args->calibration);
     } catch (const CalibrationFileError& e) {
-      std::fclose(log);
       throw BadInput(e.what());
     }
-    if (args->use_actor && !cal->config.actor.actor) {
-      std::fclose(log);
+    if (args->use_actor && !cal->config.actor.actor)
       throw BadInput(args->calibration + ": --use-actor: this calibration has no actor");
-    }
     cal->config.fuse_stator_sensor = !args->open_loop;
     cal->config.use_actor = args->use_actor;
-    auto estimator = std::make_unique<fw::Estimator<double>>(cal->config);
-
-    fw::AtomicFile csv;
-    if (!csv.open(args->out)) {
-      std::fclose(log);
-      throw BadInput(args->out + ": cannot be written");
+    fw::ReplayStats s;
+    try {
+      s = replay_to_csv(args->log, cal->config, args->out, args->quiet);
+    } catch (const std::invalid_argument& e) {
+      throw BadInput(e.what());
     }
-    fw::write_estimate_header(csv.get());
-    ProgressLine progress(args->quiet);
-    fw::ReplaySinks sinks;
-    sinks.row = [&](const fw::EstimatorOutput<double>& o, fw::TimeUs start) { fw::write_estimate_row(csv.get(), o, start); };
-    sinks.bad_line = [&](std::size_t line, const char* why) {
-      progress.finish();
-      std::fprintf(stderr, "%s:%zu: %s (line skipped)\n", args->log.c_str(), line, why);
-    };
-    sinks.progress_every = 200000;
-    sinks.progress = [&](const fw::ReplayStats& s) {
-      progress.update("replay: " + std::to_string(s.frames) + " frames, " +
-                      ProgressLine::clock(static_cast<double>(s.last_us - s.first_us) / 1e6) + " of log");
-    };
-    const fw::ReplayStats s = fw::replay_candump(log, *estimator, sinks);
-    std::fclose(log);
-    progress.finish();
-    if (s.frames == 0) throw BadInput(args->log + ": no CAN frame could be read");
-    if (!csv.commit()) throw std::runtime_error(args->out + ": writing failed");
     std::printf("replayed %s: %zu frames, %s of log, %zu estimates%s -> %s\n", args->log.c_str(), s.frames,
                 ProgressLine::clock(static_cast<double>(s.last_us - s.first_us) / 1e6).c_str(), s.rows,
                 s.bad_lines ? (", " + std::to_string(s.bad_lines) + " bad lines skipped").c_str() : "",

@@ -10,7 +10,9 @@ void add_inspect(CLI::App& app);
 void add_simulate(CLI::App& app);
 void add_calibrate(CLI::App& app);
 void add_export(CLI::App& app);
+void add_convert(CLI::App& app);
 void add_replay(CLI::App& app);
+void add_vcan_bench(CLI::App& app);
 
 // A bad-input failure: reported as one line, exit code 2.
 struct BadInput : std::runtime_error {

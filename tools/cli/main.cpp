@@ -26,7 +26,9 @@ int main(int argc, char** argv) {
   lptn::cli::add_simulate(app);
   lptn::cli::add_calibrate(app);
   lptn::cli::add_export(app);
+  lptn::cli::add_convert(app);
   lptn::cli::add_replay(app);
+  lptn::cli::add_vcan_bench(app);
   // CLI11 would only say that a subcommand is required; name the word it did not know.
   std::string known;
   bool is_known = false;

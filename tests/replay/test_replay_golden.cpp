@@ -1,0 +1,256 @@
+// Golden tests of the on-board estimator against the trainer and against itself:
+//  - open loop, `lptn replay` of a CAN log is the trainer's simulation (trainer/model/simulate)
+//    of the same inputs, within 1e-3 K over a whole cycle;
+//  - the header-built firmware (lptn-daemon, calibration compiled in) writes exactly the CSV that
+//    `lptn replay` writes with the same calibration loaded from JSON;
+//  - the daemon's timer loop on a paced log sends what the replay computes, tick for tick;
+//  - the committed header is the export of the committed calibration.
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "../cli/temp_dir.hpp"
+#include "candump_log.hpp"
+#include "lptn/can/lptn_frames.hpp"
+#include "trainer/calibrate/calibration_file.hpp"
+#include "trainer/data/dataset.hpp"
+#include "trainer/model/motor_file.hpp"
+#include "trainer/model/simulate.hpp"
+
+namespace lptn {
+namespace {
+
+namespace fs = std::filesystem;
+
+const fs::path kCalibration = fs::path(LPTN_SOURCE_DIR) / "firmware/calibration/default_calibration.json";
+const fs::path kHeader = fs::path(LPTN_SOURCE_DIR) / "firmware/calibration/default_calibration.hpp";
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+struct Outcome {
+  int code;
+  std::string err;
+};
+
+Outcome run(const std::string& binary, const std::string& args, const fs::path& scratch) {
+  const fs::path err = scratch / "stderr.txt";
+  const std::string cmd = binary + " " + args + " >" + (scratch / "stdout.txt").string() + " 2>" + err.string();
+  const int status = std::system(cmd.c_str());
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(err)};
+}
+
+// A CSV as columns by header name.
+std::map<std::string, std::vector<double>> read_csv(const fs::path& p) {
+  std::ifstream in(p);
+  std::string line;
+  std::getline(in, line);
+  std::vector<std::string> names;
+  std::stringstream header(line);
+  for (std::string cell; std::getline(header, cell, ',');) names.push_back(cell);
+  std::map<std::string, std::vector<double>> cols;
+  while (std::getline(in, line)) {
+    std::stringstream row(line);
+    std::size_t i = 0;
+    for (std::string cell; i < names.size(); ++i) {
+      if (!std::getline(row, cell, ',')) cell.clear();
+      cols[names[i]].push_back(cell.empty() ? NAN : std::stod(cell));
+    }
+  }
+  return cols;
+}
+
+// One generated cycle of 25-30 minutes as a CAN log, shared by the tests.
+class ReplayGolden : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new testing::TempDir;
+    const fs::path d = dir_->path();
+    ASSERT_EQ(run(LPTN_BINARY, "generate --out " + (d / "data").string() +
+                                   " --cycles 1 --seed 11 --minutes-min 25 --minutes-max 30 --force", d).code, 0);
+    fs::path csv;
+    for (const auto& e : fs::directory_iterator(d / "data"))
+      if (e.path().extension() == ".csv") csv = e.path();
+    const Outcome convert = run(LPTN_BINARY, "convert --in " + csv.string() + " --out " + log().string(), d);
+    ASSERT_EQ(convert.code, 0) << convert.err;
+  }
+  static void TearDownTestSuite() { delete dir_; }
+  static fs::path dir() { return dir_->path(); }
+  static fs::path log() { return dir() / "cycle.log"; }
+
+  static testing::TempDir* dir_;
+};
+testing::TempDir* ReplayGolden::dir_ = nullptr;
+
+TEST_F(ReplayGolden, OpenLoopReplayIsTheTrainersSimulationOfTheSameInputs) {
+  const fs::path out = dir() / "open.csv";
+  const Outcome r = run(LPTN_BINARY, "replay --quiet --open-loop --log " + log().string() + " --calibration " +
+                                     kCalibration.string() + " --out " + out.string(), dir());
+  ASSERT_EQ(r.code, 0) << r.err;
+
+  // The replay's CSV is a fleet-dump cycle of the inputs the firmware ran on: load it as the
+  // trainer loads any cycle and simulate it with the calibration's model.
+  const data::Dataset ds = data::load_cycle_file(out);
+  ASSERT_EQ(ds.cycles.size(), 1u) << "one unbroken cycle";
+  const data::Cycle& cycle = ds.cycles[0];
+  const CalibrationResult cal = load_calibration(kCalibration);
+  const Model<double> model(parse_motor_file(cal.motor_text, "motor").constants, cal.effects);
+  const CycleSimulation sim = simulate_cycle(model, cal.values(), cycle);
+
+  const auto csv = read_csv(out);
+  const char* columns[kNumNodes] = {"est_stator_winding_c", "est_stator_core_c", "est_rotor_winding_c", "est_rotor_core_c"};
+  ASSERT_EQ(csv.at(columns[0]).size(), cycle.steps);
+  ASSERT_GT(cycle.steps, 25u * 600u);
+  double worst = 0;
+  for (int i = 0; i < kNumNodes; ++i)
+    for (std::size_t k = 0; k < cycle.steps; ++k) worst = std::max(worst, std::abs(csv.at(columns[i])[k] - sim.nodes[i][k]));
+  std::printf("open-loop replay vs trainer simulation: %zu steps, max |difference| %.2e K\n", cycle.steps, worst);
+  EXPECT_LT(worst, 1e-3);
+  // Not trivially equal: the cycle heats the motor.
+  const auto& winding = csv.at(columns[0]);
+  EXPECT_GT(*std::max_element(winding.begin(), winding.end()) - winding.front(), 10.0);
+}
+
+TEST_F(ReplayGolden, HeaderBuiltFirmwareWritesExactlyWhatTheJsonLoadedReplayWrites) {
+  for (const std::string mode : {"", "--open-loop "}) {
+    const fs::path json = dir() / "json.csv", header = dir() / "header.csv";
+    const Outcome a = run(LPTN_BINARY, "replay --quiet --force " + mode + "--log " + log().string() + " --calibration " +
+                                       kCalibration.string() + " --out " + json.string(), dir());
+    ASSERT_EQ(a.code, 0) << a.err;
+    const Outcome b = run(LPTN_DAEMON, "--replay " + log().string() + " " + mode + "--csv " + header.string(), dir());
+    ASSERT_EQ(b.code, 0) << b.err;
+    const std::string x = slurp(json), y = slurp(header);
+    EXPECT_GT(x.size(), 1000000u);
+    EXPECT_TRUE(x == y) << "the two CSVs differ (" << mode << ")";
+  }
+}
+
+TEST_F(ReplayGolden, TheCommittedHeaderIsTheExportOfTheCommittedCalibration) {
+  const fs::path out = dir() / "default_calibration.hpp";
+  ASSERT_EQ(run(LPTN_BINARY, "export --calibration " + kCalibration.string() + " --out " + out.string(), dir()).code, 0);
+  EXPECT_TRUE(slurp(out) == slurp(kHeader))
+      << "firmware/calibration/default_calibration.hpp is stale: lptn export --calibration default_calibration.json";
+}
+
+// The daemon's own loop (a monotonic timer, missed ticks caught up), fed the log at 1000x: every
+// tick's frames carry the replay's estimate, to the frames' resolution.
+TEST_F(ReplayGolden, TheDaemonsTimerLoopSendsWhatTheReplayComputes) {
+  const fs::path replay = dir() / "closed.csv", frames = dir() / "daemon.log";
+  ASSERT_EQ(run(LPTN_DAEMON, "--replay " + log().string() + " --csv " + replay.string(), dir()).code, 0);
+  const Outcome r = run(LPTN_DAEMON, "--log " + log().string() + " --time-scale 1000 --out " + frames.string(), dir());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto csv = read_csv(replay);
+  const auto& winding = csv.at("est_stator_winding_c");
+  const auto& core = csv.at("est_rotor_core_c");
+  std::ifstream in(frames);
+  std::size_t k = 0, seen = 0;
+  double worst = 0;
+  for (std::string line; std::getline(in, line);) {
+    fw::CandumpRecord rec;
+    ASSERT_EQ(fw::parse_candump_line(line, rec), nullptr) << line;
+    if (rec.frame.id != can::LptnTemperatures::kId) continue;
+    can::LptnTemperatures t;
+    ASSERT_TRUE(t.unpack(rec.frame.data, rec.frame.len));
+    ASSERT_LT(k, winding.size());
+    worst = std::max(worst, std::abs(can::LptnTemperatures::stator_winding_temp_decode(t.stator_winding_temp) - winding[k]));
+    worst = std::max(worst, std::abs(can::LptnTemperatures::rotor_core_temp_decode(t.rotor_core_temp) - core[k]));
+    ++k;
+    ++seen;
+  }
+  EXPECT_EQ(seen, winding.size()) << "one temperature frame per estimate";
+  EXPECT_LE(worst, 0.005 + 1e-9) << "the frames' resolution is 0.01 K";
+}
+
+TEST_F(ReplayGolden, TheDaemonStopsCleanlyOnSigterm) {
+  const fs::path frames = dir() / "sigterm.log";
+  const pid_t pid = fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    const std::string out = frames.string(), in = log().string();
+    std::freopen("/dev/null", "w", stderr);
+    execl(LPTN_DAEMON, LPTN_DAEMON, "--log", in.c_str(), "--out", out.c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  ASSERT_EQ(kill(pid, SIGTERM), 0);
+  int status = 0;
+  const auto t0 = std::chrono::steady_clock::now();
+  ASSERT_EQ(waitpid(pid, &status, 0), pid);
+  EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(1));
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 0);
+  // What it had sent is there, whole: about 1.5 s of 0.1 s ticks, five frames each.
+  std::ifstream in(frames);
+  std::size_t lines = 0;
+  for (std::string line; std::getline(in, line); ++lines) {
+    fw::CandumpRecord rec;
+    EXPECT_EQ(fw::parse_candump_line(line, rec), nullptr) << line;
+  }
+  EXPECT_GE(lines, 5u * 10);
+  EXPECT_LE(lines, 5u * 20);
+}
+
+TEST(Replay, ReportsMalformedLinesWithTheirNumbersAndGoesOn) {
+  testing::TempDir d;
+  const fs::path log = d.path() / "bad.log", out = d.path() / "out.csv";
+  {
+    std::ofstream f(log);
+    f << "(0000000000.000000) can0 101#0000000000000000\n";
+    f << "this is not a frame\n";
+    f << "(0000000000.100000) can0 101#00000000000000\n";
+  }
+  const Outcome r = run(LPTN_BINARY, "replay --quiet --log " + log.string() + " --calibration " + kCalibration.string() +
+                                     " --out " + out.string(), d.path());
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("bad.log:2: "), std::string::npos) << r.err;
+  EXPECT_TRUE(fs::exists(out));
+}
+
+TEST(Replay, BadInputIsOneLineAndWritesNothing) {
+  testing::TempDir d;
+  const fs::path out = d.path() / "out.csv", garbage = d.path() / "garbage.log";
+  std::ofstream(garbage) << "nothing here\n";
+  const std::string cases[] = {
+      "replay --log " + (d.path() / "missing.log").string() + " --calibration " + kCalibration.string() + " --out " + out.string(),
+      "replay --log " + garbage.string() + " --calibration " + kCalibration.string() + " --out " + out.string(),
+      "replay --log " + garbage.string() + " --calibration " + garbage.string() + " --out " + out.string(),
+      "replay --log " + garbage.string() + " --calibration " + kCalibration.string() + " --out " + out.string() + " --use-actor",
+  };
+  for (const std::string& args : cases) {
+    const Outcome r = run(LPTN_BINARY, args + " --quiet", d.path());
+    EXPECT_EQ(r.code, 2) << args << "\n" << r.err;
+    EXPECT_NE(r.err.find("lptn: error: "), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(out)) << args;
+    EXPECT_FALSE(fs::exists(out.string() + ".part")) << args;
+  }
+}
+
+TEST(Daemon, HelpBadArgumentsAndAHostWithoutCan) {
+  testing::TempDir d;
+  EXPECT_EQ(run(LPTN_DAEMON, "--help", d.path()).code, 0);
+  const Outcome none = run(LPTN_DAEMON, "", d.path());
+  EXPECT_EQ(none.code, 2);
+  EXPECT_NE(none.err.find("exactly one of"), std::string::npos);
+  EXPECT_EQ(run(LPTN_DAEMON, "--interface vcan0 --time-scale -1", d.path()).code, 2);
+  EXPECT_EQ(run(LPTN_DAEMON, "--replay x --bogus", d.path()).code, 2);
+  // This host's kernel has no CAN (or no such interface): a runtime failure, said in one line.
+  const Outcome can = run(LPTN_DAEMON, "--interface lptn-no-such-can0", d.path());
+  EXPECT_EQ(can.code, 1);
+  EXPECT_NE(can.err.find("lptn-no-such-can0"), std::string::npos) << can.err;
+}
+
+}  // namespace
+}  // namespace lptn

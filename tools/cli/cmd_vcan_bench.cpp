@@ -1,0 +1,232 @@
+// lptn vcan-bench: the daemon on a real (virtual) CAN bus against the in-process replay.
+//
+// This machine's kernel has no CAN, so the bus lives in a throw-away qemu guest with a Debian
+// kernel (tools/vcan-bench/run-guest.sh): canplayer plays the log onto vcan0 (time stamps scaled
+// by --time-scale), lptn-daemon reads vcan0 through its kernel filters and sends its frames every
+// tick (its timer scaled alike), candump -L records them. Here the recording is decoded through
+// the DBC's codecs and compared, tick by tick, with `lptn replay` of the same log.
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "candump_log.hpp"
+#include "lptn/can/lptn_frames.hpp"
+#include "tools/cli/commands.hpp"
+#include "tools/replay/calibrated_estimator.hpp"
+#include "tools/replay/replay_to_csv.hpp"
+#include "trainer/calibrate/calibration_file.hpp"
+
+namespace lptn::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string quote(const fs::path& p) { return "'" + p.string() + "'"; }
+
+void shell(const std::string& what, const std::string& cmd) {
+  const int status = std::system(cmd.c_str());
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
+    throw std::runtime_error(what + " failed (exit " + std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) + ")");
+}
+
+fs::path self_path() { return fs::read_symlink("/proc/self/exe"); }
+
+// The replay's estimates by row (ticks since the estimator started).
+std::vector<std::array<double, kNumNodes>> replay_estimates(const fs::path& csv) {
+  std::ifstream in(csv);
+  std::string line;
+  std::getline(in, line);
+  std::vector<std::string> names;
+  std::stringstream header(line);
+  for (std::string cell; std::getline(header, cell, ',');) names.push_back(cell);
+  const char* wanted[kNumNodes] = {"est_stator_winding_c", "est_stator_core_c", "est_rotor_winding_c", "est_rotor_core_c"};
+  std::size_t at[kNumNodes];
+  for (int i = 0; i < kNumNodes; ++i) at[i] = std::find(names.begin(), names.end(), wanted[i]) - names.begin();
+  std::vector<std::array<double, kNumNodes>> rows;
+  while (std::getline(in, line)) {
+    std::vector<std::string> cells;
+    std::stringstream row(line);
+    for (std::string cell; std::getline(row, cell, ',');) cells.push_back(cell);
+    std::array<double, kNumNodes> r{};
+    for (int i = 0; i < kNumNodes; ++i) r[i] = at[i] < cells.size() ? std::stod(cells[at[i]]) : NAN;
+    rows.push_back(r);
+  }
+  return rows;
+}
+
+struct Comparison {
+  std::size_t ticks = 0;     // daemon ticks with estimates
+  std::size_t compared = 0;  // of those, matched to a replay row
+  double max_k[kNumNodes]{};
+  double sum_sq[kNumNodes]{};
+  std::size_t status_frames = 0;
+};
+
+// The daemon's recording: each tick sends temperatures, ..., innovation (whose ObserverTicks
+// counts the ticks since its start), in that order; a tick's temperatures pair with its ticks.
+Comparison compare(const fs::path& recording, const std::vector<std::array<double, kNumNodes>>& replay) {
+  Comparison c;
+  std::ifstream in(recording);
+  std::array<double, kNumNodes> temps{};
+  bool have_temps = false;
+  std::size_t wraps = 0;
+  int last_ticks = -1;
+  for (std::string line; std::getline(in, line);) {
+    fw::CandumpRecord rec;
+    if (fw::parse_candump_line(line, rec)) continue;
+    const fw::CanFrame& f = rec.frame;
+    if (f.id == can::LptnStatus::kId) ++c.status_frames;
+    if (f.id == can::LptnTemperatures::kId) {
+      can::LptnTemperatures t;
+      if (!t.unpack(f.data, f.len)) continue;
+      temps = {can::LptnTemperatures::stator_winding_temp_decode(t.stator_winding_temp),
+               can::LptnTemperatures::stator_core_temp_decode(t.stator_core_temp),
+               can::LptnTemperatures::rotor_winding_temp_decode(t.rotor_winding_temp),
+               can::LptnTemperatures::rotor_core_temp_decode(t.rotor_core_temp)};
+      have_temps = true;
+    } else if (f.id == can::LptnInnovation::kId && have_temps) {
+      can::LptnInnovation inn;
+      if (!inn.unpack(f.data, f.len)) continue;
+      if (static_cast<int>(inn.observer_ticks) < last_ticks) ++wraps;
+      last_ticks = inn.observer_ticks;
+      const std::size_t k = wraps * 65536 + inn.observer_ticks;
+      ++c.ticks;
+      have_temps = false;
+      if (k >= replay.size()) continue;
+      ++c.compared;
+      for (int i = 0; i < kNumNodes; ++i) {
+        const double d = std::abs(temps[i] - replay[k][i]);
+        c.max_k[i] = std::max(c.max_k[i], d);
+        c.sum_sq[i] += d * d;
+      }
+    }
+  }
+  return c;
+}
+
+}  // namespace
+
+void add_vcan_bench(CLI::App& app) {
+  auto* cmd = app.add_subcommand("vcan-bench", "Run lptn-daemon on vcan0 in a qemu guest and compare it with the replay");
+  cmd->footer(
+      "Boots a throw-away qemu guest (software emulation) with Debian's kernel, loads vcan, plays the log onto vcan0 "
+      "with canplayer (time stamps divided by --time-scale), runs lptn-daemon on vcan0 with its timer scaled alike, "
+      "records its frames with candump, and compares them tick by tick with `lptn replay` of the same log. Without "
+      "--log, generates --minutes of driving and converts it. Needs tools/setup.sh bench (qemu, busybox, can-utils); "
+      "the kernel package is fetched once into --cache. Exit 1 when the daemon's estimates differ from the replay's by "
+      "more than --tolerance-k or fewer than 95 % of its ticks could be compared.");
+  struct Args {
+    std::string out, log, calibration = LPTN_DEFAULT_CALIBRATION, daemon = LPTN_DAEMON_PATH;
+    std::string cache = LPTN_VCAN_CACHE;
+    double minutes = 12, time_scale = 10, tolerance_k = 0.25;
+    int timeout_s = 900;
+  };
+  auto args = std::make_shared<Args>();
+  cmd->add_option("--out", args->out, "Work directory (log, replay, guest share, recording)")->required();
+  cmd->add_option("--log", args->log, "candump -L log to play (default: generate --minutes of driving)");
+  cmd->add_option("--minutes", args->minutes, "Minutes of driving to generate without --log")->capture_default_str();
+  cmd->add_option("--calibration", args->calibration,
+                  "calibration.json for the replay: the one the daemon has compiled in")->capture_default_str();
+  cmd->add_option("--daemon", args->daemon, "lptn-daemon to run in the guest")->capture_default_str();
+  cmd->add_option("--time-scale", args->time_scale, "Play and tick this many times faster than real time")->capture_default_str();
+  cmd->add_option("--tolerance-k", args->tolerance_k, "Largest difference allowed between daemon and replay (K)")
+      ->capture_default_str();
+  cmd->add_option("--timeout", args->timeout_s, "Seconds the guest may take")->capture_default_str();
+  cmd->add_option("--cache", args->cache, "Where the guest's kernel is kept between runs")->capture_default_str();
+  cmd->callback([args] {
+    if (!(args->time_scale >= 1 && args->time_scale <= 100)) throw BadInput("--time-scale: between 1 and 100");
+    if (!fs::exists(args->daemon)) throw BadInput(args->daemon + ": no such daemon (build lptn-daemon)");
+    const fs::path out = fs::absolute(args->out);
+    fs::create_directories(out);
+    const fs::path self = self_path(), scripts = fs::path(LPTN_SOURCE_DIR) / "tools/vcan-bench";
+    std::unique_ptr<CalibratedEstimatorConfig> cal;
+    try {
+      cal = estimator_config_from(load_calibration(args->calibration), args->calibration);
+    } catch (const CalibrationFileError& e) {
+      throw BadInput(e.what());
+    }
+
+    fs::path log = args->log;
+    if (log.empty()) {
+      log = out / "drive.log";
+      const std::string minutes = std::to_string(args->minutes);
+      std::printf("== generate %.0f minutes of driving and convert them to a CAN log\n", args->minutes);
+      shell("lptn generate", quote(self) + " generate --out " + quote(out / "data") + " --cycles 1 --seed 21 --minutes-min " +
+                                 minutes + " --minutes-max " + minutes + " --force >/dev/null");
+      fs::path csv;
+      for (const auto& e : fs::directory_iterator(out / "data"))
+        if (e.path().extension() == ".csv") csv = e.path();
+      shell("lptn convert", quote(self) + " convert --in " + quote(csv) + " --out " + quote(log) + " --force >/dev/null");
+    }
+    std::printf("== replay %s in-process\n", log.c_str());
+    const fs::path replay_csv = out / "replay.csv";
+    fw::ReplayStats stats;
+    try {
+      stats = replay_to_csv(log.string(), cal->config, replay_csv.string(), true);
+    } catch (const std::invalid_argument& e) {
+      throw BadInput(e.what());
+    }
+    const double log_s = static_cast<double>(stats.last_us - stats.first_us) / 1e6;
+
+    std::printf("== the daemon on vcan0 in a qemu guest: %.1f min of log at %gx\n", log_s / 60, args->time_scale);
+    const fs::path share = out / "share";
+    fs::remove_all(share);
+    fs::create_directories(share);
+    shell("copying the daemon", quote(scripts / "copy-with-libs.sh") + " " + quote(args->daemon) + " " + quote(share));
+    char scale[32];
+    std::snprintf(scale, sizeof scale, "%g", args->time_scale);
+    shell("scaling the log", "python3 " + quote(scripts / "scale-log.py") + " " + quote(log) + " " + quote(share / "play.log") + " " + scale);
+    {
+      std::ofstream run(share / "run.sh");
+      run << "# The bench payload (lptn vcan-bench): daemon on vcan0, its frames recorded, the log played.\n"
+          << "lptn-daemon --interface vcan0 --time-scale " << scale << " 2>daemon.err &\n"
+          << "daemon=$!\n"
+          << "candump -L vcan0,200:7F8 >recording.log &\n"
+          << "candump=$!\n"
+          << "until grep -q '^ *vcan0 ' /proc/net/can/rcvlist_all; do sleep 0.05; done\n"
+          << "sleep 0.5\n"
+          << "canplayer -I play.log vcan0=can0\n"
+          << "sleep 1\n"
+          << "kill -TERM $daemon\n"
+          << "wait $daemon\n"
+          << "rc=$?\n"
+          << "kill $candump\n"
+          << "wait $candump\n"
+          << "cat daemon.err\n"
+          << "echo \"daemon exit status $rc\"\n"
+          << "exit $rc\n";
+    }
+    shell("the guest", quote(scripts / "run-guest.sh") + " --cache " + quote(args->cache) + " --share " + quote(share) +
+                           " --timeout " + std::to_string(args->timeout_s));
+
+    const auto replay = replay_estimates(replay_csv);
+    const Comparison c = compare(share / "recording.log", replay);
+    const char* names[kNumNodes] = {"stator winding", "stator core", "rotor winding", "rotor core"};
+    std::printf("== daemon on vcan0 vs in-process replay: %zu ticks with estimates (replay %zu), %zu compared\n", c.ticks,
+                replay.size(), c.compared);
+    double worst = 0;
+    for (int i = 0; i < kNumNodes; ++i) {
+      const double rms = c.compared ? std::sqrt(c.sum_sq[i] / static_cast<double>(c.compared)) : NAN;
+      std::printf("   %-15s max |difference| %.3f K, rms %.4f K\n", names[i], c.max_k[i], rms);
+      worst = std::max(worst, c.max_k[i]);
+    }
+    const bool enough = static_cast<double>(c.compared) >= 0.95 * static_cast<double>(replay.size());
+    if (!enough)
+      throw std::runtime_error("only " + std::to_string(c.compared) + " of " + std::to_string(replay.size()) +
+                               " replay ticks were matched by the daemon's frames (see " + (share / "console.log").string() + ")");
+    if (!(worst <= args->tolerance_k))
+      throw std::runtime_error("the daemon's estimates differ from the replay's by up to " + std::to_string(worst) +
+                               " K (tolerance " + std::to_string(args->tolerance_k) + " K)");
+    std::printf("vcan bench passed: %s\n", out.c_str());
+  });
+}
+
+}  // namespace lptn::cli
