@@ -1,0 +1,240 @@
+// candump log -> fleet-dump CSV.
+
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <fstream>
+#include <limits>
+#include <optional>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include "candump_log.hpp"
+#include "tools/canlog/bus_channels.hpp"
+#include "tools/canlog/convert.hpp"
+
+namespace lptn::canlog {
+namespace {
+
+namespace fs = std::filesystem;
+using data::Channel;
+using data::kNumChannels;
+using Values = std::array<double, kNumChannels>;  // NaN: no cell
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// A garbage file should not bury the terminal; the count says how many more there were.
+constexpr std::size_t kMaxLineWarnings = 20;
+
+// Frames that are well formed but carry no column.
+enum class Skip { unknown_id, output_frame, error_frame, remote_frame, fd_frame, wrong_length };
+constexpr std::array<const char*, 6> kSkipNames{"unknown id",    "estimator output (LPTN_*)", "error frame",
+                                                "remote frame",  "CAN FD",                    "wrong length"};
+
+// The columns an input frame carries (NaN elsewhere), or why it carries none.
+struct Decoded {
+  std::optional<Skip> skip;
+  Values values;
+};
+
+Decoded decode(const fw::CanFrame& f) {
+  Decoded d{std::nullopt, {}};
+  d.values.fill(kNaN);
+  if (f.error) return {Skip::error_frame, d.values};
+  if (f.remote) return {Skip::remote_frame, d.values};
+  if (f.fd) return {Skip::fd_frame, d.values};
+  if (is_output_frame(f.id, f.extended)) return {Skip::output_frame, d.values};
+  d.skip = Skip::unknown_id;
+  for_each_input_message([&](const auto& m) {
+    using Msg = typename std::decay_t<decltype(m)>::Frame;
+    if (f.id != Msg::kId || f.extended != Msg::kExtended) return;
+    Msg msg;
+    if (f.len != Msg::kLength || !msg.unpack(f.data, f.len)) {
+      d.skip = Skip::wrong_length;
+      return;
+    }
+    d.skip.reset();
+    for (const auto& s : m.signals) d.values[data::index_of(s.channel)] = s.decode(msg);
+  });
+  return d;
+}
+
+// The decimals that print every value of a signal exactly: 0.05 -> 2, 0.0005 -> 4, 0.5 -> 1.
+int decimals_of(double factor) {
+  int d = 0;
+  for (double scaled = factor; d < 9 && std::fabs(scaled - std::round(scaled)) > 1e-9 * scaled; scaled *= 10) ++d;
+  return d;
+}
+
+std::array<int, kNumChannels> column_decimals() {
+  std::array<int, kNumChannels> decimals{};
+  for_each_input_message([&](const auto& m) {
+    for (const auto& s : m.signals) decimals[data::index_of(s.channel)] = decimals_of(s.factor);
+  });
+  return decimals;
+}
+
+// "TC_Cooling (0x120)" for the message that carries column c.
+std::string message_of(Channel c) {
+  std::string name;
+  for_each_input_message([&](const auto& m) {
+    using Msg = typename std::decay_t<decltype(m)>::Frame;
+    for (const auto& s : m.signals) {
+      if (s.channel != c) continue;
+      char id[16];
+      std::snprintf(id, sizeof id, " (0x%03X)", static_cast<unsigned>(Msg::kId));
+      name = Msg::kName + std::string(id);
+    }
+  });
+  return name;
+}
+
+struct Row {
+  TimeUs t;
+  Values values;
+};
+
+// Collects rows and what was left out, then writes the CSV with the columns that occurred.
+class CsvBuilder {
+ public:
+  explicit CsvBuilder(const fs::path& log) : log_(log) {}
+
+  void line(std::string_view text, std::size_t number) {
+    if (text.empty()) return;
+    fw::CandumpRecord rec;
+    if (const char* reason = fw::parse_candump_line(text, rec)) return line_warning(number, reason);
+    const Decoded d = decode(rec.frame);
+    if (d.skip) return count_skip(*d.skip, number);
+    if (!rows_.empty() && rec.time_us < last_us_) {
+      char reason[128];
+      std::snprintf(reason, sizeof reason, "time stamp %.6f s goes back %.6f s behind the frame before; dropped",
+                    static_cast<double>(rec.time_us) / fw::kUsPerS,
+                    static_cast<double>(last_us_ - rec.time_us) / fw::kUsPerS);
+      return line_warning(number, reason);
+    }
+    take(rec.time_us, d.values);
+  }
+
+  Converted finish() {
+    if (rows_.empty())
+      throw ConvertError(log_.string() + ": no frame of an input message could be read (lines dropped: " +
+                         std::to_string(bad_lines_) + (skipped_total() ? "; skipped: " + skipped_summary() : "") + ")");
+    require_contract_columns();
+    Converted out;
+    out.frames = frames_;
+    out.duration_s = static_cast<double>(rows_.back().t - rows_.front().t) / fw::kUsPerS;
+    out.warnings = std::move(warnings_);
+    if (bad_lines_ > kMaxLineWarnings)
+      out.warnings.push_back(log_.string() + ": " + std::to_string(bad_lines_ - kMaxLineWarnings) +
+                             " more lines dropped (malformed or going back in time)");
+    if (skipped_total() > 0)
+      out.warnings.push_back(log_.string() + ": skipped frames that carry no column: " + skipped_summary());
+    out.text = csv_text();
+    return out;
+  }
+
+ private:
+  void line_warning(std::size_t number, const char* reason) {
+    if (++bad_lines_ <= kMaxLineWarnings) warnings_.push_back(log_.string() + ":" + std::to_string(number) + ": " + reason);
+  }
+
+  void count_skip(Skip why, std::size_t number) {
+    const auto i = static_cast<std::size_t>(why);
+    if (skipped_[i]++ == 0) first_skipped_line_[i] = number;
+  }
+
+  // A frame at the last row's time fills that row unless it would overwrite one of its cells.
+  void take(TimeUs t, const Values& v) {
+    bool new_row = rows_.empty() || rows_.back().t != t;
+    for (int i = 0; i < kNumChannels && !new_row; ++i) new_row = !std::isnan(v[i]) && !std::isnan(rows_.back().values[i]);
+    if (new_row) {
+      rows_.push_back({t, {}});
+      rows_.back().values.fill(kNaN);
+    }
+    for (int i = 0; i < kNumChannels; ++i) {
+      if (std::isnan(v[i])) continue;
+      rows_.back().values[i] = v[i];
+      present_[i] = true;
+    }
+    last_us_ = t;
+    ++frames_;
+  }
+
+  std::size_t skipped_total() const {
+    std::size_t n = 0;
+    for (std::size_t k : skipped_) n += k;
+    return n;
+  }
+
+  // "3 unknown id (first on line 7), 1 remote frame (first on line 9)"
+  std::string skipped_summary() const {
+    std::string s;
+    for (std::size_t i = 0; i < skipped_.size(); ++i) {
+      if (skipped_[i] == 0) continue;
+      s += (s.empty() ? "" : ", ") + std::to_string(skipped_[i]) + " " + kSkipNames[i] + " (first on line " +
+           std::to_string(first_skipped_line_[i]) + ")";
+    }
+    return s;
+  }
+
+  void require_contract_columns() const {
+    std::string missing_messages, missing_columns;
+    for (Channel c : data::kAllChannels) {
+      if (!data::channel_info(c).required || present_[data::index_of(c)]) continue;
+      const std::string message = message_of(c);
+      if (missing_messages.find(message) == std::string::npos)
+        missing_messages += (missing_messages.empty() ? "" : ", ") + message;
+      missing_columns += (missing_columns.empty() ? "" : ", ") + std::string(data::channel_name(c));
+    }
+    if (!missing_messages.empty())
+      throw ConvertError(log_.string() + ": no frame of " + missing_messages +
+                         " in the log; the fleet-dump contract requires " + missing_columns);
+  }
+
+  std::string csv_text() const {
+    const std::array<int, kNumChannels> decimals = column_decimals();
+    std::string s(data::kTimeColumn);
+    for (Channel c : data::kAllChannels)
+      if (present_[data::index_of(c)]) s.append(",").append(data::channel_name(c));
+    s += '\n';
+    char buf[64];
+    for (const Row& r : rows_) {
+      const TimeUs t = r.t - rows_.front().t;  // exact: the log's microseconds, no rounding
+      s.append(buf, static_cast<std::size_t>(std::snprintf(buf, sizeof buf, "%lld.%06lld",
+                                                           static_cast<long long>(t / fw::kUsPerS),
+                                                           static_cast<long long>(t % fw::kUsPerS))));
+      for (int i = 0; i < kNumChannels; ++i) {
+        if (!present_[i]) continue;
+        s += ',';
+        if (std::isnan(r.values[i])) continue;  // missing stays an empty cell, as in the contract
+        s.append(buf, std::to_chars(buf, buf + sizeof buf, r.values[i], std::chars_format::fixed, decimals[i]).ptr);
+      }
+      s += '\n';
+    }
+    return s;
+  }
+
+  const fs::path& log_;
+  std::vector<Row> rows_;
+  std::array<bool, kNumChannels> present_{};
+  TimeUs last_us_ = 0;
+  std::size_t frames_ = 0, bad_lines_ = 0;
+  std::array<std::size_t, kSkipNames.size()> skipped_{}, first_skipped_line_{};
+  std::vector<std::string> warnings_;
+};
+
+}  // namespace
+
+Converted csv_from_candump(const fs::path& log) {
+  std::ifstream in(log, std::ios::binary);
+  if (!in) throw ConvertError(log.string() + ": cannot open for reading");
+  CsvBuilder builder(log);
+  std::string text;
+  for (std::size_t number = 1; std::getline(in, text); ++number) builder.line(text, number);
+  if (in.bad()) throw ConvertError(log.string() + ": read error");
+  return builder.finish();
+}
+
+}  // namespace lptn::canlog

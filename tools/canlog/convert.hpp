@@ -1,0 +1,50 @@
+// Fleet-dump CSV <-> candump log (`candump -L`, what canplayer plays), through the DBC's generated
+// codecs: the data a calibration was fitted on, played onto a bus as the converter would send it,
+// and a recorded bus turned into data the trainer loads.
+#pragma once
+
+#include <cstddef>
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "lptn/firmware/input.hpp"
+
+namespace lptn::canlog {
+
+// Bad input: one line naming the file (and line, column and signal where there are such).
+class ConvertError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct Converted {
+  std::string text;  // the whole output file
+  std::size_t frames = 0;  // written (CSV -> log) or taken (log -> CSV)
+  double duration_s = 0;  // first to last frame
+  std::vector<std::string> warnings;  // one line each, naming the file (and line where there is one)
+};
+
+struct LogOptions {
+  std::string interface = "can0";
+  fw::TimeUs start_us = 0;  // time stamp of the first grid point the loader kept
+};
+
+// CSV -> log. The CSV is loaded as every command loads it (resampled onto the 0.1 s grid, gaps
+// bridged, masked or split by the loader's rules). Every input message goes out every cycle time
+// at a fixed phase after its grid point, carrying the grid values there, wherever all of its
+// columns have one; each message's alive counter counts the frames of it actually sent.
+// Throws data::DataError for a CSV the loader refuses, ConvertError for a value outside its DBC
+// signal's range.
+Converted candump_from_csv(const std::filesystem::path& csv, const LogOptions& options);
+
+// log -> CSV. One row per frame time (frames with the same time stamp share a row), time_s counted
+// from the first frame taken, a cell per column the frame carries. Malformed lines and frames whose
+// time stamp goes backwards are warned about and dropped; frames that carry no column (unknown ids,
+// the estimator's outputs, error, remote, CAN FD, wrong length) are counted in one summary warning.
+// Columns whose message never appeared are left out. Throws ConvertError if no frame could be
+// taken or a required column's message never appeared.
+Converted csv_from_candump(const std::filesystem::path& log);
+
+}  // namespace lptn::canlog

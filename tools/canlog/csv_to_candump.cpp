@@ -1,0 +1,145 @@
+// Fleet-dump CSV -> candump log.
+
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <type_traits>
+
+#include "candump_log.hpp"
+#include "tools/canlog/bus_channels.hpp"
+#include "tools/canlog/convert.hpp"
+#include "trainer/data/dataset.hpp"
+#include "trainer/data/internal/raw_cycle.hpp"
+
+namespace lptn::canlog {
+namespace {
+
+namespace fs = std::filesystem;
+
+static_assert(data::LoadOptions{}.dt_s * 1e6 == kGridStepUs, "the frames' schedule assumes the loader's grid");
+
+// PulsesEnabled is no column of the contract: the converter's pulses are on while current flows.
+constexpr double kPulsesOnAboveA = 0.5;
+
+template <class Msg>
+fw::CanFrame frame_of(const Msg& m) {
+  fw::CanFrame f;
+  f.id = Msg::kId;
+  f.extended = Msg::kExtended;
+  f.len = Msg::kLength;
+  m.pack(f.data, sizeof f.data);
+  return f;
+}
+
+// The CSV line of the sample that put an out-of-range value onto the grid near t: linear
+// interpolation between values within a range stays within it, so there is one. Only on this
+// error path is the file parsed a second time, by the loader's own parser, for its line numbers.
+std::size_t offending_line(const fs::path& csv, data::Channel c, double t, double min, double max) {
+  std::ifstream in(csv, std::ios::binary);
+  const std::string text(std::istreambuf_iterator<char>(in), {});
+  const data::internal::RawCycle raw = data::internal::parse_csv(text, csv);
+  const data::internal::RawChannel& ch = raw.channels[data::index_of(c)];
+  std::size_t line = 0;
+  double best = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < ch.values.size(); ++i) {
+    if (ch.values[i] >= min && ch.values[i] <= max) continue;
+    const double distance = std::fabs(raw.time[ch.rows[i]] - t);
+    if (distance < best) {
+      best = distance;
+      line = raw.line[ch.rows[i]];
+    }
+  }
+  return line;
+}
+
+template <class Msg>
+[[noreturn]] void out_of_range(const fs::path& csv, const char* message, const ChannelSignal<Msg>& s, double value,
+                               double t) {
+  const std::size_t line = offending_line(csv, s.channel, t, s.min, s.max);
+  const std::string where = line ? csv.string() + ":" + std::to_string(line) : csv.string();
+  char reason[256];
+  std::snprintf(reason, sizeof reason, "%g at t=%.3f s is outside %.*s's range [%g, %g] (%s)", value, t,
+                static_cast<int>(s.signal.size()), s.signal.data(), s.min, s.max, message);
+  throw ConvertError(where + ": column '" + std::string(data::channel_name(s.channel)) + "': " + reason);
+}
+
+// Builds the log frame by frame, in time order, keeping each message's alive counter.
+class LogWriter {
+ public:
+  LogWriter(const fs::path& csv, const LogOptions& options) : csv_(csv), options_(options) {}
+
+  // Every message due at grid point g (counted from the first kept one), in phase order; k is the
+  // same point in `cycle`.
+  void grid_point(const data::Cycle& cycle, std::size_t k, std::size_t g) {
+    std::size_t i = 0;
+    for_each_input_message([&](const auto& m) { send(m, alive_[i++], cycle, k, g); });
+  }
+
+  std::size_t frames() const { return frames_; }
+  std::string take_text() { return std::move(text_); }
+
+ private:
+  template <class M>
+  void send(const M& m, std::uint32_t& alive, const data::Cycle& cycle, std::size_t k, std::size_t g) {
+    using Msg = typename M::Frame;
+    if (g % M::kGridStride != 0) return;
+    Msg msg{};
+    for (const auto& s : m.signals) {
+      const double v = cycle.at(s.channel, k);
+      if (std::isnan(v)) return;  // a frame carries all of its columns or is not sent
+      if (!(v >= s.min && v <= s.max)) out_of_range(csv_, Msg::kName, s, v, cycle.time_s(k));
+      s.encode(msg, v);
+    }
+    if constexpr (std::is_same_v<Msg, can::TcElectrical>)
+      msg.pulses_enabled = Msg::pulses_enabled_encode(cycle.at(data::Channel::current_a, k) > kPulsesOnAboveA ? 1 : 0);
+    msg.alive_counter = Msg::alive_counter_encode(alive);
+    alive = (alive + 1) % (1u << signal_info<Msg>("AliveCounter").length);
+    put(options_.start_us + static_cast<TimeUs>(g) * kGridStepUs + m.phase_us, frame_of(msg));
+  }
+
+  void put(TimeUs t, const fw::CanFrame& f) {
+    char line[128];
+    const std::size_t n = fw::format_candump_line(line, sizeof line, t, options_.interface, f);
+    if (n == 0) throw ConvertError("--interface '" + options_.interface + "': too long for a log line");
+    text_.append(line, n).push_back('\n');
+    ++frames_;
+  }
+
+  const fs::path& csv_;
+  const LogOptions& options_;
+  std::array<std::uint32_t, std::tuple_size_v<decltype(bus::kInputMessages)>> alive_{};
+  std::string text_;
+  std::size_t frames_ = 0;
+};
+
+}  // namespace
+
+Converted candump_from_csv(const fs::path& csv, const LogOptions& options) {
+  const data::Dataset dataset = data::load_cycle_file(csv);
+  Converted out;
+  for (const data::Finding& f : dataset.reports.front().findings)
+    if (f.severity == data::Finding::Severity::warning) out.warnings.push_back(f.message);
+  if (dataset.cycles.empty())
+    throw ConvertError(csv.string() + ": no stretch of it has speed, current, frequency, airflow and ambient; "
+                                      "nothing to send (see lptn inspect)");
+
+  // Segments of a split cycle keep their place on the file's grid, so the log has a silence where
+  // the loader cut, as a bus would.
+  LogWriter writer(csv, options);
+  const double origin_s = dataset.cycles.front().t0_s;
+  for (const data::Cycle& cycle : dataset.cycles) {
+    const auto first = static_cast<std::size_t>(std::llround((cycle.t0_s - origin_s) / cycle.dt_s));
+    for (std::size_t k = 0; k < cycle.steps; ++k) writer.grid_point(cycle, k, first + k);
+  }
+  const data::Cycle& last = dataset.cycles.back();
+  out.duration_s = last.t0_s + last.duration_s() - origin_s;
+  out.frames = writer.frames();
+  out.text = writer.take_text();
+  return out;
+}
+
+}  // namespace lptn::canlog

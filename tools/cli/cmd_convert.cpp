@@ -1,0 +1,200 @@
+// lptn convert: a fleet-dump CSV as a candump log (what canplayer plays onto a bus), and a
+// candump log back into the fleet-dump CSV contract.
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include "tools/canlog/bus_channels.hpp"
+#include "tools/canlog/convert.hpp"
+#include "tools/cli/commands.hpp"
+#include "trainer/io/atomic_output.hpp"
+
+namespace lptn::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Args {
+  std::string in, out, interface = "can0";
+  double start_time_s = 0;
+  bool force = false;
+};
+
+// The message table as the help shows it, so that the help cannot disagree with the code.
+std::string messages_help() {
+  std::string s;
+  canlog::for_each_input_message([&](const auto& m) {
+    using Msg = typename std::decay_t<decltype(m)>::Frame;
+    char head[96];
+    std::snprintf(head, sizeof head, "  %-16s 0x%03X every %4u ms at +%u ms:", Msg::kName,
+                  static_cast<unsigned>(Msg::kId), static_cast<unsigned>(Msg::kCycleTimeMs),
+                  static_cast<unsigned>(m.phase_us / 1000));
+    s += head;
+    for (const auto& sig : m.signals) s.append(" ").append(data::channel_name(sig.channel));
+    s += '\n';
+  });
+  return s;
+}
+
+std::string footer() {
+  return "Direction: an input *.log is a candump log and becomes a CSV, an input *.csv becomes a log;\n"
+         "a file named otherwise is a candump log if its first line starts with '('. A directory\n"
+         "converts every *.csv in it into OUT/NAME.log, or every *.log into OUT/NAME.csv (not both kinds\n"
+         "at once).\n"
+         "\n"
+         "CSV -> log: the CSV is loaded as every lptn command loads it (0.1 s grid, the loader's gap\n"
+         "rules). Each input message of can-dbc/lptn.dbc goes out every cycle time, shortly after its\n"
+         "grid point, with the grid values there:\n" +
+         messages_help() +
+         "A message is not sent where one of its columns has no value (never, if the column is absent).\n"
+         "Each message's AliveCounter counts its frames; PulsesEnabled is current_a > 0.5 A. Time stamps\n"
+         "are --start-time plus the time since the first grid point, in whole microseconds: the same CSV\n"
+         "gives the same bytes. A value outside its signal's DBC range is an error (exit 2, nothing\n"
+         "written).\n"
+         "\n"
+         "log -> CSV: one row per frame time, time_s counted from the first input frame, each frame\n"
+         "filling the columns it carries. Malformed lines and frames going back in time are reported\n"
+         "(FILE:LINE) and dropped; unknown ids, LPTN_* outputs, error, remote, CAN FD and wrong-length\n"
+         "frames are skipped and counted. Columns whose message never appears are left out; the ones the\n"
+         "contract requires must appear.\n";
+}
+
+std::string lower_extension(const fs::path& p) {
+  std::string ext = p.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext;
+}
+
+// By the name where it says (a damaged log may start with garbage), else by the content: a candump
+// -L line starts with its "(seconds.microseconds)" stamp, a CSV never does.
+bool is_candump_log(const fs::path& file) {
+  const std::string ext = lower_extension(file);
+  if (ext == ".log" || ext == ".csv") return ext == ".log";
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw BadInput(file.string() + ": cannot open for reading");
+  char c;
+  while (in.get(c))
+    if (!std::isspace(static_cast<unsigned char>(c))) return c == '(';
+  return false;
+}
+
+canlog::Converted convert(const fs::path& in, bool from_log, const Args& args) {
+  try {
+    if (from_log) return canlog::csv_from_candump(in);
+    canlog::LogOptions options;
+    options.interface = args.interface;
+    options.start_us = std::llround(args.start_time_s * 1e6);
+    return canlog::candump_from_csv(in, options);
+  } catch (const canlog::ConvertError& e) {
+    throw BadInput(e.what());
+  }
+}
+
+void print_warnings(const canlog::Converted& c) {
+  for (const std::string& w : c.warnings) std::fprintf(stderr, "lptn: warning: %s\n", w.c_str());
+}
+
+// --interface and --start-time shape the log; on the way back they would silently do nothing.
+void reject_log_options(const CLI::App& cmd, const fs::path& in) {
+  if (cmd.count("--interface") || cmd.count("--start-time"))
+    throw BadInput("--interface and --start-time apply to CSV -> log only; " + in.string() + " converts log -> CSV");
+}
+
+void convert_file(const CLI::App& cmd, const Args& args) {
+  const fs::path in(args.in), out(args.out);
+  if (fs::exists(out) && fs::equivalent(in, out)) throw BadInput(args.out + ": is the input");
+  if (fs::is_directory(out)) throw BadInput(args.out + ": is a directory (one input file makes one output file)");
+  if (fs::exists(out) && !args.force) throw BadInput(args.out + ": exists (use --force to replace it)");
+  const bool from_log = is_candump_log(in);
+  if (from_log) reject_log_options(cmd, in);
+  const canlog::Converted c = convert(in, from_log, args);
+  print_warnings(c);
+  write_file_atomically(out, c.text);
+  std::printf("wrote %s (%zu frames, %.2f h)\n", args.out.c_str(), c.frames, c.duration_s / 3600);
+}
+
+// The *.csv and the *.log files directly in `dir`, each sorted by name.
+void list_inputs(const fs::path& dir, std::vector<fs::path>& csvs, std::vector<fs::path>& logs) {
+  for (const fs::directory_entry& e : fs::directory_iterator(dir)) {
+    if (!e.is_regular_file()) continue;
+    const std::string ext = lower_extension(e.path());
+    if (ext == ".csv") csvs.push_back(e.path());
+    if (ext == ".log") logs.push_back(e.path());
+  }
+  std::sort(csvs.begin(), csvs.end());
+  std::sort(logs.begin(), logs.end());
+}
+
+void convert_directory(const CLI::App& cmd, const Args& args) {
+  const fs::path in(args.in);
+  std::vector<fs::path> csvs, logs;
+  list_inputs(in, csvs, logs);
+  if (!csvs.empty() && !logs.empty())
+    throw BadInput(args.in + ": holds both *.csv and *.log files; convert one kind at a time");
+  if (csvs.empty() && logs.empty()) throw BadInput(args.in + ": no *.csv or *.log files in this directory");
+  if (fs::exists(args.out) && fs::equivalent(in, args.out)) throw BadInput(args.out + ": is the input directory");
+  const bool from_log = !logs.empty();
+  if (from_log) reject_log_options(cmd, in);
+  const std::vector<fs::path>& files = from_log ? logs : csvs;
+  const char* out_ext = from_log ? ".csv" : ".log";
+
+  AtomicDirectory out(args.out, args.force);
+  std::size_t frames = 0;
+  double hours = 0;
+  for (std::size_t i = 0; i < files.size(); ++i) {
+    const canlog::Converted c = convert(files[i], from_log, args);
+    print_warnings(c);
+    const std::string name = files[i].stem().string() + out_ext;
+    write_file_atomically(out.path() / name, c.text);
+    frames += c.frames;
+    hours += c.duration_s / 3600;
+    std::fprintf(stderr, "[%zu/%zu] %s -> %s: %zu frames, %.2f h\n", i + 1, files.size(),
+                 files[i].filename().string().c_str(), name.c_str(), c.frames, c.duration_s / 3600);
+  }
+  out.commit();
+  std::printf("wrote %zu %s (%zu frames, %.1f h) to %s\n", files.size(), from_log ? "CSVs" : "logs", frames, hours,
+              args.out.c_str());
+}
+
+// What canplayer and the candump log format take as an interface name.
+std::string check_interface(const std::string& name) {
+  const bool ok = !name.empty() && name.size() < 16 && std::all_of(name.begin(), name.end(), [](unsigned char c) {
+    return std::isalnum(c) || c == '_' || c == '-' || c == '.';
+  });
+  return ok ? "" : "an interface name is 1 to 15 letters, digits, '_', '-' or '.'";
+}
+
+}  // namespace
+
+void add_convert(CLI::App& app) {
+  auto* cmd = app.add_subcommand("convert", "Convert a fleet-dump CSV into a candump log (through the DBC's encoders), "
+                                            "or a candump log into a fleet-dump CSV");
+  auto args = std::make_shared<Args>();
+  cmd->add_option("--in", args->in, "A cycle CSV, a candump log (candump -L), or a directory of either")
+      ->required()
+      ->check(CLI::ExistingPath);
+  cmd->add_option("--out", args->out, "The log or CSV to write; a directory if --in is one")->required();
+  cmd->add_option("--interface", args->interface, "CSV -> log: interface name on every line")
+      ->capture_default_str()
+      ->check(CLI::Validator(check_interface, "NAME"));
+  cmd->add_option("--start-time", args->start_time_s, "CSV -> log: time stamp of the first frame, s (e.g. epoch seconds)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 9999999999.0));
+  cmd->add_flag("--force", args->force, "Replace --out if it exists");
+  cmd->footer(footer());
+  cmd->callback([cmd, args] {
+    if (fs::is_directory(args->in)) {
+      convert_directory(*cmd, *args);
+    } else {
+      convert_file(*cmd, *args);
+    }
+  });
+}
+
+}  // namespace lptn::cli
