@@ -30,5 +30,6 @@ cmake --preset cortex-m7 -DLPTN_WERROR=ON >/dev/null
 cmake --build --preset cortex-m7 -j"$jobs"
 tools/check-m7-image.sh build/cortex-m7/firmware/baremetal/lptn_m7_image.elf
 
-# ==== vcan bench (the lead adds it here): tools/setup.sh bench, then the daemon's payload through
-# tools/vcan-bench/run-guest.sh (tools/vcan-bench/selftest.sh checks the runner itself) ====
+step "vcan bench: lptn-daemon on vcan0 in a qemu guest against the in-process replay"
+tools/setup.sh bench
+build/ci/tools/cli/lptn vcan-bench --out build/ci/vcan-bench/run

@@ -1,56 +1,58 @@
-// The Cortex-M7 image until the firmware's observer replaces this loop: the model stepped on the
-// converter's frames, its temperatures packed into the output frame. It shows that the model and
-// the generated codecs build for the MCU without heap or exceptions (tools/check-m7-image.sh).
+// The Cortex-M7 image: the estimator with the exported default calibration compiled in, in float,
+// on a minimal main. The CAN controller and the 100 ms timer are stand-ins (volatile mailboxes and
+// a tick flag a timer interrupt would set), so the compiler keeps every path the real port needs:
+// frames in through the DBC's codecs, a tick, frames out. tools/check-m7-image.sh proves the ELF
+// holds no heap and no exception code.
 #include <cstddef>
 #include <cstdint>
 
-#include "lptn/can/lptn_frames.hpp"
-#include "lptn/model.hpp"
+#include "default_calibration.hpp"
+#include "lptn/firmware/estimator.hpp"
+#include "lptn/firmware/exported_calibration.hpp"
+#include "lptn/firmware/output_frames.hpp"
 
 namespace {
 
-// Stand-ins for the CAN controller's mailboxes. Volatile: every frame is read and every result
-// written, so the compiler cannot fold the model away.
-volatile std::uint8_t g_rx_electrical[8];
-volatile std::uint8_t g_rx_cooling[8];
-volatile std::uint8_t g_tx_temperatures[8];
+// What a CAN driver's receive interrupt would fill, and a transmit mailbox per output frame.
+struct Mailbox {
+  volatile std::uint32_t id;
+  volatile std::uint8_t len;
+  volatile std::uint8_t data[8];
+  volatile bool full;
+};
+Mailbox g_rx[8];
+Mailbox g_tx[lptn::fw::kMaxOutputFrames];
+volatile bool g_tick_due = false;            // set every 100 ms by the timer interrupt
+volatile lptn::fw::TimeUs g_now_us = 0;      // the free-running microsecond clock
 
-void receive(const volatile std::uint8_t (&mailbox)[8], std::uint8_t (&frame)[8]) {
-  for (std::size_t i = 0; i < sizeof frame; ++i) frame[i] = mailbox[i];
+lptn::fw::CanFrame take(Mailbox& m) {
+  lptn::fw::CanFrame f;
+  f.id = m.id;
+  f.len = m.len > 8 ? 8 : m.len;
+  for (std::size_t i = 0; i < f.len; ++i) f.data[i] = m.data[i];
+  m.full = false;
+  return f;
+}
+
+void put(Mailbox& m, const lptn::fw::CanFrame& f) {
+  m.id = f.id;
+  m.len = f.len;
+  for (std::size_t i = 0; i < f.len; ++i) m.data[i] = f.data[i];
+  m.full = true;
 }
 
 }  // namespace
 
 int main() {
-  using lptn::can::LptnTemperatures;
-  using lptn::can::TcCooling;
-  using lptn::can::TcElectrical;
-  const lptn::Model<float> model;
-  static constexpr lptn::ParamVector<float> kParams = lptn::default_params<float>();
-  float x[lptn::kMaxStates];
-  model.initial_state(x, 20.0f, 20.0f);
-  lptn::Inputs<float> in;
+  // Start-up: the whole estimator lives in static storage, built once.
+  static lptn::fw::Estimator<float> estimator(lptn::fw::config_from_exported_header<float>());
+  lptn::fw::CanFrame out[lptn::fw::kMaxOutputFrames];
   for (;;) {
-    std::uint8_t frame[8];
-    receive(g_rx_electrical, frame);
-    if (TcElectrical m; m.unpack(frame, sizeof frame)) {
-      in.speed_rpm = static_cast<float>(TcElectrical::motor_speed_decode(m.motor_speed));
-      in.frequency_hz = static_cast<float>(TcElectrical::stator_frequency_decode(m.stator_frequency));
-      in.current_a = static_cast<float>(TcElectrical::stator_current_decode(m.stator_current));
-    }
-    receive(g_rx_cooling, frame);
-    if (TcCooling m; m.unpack(frame, sizeof frame)) {
-      in.airflow_m3s = static_cast<float>(TcCooling::cooling_airflow_decode(m.cooling_airflow));
-      in.ambient_c = static_cast<float>(TcCooling::ambient_temp_decode(m.ambient_temp));
-    }
-    model.step(x, in, kParams.data(), 0.1f);
-
-    LptnTemperatures out;
-    out.stator_winding_temp = LptnTemperatures::stator_winding_temp_encode(x[lptn::kStatorWinding]);
-    out.stator_core_temp = LptnTemperatures::stator_core_temp_encode(x[lptn::kStatorCore]);
-    out.rotor_winding_temp = LptnTemperatures::rotor_winding_temp_encode(x[lptn::kRotorWinding]);
-    out.rotor_core_temp = LptnTemperatures::rotor_core_temp_encode(x[lptn::kRotorCore]);
-    if (out.pack(frame, sizeof frame))
-      for (std::size_t i = 0; i < sizeof frame; ++i) g_tx_temperatures[i] = frame[i];
+    for (Mailbox& m : g_rx)
+      if (m.full) estimator.receive(take(m), g_now_us);
+    if (!g_tick_due) continue;
+    g_tick_due = false;
+    const int n = lptn::fw::pack_outputs(estimator.tick(g_now_us), out);
+    for (int i = 0; i < n; ++i) put(g_tx[i], out[i]);
   }
 }

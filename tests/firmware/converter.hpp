@@ -64,15 +64,6 @@ inline Inputs<double> decoded_inputs(const DriveState& s, bool torque, bool volt
   return in;
 }
 
-template <class Msg>
-CanFrame to_frame(const Msg& m) {
-  CanFrame f;
-  f.id = Msg::kId;
-  f.len = Msg::kLength;
-  m.pack(f.data, sizeof f.data);
-  return f;
-}
-
 class Converter {
  public:
   bool send_torque = true, send_voltage = true, send_rotor = false;

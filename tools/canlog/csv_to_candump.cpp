@@ -25,16 +25,6 @@ static_assert(data::LoadOptions{}.dt_s * 1e6 == kGridStepUs, "the frames' schedu
 // PulsesEnabled is no column of the contract: the converter's pulses are on while current flows.
 constexpr double kPulsesOnAboveA = 0.5;
 
-template <class Msg>
-fw::CanFrame frame_of(const Msg& m) {
-  fw::CanFrame f;
-  f.id = Msg::kId;
-  f.extended = Msg::kExtended;
-  f.len = Msg::kLength;
-  m.pack(f.data, sizeof f.data);
-  return f;
-}
-
 // The CSV line of the sample that put an out-of-range value onto the grid near t: linear
 // interpolation between values within a range stays within it, so there is one. Only on this
 // error path is the file parsed a second time, by the loader's own parser, for its line numbers.
@@ -98,7 +88,7 @@ class LogWriter {
       msg.pulses_enabled = Msg::pulses_enabled_encode(cycle.at(data::Channel::current_a, k) > kPulsesOnAboveA ? 1 : 0);
     msg.alive_counter = Msg::alive_counter_encode(alive);
     alive = (alive + 1) % (1u << signal_info<Msg>("AliveCounter").length);
-    put(options_.start_us + static_cast<TimeUs>(g) * kGridStepUs + m.phase_us, frame_of(msg));
+    put(options_.start_us + static_cast<TimeUs>(g) * kGridStepUs + m.phase_us, fw::to_frame(msg));
   }
 
   void put(TimeUs t, const fw::CanFrame& f) {

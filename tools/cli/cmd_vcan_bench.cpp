@@ -8,6 +8,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -39,24 +41,35 @@ void shell(const std::string& what, const std::string& cmd) {
 
 fs::path self_path() { return fs::read_symlink("/proc/self/exe"); }
 
-// The replay's estimates by row (ticks since the estimator started).
-std::vector<std::array<double, kNumNodes>> replay_estimates(const fs::path& csv) {
+// The replay's estimates and standard deviations by row (ticks since the estimator started).
+struct ReplayRow {
+  std::array<double, kNumNodes> c{}, sd{};
+};
+
+std::vector<ReplayRow> replay_estimates(const fs::path& csv) {
   std::ifstream in(csv);
   std::string line;
   std::getline(in, line);
   std::vector<std::string> names;
   std::stringstream header(line);
   for (std::string cell; std::getline(header, cell, ',');) names.push_back(cell);
-  const char* wanted[kNumNodes] = {"est_stator_winding_c", "est_stator_core_c", "est_rotor_winding_c", "est_rotor_core_c"};
-  std::size_t at[kNumNodes];
-  for (int i = 0; i < kNumNodes; ++i) at[i] = std::find(names.begin(), names.end(), wanted[i]) - names.begin();
-  std::vector<std::array<double, kNumNodes>> rows;
+  const char* nodes[kNumNodes] = {"stator_winding", "stator_core", "rotor_winding", "rotor_core"};
+  std::size_t est[kNumNodes], sd[kNumNodes];
+  auto column = [&](const std::string& name) { return static_cast<std::size_t>(std::find(names.begin(), names.end(), name) - names.begin()); };
+  for (int i = 0; i < kNumNodes; ++i) {
+    est[i] = column(std::string("est_") + nodes[i] + "_c");
+    sd[i] = column(std::string("std_") + nodes[i] + "_k");
+  }
+  std::vector<ReplayRow> rows;
   while (std::getline(in, line)) {
     std::vector<std::string> cells;
     std::stringstream row(line);
     for (std::string cell; std::getline(row, cell, ',');) cells.push_back(cell);
-    std::array<double, kNumNodes> r{};
-    for (int i = 0; i < kNumNodes; ++i) r[i] = at[i] < cells.size() ? std::stod(cells[at[i]]) : NAN;
+    ReplayRow r;
+    for (int i = 0; i < kNumNodes; ++i) {
+      r.c[i] = est[i] < cells.size() ? std::stod(cells[est[i]]) : NAN;
+      r.sd[i] = sd[i] < cells.size() ? std::stod(cells[sd[i]]) : NAN;
+    }
     rows.push_back(r);
   }
   return rows;
@@ -67,12 +80,14 @@ struct Comparison {
   std::size_t compared = 0;  // of those, matched to a replay row
   double max_k[kNumNodes]{};
   double sum_sq[kNumNodes]{};
+  double bound_used = 0;  // max over ticks and nodes of |difference| / allowed
   std::size_t status_frames = 0;
 };
 
 // The daemon's recording: each tick sends temperatures, ..., innovation (whose ObserverTicks
 // counts the ticks since its start), in that order; a tick's temperatures pair with its ticks.
-Comparison compare(const fs::path& recording, const std::vector<std::array<double, kNumNodes>>& replay) {
+Comparison compare(const fs::path& recording, const std::vector<ReplayRow>& replay, double tolerance_k,
+                   double tolerance_sigma) {
   Comparison c;
   std::ifstream in(recording);
   std::array<double, kNumNodes> temps{};
@@ -103,9 +118,10 @@ Comparison compare(const fs::path& recording, const std::vector<std::array<doubl
       if (k >= replay.size()) continue;
       ++c.compared;
       for (int i = 0; i < kNumNodes; ++i) {
-        const double d = std::abs(temps[i] - replay[k][i]);
+        const double d = std::abs(temps[i] - replay[k].c[i]);
         c.max_k[i] = std::max(c.max_k[i], d);
         c.sum_sq[i] += d * d;
+        c.bound_used = std::max(c.bound_used, d / (tolerance_k + tolerance_sigma * replay[k].sd[i]));
       }
     }
   }
@@ -122,11 +138,14 @@ void add_vcan_bench(CLI::App& app) {
       "records its frames with candump, and compares them tick by tick with `lptn replay` of the same log. Without "
       "--log, generates --minutes of driving and converts it. Needs tools/setup.sh bench (qemu, busybox, can-utils); "
       "the kernel package is fetched once into --cache. Exit 1 when the daemon's estimates differ from the replay's by "
-      "more than --tolerance-k or fewer than 95 % of its ticks could be compared.");
+      "more than --tolerance-k plus --tolerance-sigma of the replay's own standard deviation at any tick, or fewer than 95 % of "
+      "its ticks could be compared. Why a tolerance at all: the daemon samples the bus at its own timer's phase, up to a "
+      "tick away from the replay's, so a node moving 0.05 K per tick at full load differs by that much, and while the "
+      "filter converges its unmeasured nodes move by a fraction of their standard deviation with each fused reading.");
   struct Args {
     std::string out, log, calibration = LPTN_DEFAULT_CALIBRATION, daemon = LPTN_DAEMON_PATH;
     std::string cache = LPTN_VCAN_CACHE;
-    double minutes = 12, time_scale = 10, tolerance_k = 0.25;
+    double minutes = 12, time_scale = 10, tolerance_k = 0.1, tolerance_sigma = 0.2;
     int timeout_s = 900;
   };
   auto args = std::make_shared<Args>();
@@ -137,7 +156,9 @@ void add_vcan_bench(CLI::App& app) {
                   "calibration.json for the replay: the one the daemon has compiled in")->capture_default_str();
   cmd->add_option("--daemon", args->daemon, "lptn-daemon to run in the guest")->capture_default_str();
   cmd->add_option("--time-scale", args->time_scale, "Play and tick this many times faster than real time")->capture_default_str();
-  cmd->add_option("--tolerance-k", args->tolerance_k, "Largest difference allowed between daemon and replay (K)")
+  cmd->add_option("--tolerance-k", args->tolerance_k, "Difference allowed between daemon and replay (K), plus...")
+      ->capture_default_str();
+  cmd->add_option("--tolerance-sigma", args->tolerance_sigma, "...this share of the replay's standard deviation of the node")
       ->capture_default_str();
   cmd->add_option("--timeout", args->timeout_s, "Seconds the guest may take")->capture_default_str();
   cmd->add_option("--cache", args->cache, "Where the guest's kernel is kept between runs")->capture_default_str();
@@ -191,8 +212,9 @@ void add_vcan_bench(CLI::App& app) {
           << "daemon=$!\n"
           << "candump -L vcan0,200:7F8 >recording.log &\n"
           << "candump=$!\n"
-          << "until grep -q '^ *vcan0 ' /proc/net/can/rcvlist_all; do sleep 0.05; done\n"
-          << "sleep 0.5\n"
+          // Play only once both listen: the daemon's six id filters and candump's one show in
+          // rcvlist_fil (filtered sockets are not in rcvlist_all).
+          << "n=0; until [ $(grep -c '^ *vcan0 ' /proc/net/can/rcvlist_fil) -ge 7 ] || [ $n -ge 200 ]; do sleep 0.05; n=$((n+1)); done\n"
           << "canplayer -I play.log vcan0=can0\n"
           << "sleep 1\n"
           << "kill -TERM $daemon\n"
@@ -208,23 +230,23 @@ void add_vcan_bench(CLI::App& app) {
                            " --timeout " + std::to_string(args->timeout_s));
 
     const auto replay = replay_estimates(replay_csv);
-    const Comparison c = compare(share / "recording.log", replay);
+    const Comparison c = compare(share / "recording.log", replay, args->tolerance_k, args->tolerance_sigma);
     const char* names[kNumNodes] = {"stator winding", "stator core", "rotor winding", "rotor core"};
     std::printf("== daemon on vcan0 vs in-process replay: %zu ticks with estimates (replay %zu), %zu compared\n", c.ticks,
                 replay.size(), c.compared);
-    double worst = 0;
     for (int i = 0; i < kNumNodes; ++i) {
       const double rms = c.compared ? std::sqrt(c.sum_sq[i] / static_cast<double>(c.compared)) : NAN;
       std::printf("   %-15s max |difference| %.3f K, rms %.4f K\n", names[i], c.max_k[i], rms);
-      worst = std::max(worst, c.max_k[i]);
     }
+    std::printf("   largest difference against what is allowed (%g K + %g sigma): %.0f %%\n", args->tolerance_k,
+                args->tolerance_sigma, 100 * c.bound_used);
     const bool enough = static_cast<double>(c.compared) >= 0.95 * static_cast<double>(replay.size());
     if (!enough)
       throw std::runtime_error("only " + std::to_string(c.compared) + " of " + std::to_string(replay.size()) +
                                " replay ticks were matched by the daemon's frames (see " + (share / "console.log").string() + ")");
-    if (!(worst <= args->tolerance_k))
-      throw std::runtime_error("the daemon's estimates differ from the replay's by up to " + std::to_string(worst) +
-                               " K (tolerance " + std::to_string(args->tolerance_k) + " K)");
+    if (!(c.bound_used <= 1.0))
+      throw std::runtime_error("the daemon's estimates differ from the replay's beyond the tolerance (" +
+                               std::to_string(100 * c.bound_used) + " % of it)");
     std::printf("vcan bench passed: %s\n", out.c_str());
   });
 }

@@ -16,4 +16,15 @@ struct CanFrame {
   std::uint8_t data[64]{};
 };
 
+// A message of the DBC's generated codecs (lptn/can/lptn_frames.hpp) as a frame.
+template <class Msg>
+CanFrame to_frame(const Msg& m) {
+  CanFrame f;
+  f.id = Msg::kId;
+  f.extended = Msg::kExtended;
+  f.len = Msg::kLength;
+  m.pack(f.data, sizeof f.data);
+  return f;
+}
+
 }  // namespace lptn::fw

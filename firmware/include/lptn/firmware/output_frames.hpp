@@ -13,17 +13,6 @@ namespace lptn::fw {
 
 inline constexpr int kMaxOutputFrames = 5;
 
-namespace internal {
-template <class Msg>
-CanFrame frame_of(const Msg& m) {
-  CanFrame f;
-  f.id = Msg::kId;
-  f.extended = Msg::kExtended;
-  f.len = Msg::kLength;
-  m.pack(f.data, sizeof f.data);
-  return f;
-}
-}  // namespace internal
 
 // Fills `frames` and returns how many: only the status frame until the estimator is initialized.
 template <class T>
@@ -42,7 +31,7 @@ int pack_outputs(const EstimatorOutput<T>& o, CanFrame (&frames)[kMaxOutputFrame
   status.bus_events = static_cast<std::uint8_t>(o.bus_events & 0x3F);
   status.status_counter = o.status_counter;
   if (!o.initialized) {
-    frames[0] = internal::frame_of(status);
+    frames[0] = to_frame(status);
     return 1;
   }
   const double c[4] = {double(o.node_c[0]), double(o.node_c[1]), double(o.node_c[2]), double(o.node_c[3])};
@@ -68,11 +57,11 @@ int pack_outputs(const EstimatorOutput<T>& o, CanFrame (&frames)[kMaxOutputFrame
   innovation.innovation_std = LptnInnovation::innovation_std_encode(double(o.fusion.innovation_std_k));
   innovation.test_ratio = LptnInnovation::test_ratio_encode(double(o.fusion.test_ratio));
   innovation.observer_ticks = static_cast<std::uint16_t>(o.ticks & 0xFFFF);
-  frames[0] = internal::frame_of(temps);
-  frames[1] = internal::frame_of(stds);
-  frames[2] = internal::frame_of(margin);
-  frames[3] = internal::frame_of(status);
-  frames[4] = internal::frame_of(innovation);
+  frames[0] = to_frame(temps);
+  frames[1] = to_frame(stds);
+  frames[2] = to_frame(margin);
+  frames[3] = to_frame(status);
+  frames[4] = to_frame(innovation);
   return 5;
 }
 
