@@ -1,0 +1,87 @@
+#!/usr/bin/env python3
+"""Runs can-dbc/dbc_codegen.py as the build does and checks what it did (ctest, label can).
+
+    check_generator.py rejects GENERATOR DBC LINE REASON
+        exit status 1, stderr exactly one line "DBC:LINE: ..." that contains REASON, nothing on
+        stdout, and no file written (not even a temporary one)
+    check_generator.py deterministic GENERATOR DBC NODE
+        two runs write the same bytes
+    check_generator.py encoding GENERATOR DBC NODE
+        the DBC saved as Latin-1 with CRLF line ends (as Windows tools write it) gives the same
+        header as the UTF-8, LF original
+"""
+
+import os
+import subprocess
+import sys
+import tempfile
+
+
+def run(generator, dbc, node, out_dir):
+    out = os.path.join(out_dir, "lptn", "can", "frames.hpp")
+    result = subprocess.run(
+        [sys.executable, generator, "--dbc", dbc, "--node", node, "--namespace", "lptn::can", "--out", out],
+        capture_output=True, text=True, check=False)
+    return result, out
+
+
+def generated_bytes(generator, dbc, node):
+    with tempfile.TemporaryDirectory() as out_dir:
+        result, out = run(generator, dbc, node, out_dir)
+        if result.returncode != 0:
+            sys.exit(f"the generator failed on {dbc}: {result.stderr}")
+        with open(out, "rb") as file:
+            return file.read()
+
+
+def rejects(generator, dbc, line, reason):
+    with tempfile.TemporaryDirectory() as out_dir:
+        result, _ = run(generator, dbc, "LPTN", out_dir)
+        left_behind = [os.path.join(root, name) for root, dirs, files in os.walk(out_dir) for name in dirs + files]
+    problems = []
+    if result.returncode != 1:
+        problems.append(f"exit status {result.returncode}, expected 1")
+    if result.stdout:
+        problems.append(f"stdout is not empty: {result.stdout!r}")
+    lines = result.stderr.splitlines()
+    prefix = f"{dbc}:{line}: "
+    if len(lines) != 1:
+        problems.append(f"stderr has {len(lines)} lines, expected 1")
+    elif not lines[0].startswith(prefix) or reason not in lines[0][len(prefix):]:
+        problems.append(f"stderr does not start with {prefix!r} and then say {reason!r}")
+    if left_behind:
+        problems.append(f"files were written: {left_behind}")
+    print(f"stderr: {result.stderr.rstrip()}")
+    return problems
+
+
+def deterministic(generator, dbc, node):
+    first, second = generated_bytes(generator, dbc, node), generated_bytes(generator, dbc, node)
+    return [] if first == second else ["two runs wrote different headers"]
+
+
+def encoding(generator, dbc, node):
+    with open(dbc, encoding="utf-8") as file:
+        text = file.read()
+    with tempfile.TemporaryDirectory() as directory:
+        windows_dbc = os.path.join(directory, os.path.basename(dbc))  # same name: the header quotes it
+        with open(windows_dbc, "w", encoding="latin-1", newline="\r\n") as file:
+            file.write(text)
+        windows = generated_bytes(generator, windows_dbc, node)
+    same = windows == generated_bytes(generator, dbc, node)
+    return [] if same else ["the Latin-1/CRLF copy gives a different header"]
+
+
+def main(argv):
+    checks = {"rejects": (rejects, 4), "deterministic": (deterministic, 3), "encoding": (encoding, 3)}
+    if len(argv) < 2 or argv[1] not in checks or len(argv) - 2 != checks[argv[1]][1]:
+        sys.exit(__doc__)
+    check, _ = checks[argv[1]]
+    problems = check(*argv[2:])
+    for problem in problems:
+        print(f"FAILED: {problem}")
+    return 1 if problems else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))
