@@ -1,12 +1,13 @@
 #!/usr/bin/env bash
 # The main job, end to end, on the built-in demo: set up, build, generate a demo fleet dump with a
 # known truth, check it, compare the model (as the motor file guesses it) with the sensors,
-# calibrate it (Levenberg-Marquardt, then TD3 with a demo budget) and export the firmware header.
+# calibrate it (Levenberg-Marquardt, then TD3 with a demo budget), export the firmware header, and
+# replay a test cycle as CAN frames through the firmware's estimator.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 tools/setup.sh
 cmake --preset host >/dev/null
-cmake --build --preset host -j"$(nproc)" --target lptn
+cmake --build --preset host -j"$(nproc)" --target lptn lptn-daemon
 lptn=build/host/tools/cli/lptn
 out=${1:-demo-out}
 mkdir -p "$out"
@@ -27,6 +28,13 @@ echo "      (the paper's per-step formulation, --method td3, needs hundreds of e
 echo "== 6. export: the LM calibration as the firmware's header, and the TD3 actor with its forward pass"
 "$lptn" export --calibration "$out/calibration-lm.json" --out "$out/thermal_calibration.hpp" --force
 "$lptn" export --calibration "$out/calibration-td3.json" --out "$out/thermal_calibration_td3.hpp" --actor --force
+echo "== 7. on board: a test cycle as the converter would send it on CAN (lptn convert through the DBC), replayed"
+echo "      through the firmware's estimator with the LM calibration (lptn replay, what the daemon runs)"
+mkdir -p "$out/onboard"
+"$lptn" convert --in "$out/fleet/cycle_09_hilly.csv" --out "$out/onboard/cycle_09_hilly.log" --force
+"$lptn" replay --log "$out/onboard/cycle_09_hilly.log" --calibration "$out/calibration-lm.json" \
+  --out "$out/onboard/estimates.csv" --force
 echo
 echo "demo output in $out/: fleet/ (cycle CSVs, motor.toml, truth.json, truth/), inspect.txt, simulation/ (traces,"
-echo "metrics.json), calibration-lm.json, calibration-td3.json, td3-checkpoints/, thermal_calibration.hpp, thermal_calibration_td3.hpp"
+echo "metrics.json), calibration-lm.json, calibration-td3.json, td3-checkpoints/, thermal_calibration.hpp, thermal_calibration_td3.hpp,"
+echo "onboard/ (the CAN log and the firmware's estimates, one CSV row per 100 ms tick)"

@@ -6,7 +6,7 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "default_calibration.hpp"
+#include LPTN_CALIBRATION_HEADER  // firmware/CMakeLists.txt: an `lptn export`
 #include "lptn/firmware/estimator.hpp"
 #include "lptn/firmware/exported_calibration.hpp"
 #include "lptn/firmware/output_frames.hpp"

@@ -23,7 +23,7 @@
 #include <string_view>
 #include <iterator>
 
-#include "default_calibration.hpp"
+#include LPTN_CALIBRATION_HEADER  // firmware/CMakeLists.txt: an `lptn export`
 #include "atomic_file.hpp"
 #include "estimate_csv.hpp"
 #include "lptn/firmware/exported_calibration.hpp"

@@ -48,16 +48,23 @@ void add_replay(CLI::App& app) {
       throw BadInput(args->calibration + ": --use-actor: this calibration has no actor");
     cal->config.fuse_stator_sensor = !args->open_loop;
     cal->config.use_actor = args->use_actor;
-    fw::ReplayStats s;
+    ReplaySummary r;
     try {
-      s = replay_to_csv(args->log, cal->config, args->out, args->quiet);
+      r = replay_to_csv(args->log, cal->config, args->out, args->quiet);
     } catch (const std::invalid_argument& e) {
       throw BadInput(e.what());
     }
+    const fw::ReplayStats& s = r.stats;
     std::printf("replayed %s: %zu frames, %s of log, %zu estimates%s -> %s\n", args->log.c_str(), s.frames,
                 ProgressLine::clock(static_cast<double>(s.last_us - s.first_us) / 1e6).c_str(), s.rows,
                 s.bad_lines ? (", " + std::to_string(s.bad_lines) + " bad lines skipped").c_str() : "",
                 args->out.c_str());
+    std::printf("  %.2f s, %.0f frames/s\n", r.seconds, static_cast<double>(s.frames) / r.seconds);
+    if (r.stator_samples)
+      std::printf("  stator winding estimate vs its sensor%s: rmse %.3f K\n", args->open_loop ? " (open loop)" : " (fused)",
+                  r.rmse_stator_k);
+    if (r.rotor_samples)
+      std::printf("  rotor winding estimate vs rotor telemetry (never fused): rmse %.3f K\n", r.rmse_rotor_k);
   });
 }
 

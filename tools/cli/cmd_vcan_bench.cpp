@@ -191,7 +191,7 @@ void add_vcan_bench(CLI::App& app) {
     const fs::path replay_csv = out / "replay.csv";
     fw::ReplayStats stats;
     try {
-      stats = replay_to_csv(log.string(), cal->config, replay_csv.string(), true);
+      stats = replay_to_csv(log.string(), cal->config, replay_csv.string(), true).stats;
     } catch (const std::invalid_argument& e) {
       throw BadInput(e.what());
     }

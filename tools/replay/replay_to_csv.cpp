@@ -1,5 +1,7 @@
 #include "tools/replay/replay_to_csv.hpp"
 
+#include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <stdexcept>
@@ -10,7 +12,7 @@
 
 namespace lptn {
 
-fw::ReplayStats replay_to_csv(const std::string& log_path, const fw::EstimatorConfig<double>& config,
+ReplaySummary replay_to_csv(const std::string& log_path, const fw::EstimatorConfig<double>& config,
                               const std::string& csv_path, bool quiet) {
   std::unique_ptr<std::FILE, int (*)(std::FILE*)> log(std::fopen(log_path.c_str(), "r"), &std::fclose);
   if (!log) throw std::invalid_argument(log_path + ": cannot be opened");
@@ -20,7 +22,19 @@ fw::ReplayStats replay_to_csv(const std::string& log_path, const fw::EstimatorCo
   fw::write_estimate_header(csv.get());
   cli::ProgressLine progress(quiet);
   fw::ReplaySinks sinks;
-  sinks.row = [&](const fw::EstimatorOutput<double>& o, fw::TimeUs start) { fw::write_estimate_row(csv.get(), o, start); };
+  ReplaySummary summary;
+  double sum_stator = 0, sum_rotor = 0;
+  sinks.row = [&](const fw::EstimatorOutput<double>& o, fw::TimeUs start) {
+    fw::write_estimate_row(csv.get(), o, start);
+    if (!std::isnan(o.stator_reading_c)) {
+      sum_stator += (o.node_c[kStatorWinding] - o.stator_reading_c) * (o.node_c[kStatorWinding] - o.stator_reading_c);
+      ++summary.stator_samples;
+    }
+    if (!std::isnan(o.rotor_reading_c)) {
+      sum_rotor += (o.node_c[kRotorWinding] - o.rotor_reading_c) * (o.node_c[kRotorWinding] - o.rotor_reading_c);
+      ++summary.rotor_samples;
+    }
+  };
   sinks.bad_line = [&](std::size_t line, const char* why) {
     progress.finish();
     std::fprintf(stderr, "%s:%zu: %s (line skipped)\n", log_path.c_str(), line, why);
@@ -30,11 +44,15 @@ fw::ReplayStats replay_to_csv(const std::string& log_path, const fw::EstimatorCo
     progress.update("replay: " + std::to_string(s.frames) + " frames, " +
                     cli::ProgressLine::clock(static_cast<double>(s.last_us - s.first_us) / 1e6) + " of log");
   };
-  const fw::ReplayStats stats = fw::replay_candump(log.get(), *estimator, sinks);
+  const auto start = std::chrono::steady_clock::now();
+  summary.stats = fw::replay_candump(log.get(), *estimator, sinks);
+  summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   progress.finish();
-  if (stats.frames == 0) throw std::invalid_argument(log_path + ": no CAN frame could be read");
+  if (summary.stator_samples) summary.rmse_stator_k = std::sqrt(sum_stator / static_cast<double>(summary.stator_samples));
+  if (summary.rotor_samples) summary.rmse_rotor_k = std::sqrt(sum_rotor / static_cast<double>(summary.rotor_samples));
+  if (summary.stats.frames == 0) throw std::invalid_argument(log_path + ": no CAN frame could be read");
   if (!csv.commit()) throw std::runtime_error(csv_path + ": writing failed");
-  return stats;
+  return summary;
 }
 
 }  // namespace lptn

@@ -9,9 +9,18 @@
 
 namespace lptn {
 
+struct ReplaySummary {
+  fw::ReplayStats stats;
+  // The estimates against the readings on the bus: the stator winding's (which the filter fuses,
+  // so this is near its noise) and the rotor telemetry's (never fused: a check of an unmeasured node).
+  double rmse_stator_k = 0, rmse_rotor_k = 0;
+  std::size_t stator_samples = 0, rotor_samples = 0;
+  double seconds = 0;  // wall time of the replay (reading, estimating, writing)
+};
+
 // Throws std::invalid_argument (bad input: a log that cannot be read or holds no frame) or
 // std::runtime_error (the output could not be written); nothing is left at `csv` then.
-fw::ReplayStats replay_to_csv(const std::string& log, const fw::EstimatorConfig<double>& config, const std::string& csv,
+ReplaySummary replay_to_csv(const std::string& log, const fw::EstimatorConfig<double>& config, const std::string& csv,
                               bool quiet);
 
 }  // namespace lptn
