@@ -49,10 +49,10 @@ struct Timed {
 const std::vector<Timed>& frames() {
   static const std::vector<Timed> all = [] {
     std::vector<Timed> v;
-    testing::Converter c;
-    testing::Plant plant(testing::true_params(), 30.0);
+    fw::testing::Converter c;
+    fw::testing::Plant plant(fw::testing::true_params(), 30.0);
     for (TimeUs t = 0; t < 3600 * kUsPerS; t += kUsPerS / 10) {
-      testing::DriveState s = testing::drive_at(static_cast<double>(t) / kUsPerS);
+      fw::testing::DriveState s = fw::testing::drive_at(static_cast<double>(t) / kUsPerS);
       s.stator_c = plant.sensor_reading();
       c.frames_at(t, s, [&](const CanFrame& f) { v.push_back({t, f}); });
       plant.step(s);

@@ -11,6 +11,7 @@
 #include "lptn/firmware/can_frame.hpp"
 #include "lptn/firmware/input.hpp"
 #include "lptn/model.hpp"
+#include "../common/reference_case.hpp"
 
 namespace lptn::fw::testing {
 
@@ -20,18 +21,7 @@ struct DriveState {
   double stator_c = 20, rotor_c = 20;
 };
 
-// The example motor's harmonic table (docs/motor.example.toml).
-inline MotorConstants<double> example_motor() {
-  MotorConstants<double> m;
-  const double f[] = {0.0, 10.0, 30.0, 65.0, 140.0};
-  const double p[] = {1100.0, 1400.0, 1700.0, 1400.0, 900.0};
-  m.harmonic_points = 5;
-  for (int i = 0; i < 5; ++i) {
-    m.harmonic_frequency_hz[i] = f[i];
-    m.harmonic_loss_w[i] = p[i];
-  }
-  return m;
-}
+using lptn::testing::example_motor;  // the contract's example motor (tests/common)
 
 // A repeating 20-minute duty: accelerate, cruise, brake, stand; the blower follows the load.
 inline DriveState drive_at(double t_s) {

@@ -66,13 +66,13 @@ int main() {
   using namespace lptn;
   using namespace lptn::fw;
   // Start-up: may allocate (here it does not need to, but it is outside the promise).
-  const auto config = default_config<double>(testing::example_motor(), (EffectSet{1} << kNumEffects) - 1,
-                                             testing::true_params());
+  const auto config = default_config<double>(fw::testing::example_motor(), (EffectSet{1} << kNumEffects) - 1,
+                                             fw::testing::true_params());
   static Estimator<double> estimator(config);
-  static Estimator<float> on_target(default_config<float>(testing::example_motor().cast<float>(), 0,
+  static Estimator<float> on_target(default_config<float>(fw::testing::example_motor().cast<float>(), 0,
                                                           [] {
                                                             ParamVector<float> p{};
-                                                            const auto d = testing::true_params();
+                                                            const auto d = fw::testing::true_params();
                                                             for (int i = 0; i < kNumParams; ++i) p[i] = float(d[i]);
                                                             return p;
                                                           }()));
@@ -83,10 +83,10 @@ int main() {
   };
   std::vector<Timed> frames;
   frames.reserve(2 * 3600 * 10 * 5);
-  testing::Converter converter;
-  testing::Plant plant(testing::true_params(), 30.0);
+  fw::testing::Converter converter;
+  fw::testing::Plant plant(fw::testing::true_params(), 30.0);
   for (TimeUs t = 0; t < 2 * 3600 * kUsPerS; t += kUsPerS / 10) {
-    testing::DriveState s = testing::drive_at(static_cast<double>(t) / kUsPerS);
+    fw::testing::DriveState s = fw::testing::drive_at(static_cast<double>(t) / kUsPerS);
     s.stator_c = plant.sensor_reading();
     converter.frames_at(t, s, [&](const CanFrame& f) { frames.push_back({t, f}); });
     plant.step(s);
