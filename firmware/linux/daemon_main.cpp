@@ -251,7 +251,9 @@ int run_live(const Options& o) {
   const TimeUs start = monotonic_us();
   auto now = [&] { return static_cast<TimeUs>(static_cast<double>(monotonic_us() - start) * o.time_scale); };
   const TimeUs stop_at = o.duration_s > 0 ? static_cast<TimeUs>(o.duration_s * kUsPerS) : -1;
-  TimeUs tick_time = -dt_us;  // the first tick at 0: a log's first frames start the estimator as in a replay
+  // Tick k stands for the time the timer fired, (k + 1) dt after start; a log's ticks start at its
+  // first frame instead, as a replay's do.
+  TimeUs tick_time = log ? -dt_us : 0;
   std::uint64_t ticks = 0, frames_in = 0, frames_out = 0;
   lptn::fw::CanFrame outputs[lptn::fw::kMaxOutputFrames];
   char line[160];
