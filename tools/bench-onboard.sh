@@ -4,7 +4,7 @@
 #     and actor-scheduled, double and float), build/host/firmware/bench/lptn_estimator_benchmark;
 #  2. replay throughput in frames/s: `lptn replay` (candump parsing + the estimator + CSV output)
 #     against python-can's candump log reader (Debian's python3-can, can.CanutilsLogReader) merely
-#     reading the same logs: the demo's nine cycles (11 h of driving) as CAN logs.
+#     reading the same logs (Debian's /usr/bin/python3, which has it): the demo's nine cycles (11 h of driving) as CAN logs.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 tools/setup.sh bench >/dev/null
@@ -18,10 +18,10 @@ echo "== estimator step (Google Benchmark)"
 build/host/firmware/bench/lptn_estimator_benchmark --benchmark_min_time=2 2>/dev/null | grep -E "^(BM_|Benchmark)"
 
 echo "== replay throughput: the demo's nine cycles as CAN logs"
-"$lptn" generate --out "$work/fleet" --cycles 9 --seed 1 --force >/dev/null
-"$lptn" convert --in "$work/fleet" --out "$work/logs" --force >/dev/null
+"$lptn" generate --out "$work/fleet" --cycles 9 --seed 1 --force >/dev/null 2>&1
+"$lptn" convert --in "$work/fleet" --out "$work/logs" --force >/dev/null 2>&1
 "$lptn" calibrate --data "$work/fleet" --motor "$work/fleet/motor.toml" --method lm --seed 1 \
-  --out "$work/calibration.json" --force >/dev/null
+  --out "$work/calibration.json" --force >/dev/null 2>&1
 frames=0 lptn_s=0
 for log in "$work"/logs/*.log; do
   line=$("$lptn" replay --quiet --log "$log" --calibration "$work/calibration.json" --out "$work/estimates.csv" --force |
@@ -30,7 +30,7 @@ for log in "$work"/logs/*.log; do
   frames=$((frames + n))
   lptn_s=$(awk -v a="$lptn_s" -v b="$line" 'BEGIN {print a + b}')
 done
-python_s=$(python3 - "$work"/logs/*.log <<'PY'
+python_s=$(/usr/bin/python3 - "$work"/logs/*.log <<'PY'
 import sys, time
 import can
 start = time.perf_counter()
