@@ -38,12 +38,8 @@ void add_replay(CLI::App& app) {
   cmd->callback([args] {
     if (std::filesystem::exists(args->out) && !args->force)
       throw BadInput(args->out + ": exists (use --force to replace it)");
-    std::unique_ptr<CalibratedEstimatorConfig> cal;
-    try {
-      cal = estimator_config_from(load_calibration(args->calibration), args->calibration);
-    } catch (const CalibrationFileError& e) {
-      throw BadInput(e.what());
-    }
+    // A bad calibration file is bad input (main.cpp reports CalibrationFileError as such).
+    const auto cal = estimator_config_from(load_calibration(args->calibration), args->calibration);
     if (args->use_actor && !cal->config.actor.actor)
       throw BadInput(args->calibration + ": --use-actor: this calibration has no actor");
     cal->config.fuse_stator_sensor = !args->open_loop;

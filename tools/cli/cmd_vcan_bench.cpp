@@ -173,16 +173,12 @@ void add_vcan_bench(CLI::App& app) {
   cmd->callback([args] {
     if (!(args->time_scale >= 1 && args->time_scale <= 100)) throw BadInput("--time-scale: between 1 and 100");
     if (!fs::exists(args->daemon)) throw BadInput(args->daemon + ": no such daemon (build lptn-daemon)");
+    // A bad calibration file is bad input (main.cpp reports CalibrationFileError as such).
+    const auto cal = estimator_config_from(load_calibration(args->calibration), args->calibration);
+    cal->config.fuse_stator_sensor = !args->open_loop;
     const fs::path out = fs::absolute(args->out);
     fs::create_directories(out);
     const fs::path self = self_path(), scripts = fs::path(LPTN_SOURCE_DIR) / "tools/vcan-bench";
-    std::unique_ptr<CalibratedEstimatorConfig> cal;
-    try {
-      cal = estimator_config_from(load_calibration(args->calibration), args->calibration);
-    } catch (const CalibrationFileError& e) {
-      throw BadInput(e.what());
-    }
-    cal->config.fuse_stator_sensor = !args->open_loop;
 
     fs::path log = args->log;
     if (log.empty()) {

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "tools/cli/commands.hpp"
+#include "trainer/calibrate/calibration_file.hpp"
 #include "trainer/data/dataset.hpp"
 #include "trainer/model/motor_file.hpp"
 #include "trainer/td3/td3_settings.hpp"
@@ -56,6 +57,8 @@ int main(int argc, char** argv) {
   } catch (const lptn::MotorFileError& e) {
     return bad_input(e);
   } catch (const lptn::td3::SettingsError& e) {
+    return bad_input(e);
+  } catch (const lptn::CalibrationFileError& e) {
     return bad_input(e);
   } catch (const lptn::cli::BadInput& e) {
     return bad_input(e);
