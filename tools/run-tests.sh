@@ -10,6 +10,7 @@ step() { printf '\n==== %s ====\n' "$*"; }
 
 step "host build (preset ci) and tests"
 tools/setup.sh
+tools/setup.sh report
 cmake --preset ci >/dev/null
 cmake --build --preset ci -j"$jobs"
 ctest --preset ci -j"$jobs"

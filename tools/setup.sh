@@ -5,6 +5,7 @@
 #   tools/setup.sh [GROUP...]   no group: host build, tests and demo
 #     cross   aarch64 Linux and Cortex-M7 cross toolchains (+ qemu-user to run aarch64 tests); 530 MB
 #     bench   the vcan bench: a qemu guest with SocketCAN, can-utils, python-can
+#     report  chromium, for lptn report's headless browser test
 # The cross toolchains are big, so only the steps that need them ask for them.
 set -euo pipefail
 
@@ -14,6 +15,7 @@ HOST=(
   libtorch-dev libopenblas0-pthread                     # TD3; OpenBLAS, or torch runs on reference BLAS (16x slower)
   libgtest-dev libgmock-dev googletest libbenchmark-dev # tests and benchmarks; googletest's sources are built for aarch64
   libcli11-dev libtomlplusplus-dev nlohmann-json3-dev   # command line, motor files, JSON
+  libjs-dygraphs                                        # lptn report's charts, embedded at build time
 )
 CROSS=(
   g++-aarch64-linux-gnu qemu-user-static                # aarch64 Linux; tests run under qemu-aarch64-static
@@ -23,6 +25,9 @@ BENCH=(
   python3-can can-utils                                 # CAN logs and the bench's tools
   qemu-system-x86 busybox-static cpio xz-utils kmod     # the vcan guest: kernel boot, initramfs, depmod
 )
+REPORT=(
+  chromium                                              # the report's headless browser test
+)
 
 PACKAGES=()
 if (($# == 0)); then set -- host; fi
@@ -31,7 +36,8 @@ for group in "$@"; do
     host) PACKAGES+=("${HOST[@]}") ;;
     cross) PACKAGES+=("${CROSS[@]}") ;;
     bench) PACKAGES+=("${BENCH[@]}") ;;
-    *) echo "setup: unknown group '$group' (host, cross, bench)" >&2; exit 2 ;;
+    report) PACKAGES+=("${REPORT[@]}") ;;
+    *) echo "setup: unknown group '$group' (host, cross, bench, report)" >&2; exit 2 ;;
   esac
 done
 

@@ -14,6 +14,7 @@
 #include "trainer/calibrate/lm.hpp"
 #include "trainer/calibrate/problem.hpp"
 #include "trainer/data/dataset.hpp"
+#include "trainer/diagnose/diagnose.hpp"
 #include "trainer/model/motor_file.hpp"
 #include "trainer/td3/td3_calibration.hpp"
 
@@ -23,7 +24,7 @@ namespace {
 struct Args {
   std::vector<std::string> data;
   std::string motor, method = "lm", out, config, checkpoint_dir;
-  std::vector<std::string> test_cycles;
+  std::vector<std::string> test_cycles, effects;
   double test_fraction = 1.0 / 3.0;
   std::uint64_t seed = 1;
   int episodes = 0;
@@ -161,6 +162,9 @@ void add_calibrate(CLI::App& app) {
   cmd->add_option("--method", a->method, "lm (Levenberg-Marquardt, Ceres), td3 (the paper's per-step agent) or td3-episode (one action per episode)")
       ->check(CLI::IsMember({"lm", "td3", "td3-episode"}));
   cmd->add_option("--out", a->out, "The calibration file to write (JSON, docs/calibration.md)")->required();
+  cmd->add_option("--effect", a->effects,
+                  "Add an effect to those the motor file enables, with the library's parameter settings (repeatable or comma-separated)")
+      ->delimiter(',');
   cmd->add_option("--test-cycles", a->test_cycles, "Cycles held out for testing, by name (comma-separated)")->delimiter(',');
   cmd->add_option("--test-fraction", a->test_fraction, "Otherwise this fraction of the cycles, drawn with --seed (default 1/3)");
   auto* seed = cmd->add_option("--seed", a->seed, "Seed of the split and of TD3 (a run is repeatable)");
@@ -174,7 +178,10 @@ void add_calibrate(CLI::App& app) {
     a->seed_given = seed->count() > 0;
     if (!a->force && std::filesystem::exists(a->out))
       throw BadInput(a->out + ": exists (use --force to replace it)");
-    const MotorFile motor = load_motor_file(a->motor);
+    std::vector<int> added;  // checked before any file is read
+    for (const std::string& name : a->effects) added.push_back(diagnose::effect_by_name(name, "--effect"));
+    MotorFile motor = load_motor_file(a->motor);
+    for (int e : added) diagnose::enable_effect(motor, e);
     std::vector<std::filesystem::path> paths(a->data.begin(), a->data.end());
     const data::Dataset dataset = data::load_fleet_dump(paths);
     const Split split = split_cycles(dataset, a->test_cycles, a->test_fraction, a->seed);

@@ -9,10 +9,12 @@ void add_generate(CLI::App& app);
 void add_inspect(CLI::App& app);
 void add_simulate(CLI::App& app);
 void add_calibrate(CLI::App& app);
+void add_diagnose(CLI::App& app);
 void add_export(CLI::App& app);
 void add_convert(CLI::App& app);
 void add_replay(CLI::App& app);
 void add_vcan_bench(CLI::App& app);
+void add_report(CLI::App& app);
 
 // A bad-input failure: reported as one line, exit code 2.
 struct BadInput : std::runtime_error {

@@ -26,10 +26,12 @@ int main(int argc, char** argv) {
   lptn::cli::add_inspect(app);
   lptn::cli::add_simulate(app);
   lptn::cli::add_calibrate(app);
+  lptn::cli::add_diagnose(app);
   lptn::cli::add_export(app);
   lptn::cli::add_convert(app);
   lptn::cli::add_replay(app);
   lptn::cli::add_vcan_bench(app);
+  lptn::cli::add_report(app);
   // CLI11 would only say that a subcommand is required; name the word it did not know.
   std::string known;
   bool is_known = false;

@@ -163,6 +163,19 @@ std::array<std::vector<std::vector<double>>, 2> residual_series(const Model<doub
   return out;
 }
 
+// J^T J of a Jacobian evaluated by Ceres (CRS: each row's non-zeros).
+Eigen::MatrixXd gram(const ceres::CRSMatrix& jacobian) {
+  Eigen::MatrixXd jtj = Eigen::MatrixXd::Zero(jacobian.num_cols, jacobian.num_cols);
+  for (int r = 0; r < jacobian.num_rows; ++r) {
+    const int begin = jacobian.rows[static_cast<std::size_t>(r)], end = jacobian.rows[static_cast<std::size_t>(r) + 1];
+    for (int a = begin; a < end; ++a)
+      for (int b = begin; b < end; ++b)
+        jtj(jacobian.cols[static_cast<std::size_t>(a)], jacobian.cols[static_cast<std::size_t>(b)]) +=
+            jacobian.values[static_cast<std::size_t>(a)] * jacobian.values[static_cast<std::size_t>(b)];
+  }
+  return jtj;
+}
+
 class Progress final : public ceres::IterationCallback {
  public:
   Progress(const LmProgress& progress, std::size_t residuals, std::chrono::steady_clock::time_point start)
@@ -260,14 +273,7 @@ LmReport fit_lm(const MotorFile& motor, const ParamVector<double>& start, const 
   evaluate.parameter_blocks = {theta.data()};
   evaluate.num_threads = settings.threads;
   problem.Evaluate(evaluate, &cost, nullptr, nullptr, &jacobian);
-  Eigen::MatrixXd jtj = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(nf), static_cast<Eigen::Index>(nf));
-  for (int r = 0; r < jacobian.num_rows; ++r) {
-    const int begin = jacobian.rows[static_cast<std::size_t>(r)], end = jacobian.rows[static_cast<std::size_t>(r) + 1];
-    for (int a = begin; a < end; ++a)
-      for (int b = begin; b < end; ++b)
-        jtj(jacobian.cols[static_cast<std::size_t>(a)], jacobian.cols[static_cast<std::size_t>(b)]) +=
-            jacobian.values[static_cast<std::size_t>(a)] * jacobian.values[static_cast<std::size_t>(b)];
-  }
+  const Eigen::MatrixXd jtj = gram(jacobian);
   const double dof = std::max(1.0, static_cast<double>(report.residuals) - static_cast<double>(nf));
   const auto series = residual_series(model, report.values, dataset, cycles, report.offsets);
   report.correlation_time = std::max(correlation_time(series[0]), correlation_time(series[1]));
@@ -296,6 +302,49 @@ LmReport fit_lm(const MotorFile& motor, const ParamVector<double>& start, const 
                                      std::string(param_spec(free.index[b]).name), report.correlation[a][b]});
   report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return report;
+}
+
+NormalEquations normal_equations(const Model<double>& model, const FreeParameters& free, const ParamVector<double>& at,
+                                 const data::Dataset& dataset, const std::vector<std::size_t>& cycles,
+                                 const std::vector<InitialOffsets<double>>& offsets, int threads) {
+  const std::size_t nf = free.size();
+  std::vector<double> theta(nf);
+  for (std::size_t j = 0; j < nf; ++j) theta[j] = free.to_internal(j, at[free.index[j]]);
+  std::vector<std::array<double, kOffsets>> offset(cycles.size());
+  ceres::Problem::Options problem_options;
+  problem_options.cost_function_ownership = ceres::TAKE_OWNERSHIP;
+  ceres::Problem problem(problem_options);
+  ceres::Problem::EvaluateOptions evaluate;
+  evaluate.parameter_blocks = {theta.data()};
+  evaluate.num_threads = threads;
+  NormalEquations out;
+  for (std::size_t i = 0; i < cycles.size(); ++i) {
+    offset[i] = {offsets[i].stator_core, offsets[i].rotor_core};
+    ceres::CostFunction* cost = make_residuals(model, dataset.cycles[cycles[i]], free, at, SIZE_MAX);
+    out.residuals += static_cast<std::size_t>(cost->num_residuals());
+    // A cycle without measurements has no residual block, and its offsets no columns.
+    if (cost->num_residuals() == 0) {
+      delete cost;
+      continue;
+    }
+    problem.AddResidualBlock(cost, nullptr, theta.data(), offset[i].data());
+  }
+  for (auto& o : offset)
+    if (problem.HasParameterBlock(o.data())) evaluate.parameter_blocks.push_back(o.data());
+  ceres::CRSMatrix jacobian;
+  std::vector<double> residuals;
+  double cost = 0;
+  problem.Evaluate(evaluate, &cost, &residuals, nullptr, &jacobian);
+  const Eigen::MatrixXd jtj = gram(jacobian);
+  Eigen::VectorXd jtr = Eigen::VectorXd::Zero(jacobian.num_cols);
+  for (int r = 0; r < jacobian.num_rows; ++r)
+    for (int a = jacobian.rows[static_cast<std::size_t>(r)]; a < jacobian.rows[static_cast<std::size_t>(r) + 1]; ++a)
+      jtr(jacobian.cols[static_cast<std::size_t>(a)]) += jacobian.values[static_cast<std::size_t>(a)] * residuals[static_cast<std::size_t>(r)];
+  out.columns = static_cast<std::size_t>(jacobian.num_cols);
+  out.jtj.assign(jtj.data(), jtj.data() + jtj.size());  // symmetric: column-major equals row-major
+  out.jtr.assign(jtr.data(), jtr.data() + jtr.size());
+  out.rss = 2.0 * cost;
+  return out;
 }
 
 InitialOffsets<double> estimate_initial_offsets(const Model<double>& model, const ParamVector<double>& params,

@@ -46,6 +46,21 @@ using LmProgress = std::function<void(int, double, double)>;
 LmReport fit_lm(const MotorFile& motor, const ParamVector<double>& start, const data::Dataset& dataset,
                 const std::vector<std::size_t>& cycles, const LmSettings& settings, const LmProgress& progress = {});
 
+// The Gauss-Newton normal equations of fit_lm's problem at a given point, for tests of directions
+// fit_lm did not search (lptn diagnose's score test). Columns: `free`'s parameters in its internal
+// coordinates, then the two initial offsets (stator core, rotor core) of each cycle that has a
+// measurement, in the order given.
+struct NormalEquations {
+  std::size_t columns = 0;
+  std::vector<double> jtj;  // columns x columns, row-major
+  std::vector<double> jtr;  // J^T r, r = model - measured
+  double rss = 0;           // sum of squared residuals, K^2
+  std::size_t residuals = 0;
+};
+NormalEquations normal_equations(const Model<double>& model, const FreeParameters& free, const ParamVector<double>& at,
+                                 const data::Dataset& dataset, const std::vector<std::size_t>& cycles,
+                                 const std::vector<InitialOffsets<double>>& offsets, int threads = 2);
+
 // The initial offsets of the nodes no sensor sees (InitialOffsets, trainer/model/simulate.hpp)
 // for one cycle and given parameters: least squares on the cycle's first `window_s` seconds.
 // Calibration fits them jointly for the training cycles; for evaluating any other cycle (a test

@@ -1,0 +1,80 @@
+// lptn diagnose and lptn calibrate --effect as a user runs them.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <string>
+
+#include "../cli/run_lptn.hpp"
+#include "../cli/temp_dir.hpp"
+
+namespace lptn {
+namespace {
+
+using testing::Result;
+using testing::run;
+
+// Generates into DIR and calibrates the paper's model on all but the last two cycles.
+std::string generate_and_calibrate(const testing::TempDir& t, const std::string& hidden) {
+  const std::string data = (t.path() / "fleet").string(), cal = (t.path() / "calibration.json").string();
+  const Result g = run("generate --out " + data + " --cycles 6 --seed 3 --minutes-min 25 --minutes-max 30" +
+                           (hidden.empty() ? "" : " --hidden " + hidden),
+                       t.path());
+  EXPECT_EQ(g.code, 0) << g.err;
+  const Result c = run("calibrate --data " + data + " --motor " + data + "/motor.toml --quiet --out " + cal +
+                           " --test-cycles cycle_05_shunting,cycle_06_suburban",
+                       t.path());
+  EXPECT_EQ(c.code, 0) << c.err;
+  return "--data " + data + " --calibration " + cal;
+}
+
+TEST(DiagnoseCli, CallsNothingSignificantWhereNothingIsHidden) {
+  testing::TempDir t;
+  const std::string args = generate_and_calibrate(t, "");
+  const Result r = run("diagnose --json --quiet " + args, t.path());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_GT(j["rmse_k"].get<double>(), 0.0);
+  ASSERT_EQ(j["candidates"].size(), 5u);
+  for (const auto& c : j["candidates"]) {
+    for (const char* key : {"effect", "statistic", "predicted_rmse_k", "refit_rmse_k", "significant"})
+      EXPECT_TRUE(c.contains(key)) << key;
+    EXPECT_FALSE(c["significant"].get<bool>()) << c.dump();
+  }
+  const Result text = run("diagnose --quiet " + args, t.path());
+  EXPECT_NE(text.out.find("No effect of the library improves the fit significantly"), std::string::npos) << text.out;
+}
+
+TEST(DiagnoseCli, AutoFindsTwoHiddenEffectsAndWritesTheCalibration) {
+  testing::TempDir t;
+  const std::string out = (t.path() / "final.json").string();
+  const Result r = run("diagnose --auto --json --quiet --out " + out + " " + generate_and_calibrate(t, "windage,sensor_lag"), t.path());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  std::printf("%s\n", r.out.substr(0, 400).c_str());
+  EXPECT_EQ(j["added"].get<std::set<std::string>>(), (std::set<std::string>{"windage", "sensor_lag"}));
+  EXPECT_EQ(j["rounds"].size(), 3u);
+  for (const auto& c : j["candidates"]) EXPECT_FALSE(c["significant"].get<bool>()) << c.dump();
+  const auto final_cal = nlohmann::json::parse(std::ifstream(out));
+  EXPECT_EQ(final_cal["effects"].get<std::set<std::string>>(), (std::set<std::string>{"windage", "sensor_lag"}));
+  EXPECT_LT(final_cal["metrics"]["test"]["rmse_stator_k"].get<double>(), 2 * 0.4);
+  EXPECT_LT(final_cal["metrics"]["test"]["rmse_rotor_k"].get<double>(), 2 * 0.5);
+}
+
+TEST(DiagnoseCli, BadInputIsOneLineAndExitTwo) {
+  testing::TempDir t;
+  const Result e = run("calibrate --data " + t.path().string() + " --motor m.toml --out c.json --effect nosuch", t.path());
+  EXPECT_EQ(e.code, 2);
+  EXPECT_NE(e.err.find("--effect: unknown effect 'nosuch' (known: airgap, windage"), std::string::npos) << e.err;
+  const Result d = run("diagnose --data " + t.path().string() + " --calibration nosuch.json", t.path());
+  EXPECT_EQ(d.code, 2);
+  EXPECT_EQ(std::count(d.err.begin(), d.err.end(), '\n'), 1) << d.err;
+  const Result o = run("diagnose --data " + t.path().string() + " --calibration c.json --out x.json", t.path());
+  EXPECT_EQ(o.code, 2);
+  EXPECT_NE(o.err.find("only with --auto"), std::string::npos) << o.err;
+}
+
+}  // namespace
+}  // namespace lptn

@@ -1,0 +1,168 @@
+// lptn diagnose: which effect of the library the calibrated model lacks (trainer/diagnose/), and
+// with --auto forward selection over them.
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <ctime>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "tools/cli/commands.hpp"
+#include "tools/cli/progress.hpp"
+#include "trainer/calibrate/calibration_file.hpp"
+#include "trainer/data/dataset.hpp"
+#include "trainer/diagnose/diagnose.hpp"
+
+namespace lptn::cli {
+namespace {
+
+struct Args {
+  std::vector<std::string> data;
+  std::string calibration, out;
+  std::vector<std::string> test_cycles;
+  double level = 0.001;
+  bool json = false, automatic = false, force = false, quiet = false;
+};
+
+std::string utc_now() {
+  const std::time_t t = std::time(nullptr);
+  char buf[32];
+  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&t));
+  return buf;
+}
+
+std::string effect_list(EffectSet effects) {
+  std::string out;
+  for (int e = 0; e < kNumEffects; ++e)
+    if (effects & effect_bit(e)) out += (out.empty() ? "" : ", ") + std::string(EffectLibrary::kNames[e]);
+  return out.empty() ? "none" : out;
+}
+
+// "1.234" or "-" where there is no figure (no test cycles).
+std::string kelvin(double v) {
+  if (!std::isfinite(v)) return "-";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3f", v);
+  return buf;
+}
+
+void print_table(const diagnose::Diagnosis& d, double level) {
+  std::printf("training RMSE %.3f K (stator %s K), test stator %s K; %.0f effective residuals (correlation time %.1f steps)\n",
+              d.rmse_k, kelvin(d.train_stator_rmse_k).c_str(), kelvin(d.test_stator_rmse_k).c_str(),
+              d.effective_residuals, d.baseline.correlation_time);
+  if (d.candidates.empty()) {
+    std::printf("every effect of the library is already in the model\n");
+    return;
+  }
+  std::printf("%-24s %10s %9s %21s %21s %21s  %s\n", "effect", "score", "pred. K", "LR / threshold",
+              "train K before->after", "test K before->after", "verdict");
+  for (const diagnose::Candidate& c : d.candidates) {
+    char lr[32], train[40], test[40];
+    std::snprintf(lr, sizeof lr, "%.1f / %.1f", c.statistic, c.threshold);
+    std::snprintf(train, sizeof train, "%.3f -> %.3f", d.rmse_k, c.refit_rmse_k);
+    std::snprintf(test, sizeof test, "%s -> %s", kelvin(d.test_stator_rmse_k).c_str(), kelvin(c.test_stator_rmse_k).c_str());
+    std::printf("%-24s %10.1f %9.3f %21s %21s %21s  %s\n", c.name.c_str(), c.score, c.predicted_rmse_k, lr, train, test,
+                diagnose::to_string(c.verdict));
+  }
+  for (const diagnose::Candidate& c : d.candidates)
+    if (c.verdict == diagnose::Verdict::not_distinguishable)
+      std::printf("  %s: not distinguishable from this data: %s. To separate it: %s.\n",
+                  c.name.c_str(), c.reason.c_str(), c.needs.c_str());
+  if (const diagnose::Candidate* best = d.best())
+    std::printf("best: %s (training RMSE %.3f -> %.3f K); add it with [effects] enabled = [\"%s\"] in the motor file "
+                "or lptn calibrate --effect %s\n",
+                best->name.c_str(), d.rmse_k, best->refit_rmse_k, best->name.c_str(), best->name.c_str());
+  else
+    std::printf("No effect of the library improves the fit significantly (likelihood ratio at level %g): "
+                "this data gives no reason to add one.\n", level);
+}
+
+void run(const Args& a) {
+  if (!a.out.empty() && !a.automatic) throw BadInput("--out: only with --auto (the calibration after forward selection)");
+  if (!a.out.empty() && !a.force && std::filesystem::exists(a.out))
+    throw BadInput(a.out + ": exists (use --force to replace it)");
+  if (!(a.level > 0 && a.level < 0.5)) throw BadInput("--level: must be in (0, 0.5), got " + std::to_string(a.level));
+  CalibrationResult calibration;
+  try {
+    calibration = load_calibration(a.calibration);
+  } catch (const CalibrationFileError& e) {
+    throw BadInput(e.what());
+  }
+  const MotorFile motor = diagnose::motor_of(calibration);
+  std::vector<std::filesystem::path> paths(a.data.begin(), a.data.end());
+  const data::Dataset dataset = data::load_fleet_dump(paths);
+  const Split split = a.test_cycles.empty() ? diagnose::split_of(calibration, dataset)
+                                            : split_cycles(dataset, a.test_cycles, 0.0, 0);
+  diagnose::Settings settings;
+  settings.level = a.level;
+
+  if (!a.json)
+    std::printf("diagnosing %s (effects: %s) on %zu training cycles, testing on %zu\n", motor.name.c_str(),
+                effect_list(motor.effects).c_str(), split.train.size(), split.test.size());
+  std::fflush(stdout);  // before the progress lines on stderr
+  const auto t0 = std::chrono::steady_clock::now();
+  ProgressLine line(a.quiet);
+  const diagnose::Progress progress = [&](const std::string& text) {
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    line.update("diagnose: " + text + "  " + ProgressLine::clock(s));
+  };
+
+  if (!a.automatic) {
+    const diagnose::Diagnosis d = diagnose::diagnose(motor, calibration.values(), dataset, split, settings, progress);
+    line.finish();
+    if (a.json) std::printf("%s\n", diagnose::to_json(d).dump(2).c_str());
+    else print_table(d, a.level);
+    return;
+  }
+  int round = 0;
+  const diagnose::Selection s = diagnose::select_effects(
+      motor, calibration.values(), dataset, split, settings, progress, [&](const diagnose::Diagnosis& d) {
+        line.finish();
+        if (a.json) return;
+        std::printf("\nround %d\n", ++round);
+        print_table(d, a.level);
+        std::fflush(stdout);
+      });
+  const diagnose::Diagnosis& last = s.rounds.back();
+  if (a.json) {
+    nlohmann::json j = diagnose::to_json(last);  // the final model's figures
+    j["added"] = s.added;
+    j["rounds"] = nlohmann::json::array();
+    for (const diagnose::Diagnosis& d : s.rounds) j["rounds"].push_back(diagnose::to_json(d));
+    std::printf("%s\n", j.dump(2).c_str());
+  } else {
+    std::string added;
+    for (const std::string& name : s.added) added += (added.empty() ? "" : ", ") + name;
+    std::printf("\nforward selection added: %s\n", added.empty() ? "nothing" : added.c_str());
+  }
+  if (a.out.empty()) return;
+  CalibrationResult r = diagnose::updated_calibration(calibration, s.motor, last.baseline, dataset, split,
+                                                      "lptn diagnose --auto from " + a.calibration);
+  r.created_utc = utc_now();
+  save_calibration(r, a.out);
+  if (!a.json) std::printf("%s written (effects: %s)\n", a.out.c_str(), effect_list(r.effects).c_str());
+}
+
+}  // namespace
+
+void add_diagnose(CLI::App& app) {
+  auto* cmd = app.add_subcommand(
+      "diagnose", "Which effect of the library the calibrated model lacks: score test, refit, likelihood ratio, identifiability");
+  auto a = std::make_shared<Args>();
+  cmd->add_option("--data", a->data, "Directories of cycle CSVs, or CSV files (the data the calibration was made from)")
+      ->required()
+      ->expected(1, -1);
+  cmd->add_option("--calibration", a->calibration, "calibration.json (from lptn calibrate)")->required();
+  cmd->add_option("--test-cycles", a->test_cycles, "Cycles held out for testing, by name (default: the calibration's split)")
+      ->delimiter(',');
+  cmd->add_option("--level", a->level, "False-alarm probability of the likelihood-ratio test per effect (default 0.001)");
+  cmd->add_flag("--json", a->json, "Print the diagnosis as JSON: {\"rmse_k\", \"candidates\": [...]}, best first");
+  cmd->add_flag("--auto", a->automatic, "Forward selection: add the best significant effect, refit, repeat until none is");
+  cmd->add_option("--out", a->out, "With --auto: write the final calibration here");
+  cmd->add_flag("--force", a->force, "Replace --out if it exists");
+  cmd->add_flag("--quiet", a->quiet, "No progress output");
+  cmd->callback([a] { run(*a); });
+}
+
+}  // namespace lptn::cli

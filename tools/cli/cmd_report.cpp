@@ -1,0 +1,49 @@
+// lptn report: one self-contained HTML page on a calibration against a fleet dump.
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <string>
+
+#include "tools/cli/commands.hpp"
+#include "tools/cli/progress.hpp"
+#include "tools/report/report.hpp"
+#include "trainer/io/atomic_output.hpp"
+
+namespace lptn::cli {
+
+void add_report(CLI::App& app) {
+  auto* cmd = app.add_subcommand("report", "Write an HTML report: model against measurements, where it fails, "
+                                           "what lptn diagnose says is missing, the calibration history");
+  struct Args {
+    std::string data, calibration, out, diagnosis, history;
+    bool force = false;
+  };
+  auto a = std::make_shared<Args>();
+  cmd->add_option("--data", a->data, "Fleet dump: a directory of cycle CSVs, or one CSV")->required();
+  cmd->add_option("--calibration", a->calibration, "calibration.json (lptn calibrate)")->required();
+  cmd->add_option("--out", a->out, "The report, one HTML file that opens offline")->required();
+  cmd->add_option("--diagnosis", a->diagnosis, "lptn diagnose --json output, for the 'What is missing' section");
+  cmd->add_option("--history", a->history,
+                  "Directory of calibration JSONs for the 'History' section (default: the calibration's directory)");
+  cmd->add_flag("--force", a->force, "Replace --out if it exists");
+  cmd->callback([a] {
+    if (!a->force && std::filesystem::exists(a->out)) throw BadInput(a->out + ": exists (use --force to replace it)");
+    if (!std::filesystem::exists(a->calibration)) throw BadInput(a->calibration + ": no such file");
+    if (!a->history.empty() && !std::filesystem::is_directory(a->history))
+      throw BadInput(a->history + ": not a directory");
+    const auto start = std::chrono::steady_clock::now();
+    std::string html;
+    {
+      ProgressLine progress;
+      const nlohmann::json data = report::report_data({a->data, a->calibration, a->diagnosis, a->history},
+                                                      [&](const std::string& s) { progress.update("report: " + s); });
+      html = report::render_html(data);
+    }
+    write_file_atomically(a->out, html);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::printf("report written to %s (%.1f MB, %.1f s)\n", a->out.c_str(), static_cast<double>(html.size()) / 1e6, seconds);
+  });
+}
+
+}  // namespace lptn::cli

@@ -1,0 +1,319 @@
+// lptn report's page: builds every table and chart from the JSON the generator embedded.
+// Plain JavaScript and the inlined dygraphs only: the file must work offline, in any browser.
+(function () {
+  'use strict';
+  var R = JSON.parse(document.getElementById('report-data').textContent);
+  var cycleCharts = {};  // cycle name -> its synchronized charts, for the worst-window links
+
+  // --- helpers -----------------------------------------------------------------------------------
+
+  function el(tag, attrs, children) {
+    var e = document.createElement(tag);
+    Object.keys(attrs || {}).forEach(function (k) { e.setAttribute(k, attrs[k]); });
+    (children || []).forEach(function (c) {
+      e.appendChild(typeof c === 'string' || typeof c === 'number' ? document.createTextNode(String(c)) : c);
+    });
+    return e;
+  }
+
+  function fixed(v, d) { return v === null || v === undefined || !isFinite(v) ? '–' : Number(v).toFixed(d); }
+
+  function clock(s) {
+    var t = Math.round(s), h = Math.floor(t / 3600), m = Math.floor(t / 60) % 60, sec = t % 60;
+    return (h ? h + ':' + String(m).padStart(2, '0') : m) + ':' + String(sec).padStart(2, '0');
+  }
+
+  // One failing chart must not take the rest of the page with it.
+  function guarded(what, fn) {
+    try { fn(); } catch (e) { showError(what + ': ' + (e && e.stack ? e.stack : e)); }
+  }
+
+  function table(headers, rows, attrs) {
+    var head = el('tr', {}, headers.map(function (h) { return el('th', {}, [h]); }));
+    return el('table', attrs || {}, [head].concat(rows));
+  }
+
+  // White (the best region) to red (the worst): scaled between the two, since a well fitted model
+  // has every region near the sensors' noise and the differences are what matters.
+  function heat(v, range) {
+    if (v === null || !isFinite(v) || !(range.hi > range.lo)) return '#fff';
+    var f = Math.min(1, Math.max(0, (v - range.lo) / (range.hi - range.lo))), g = Math.round(255 - 160 * f);
+    return 'rgb(255,' + g + ',' + g + ')';
+  }
+
+  function rmseRange(bins) {
+    var v = bins.filter(function (b) { return b.n > 0; }).map(function (b) { return b.rmse; });
+    return {lo: Math.min.apply(null, v), hi: Math.max.apply(null, v)};
+  }
+
+  // A chart container the headless test can find: data-chart names it, data-points counts the
+  // points drawn (rows with at least one value).
+  function chartBox(parent, name, rows, cls) {
+    var legend = el('div', {class: 'legend'});
+    var points = rows.filter(function (r) {
+      return r.slice(1).some(function (v) { return v !== null && !(Array.isArray(v) && v[1] === null); });
+    }).length;
+    var box = el('div', {class: 'chart ' + (cls || ''), 'data-chart': name, 'data-points': points});
+    parent.appendChild(legend);
+    parent.appendChild(box);
+    return {box: box, legend: legend};
+  }
+
+  function graph(parent, name, rows, options, cls) {
+    var c = chartBox(parent, name, rows, cls);
+    var base = {labelsDiv: c.legend, legend: 'always', labelsSeparateLines: false, animatedZooms: false};
+    return new Dygraph(c.box, rows, Object.assign(base, options));
+  }
+
+  // --- header --------------------------------------------------------------------------------------
+
+  function renderMeta() {
+    var m = R.meta;
+    document.getElementById('meta').textContent =
+      m.calibration + ' (' + m.method + ', ' + m.created_utc + ', motor ' + m.motor + ', effects: ' +
+      (m.effects.length ? m.effects.join(', ') : 'none') + ') on ' + m.data + ': ' + m.cycles + ' cycles, ' +
+      fixed(m.hours, 1) + ' h. Generated ' + m.generated_utc + '.';
+  }
+
+  // --- Compare -------------------------------------------------------------------------------------
+
+  function metricCells(m) {
+    if (!m) return [el('td', {}, ['–']), el('td', {}, ['–']), el('td', {}, ['–']), el('td', {}, ['–'])];
+    return [m.rmse_k, m.mean_abs_k, m.max_abs_k, m.bias_k].map(function (v) { return el('td', {}, [fixed(v, 3)]); });
+  }
+
+  function roleBadge(role) { return role ? el('span', {class: 'badge ' + role}, [role]) : el('span', {}, ['–']); }
+
+  function renderCompareTable() {
+    var rows = R.cycles.map(function (c) {
+      return el('tr', {class: 'role-' + (c.role || 'none')}, [
+        el('td', {class: 'text'}, [el('a', {href: '#cycle-' + c.name}, [c.name])]),
+        el('td', {class: 'text'}, [roleBadge(c.role)]), el('td', {}, [fixed(c.hours, 2)])
+      ].concat(metricCells(c.metrics.stator), metricCells(c.metrics.rotor)));
+    });
+    var headers = ['cycle', 'role', 'hours', 'stator RMSE K', 'mean |e| K', 'max |e| K', 'bias K',
+                   'rotor RMSE K', 'mean |e| K', 'max |e| K', 'bias K'];
+    var box = document.getElementById('compare-table');
+    box.appendChild(table(headers, rows, {'data-table': 'metrics'}));
+    box.appendChild(el('p', {class: 'note'}, ['Calibration\'s pooled stator RMSE: train ' +
+      fixed(R.meta.train_rmse_stator_k, 3) + ' K, test ' + fixed(R.meta.test_rmse_stator_k, 3) + ' K.']));
+  }
+
+  // dygraphs' custom bars: each value is [min, mean, max] of its bucket.
+  function rows(cycle, keys) {
+    var s = cycle.series;
+    return cycle.t.map(function (t, i) {
+      return [t].concat(keys.map(function (k) {
+        var e = s[k];
+        return e.mean[i] === null ? null : [e.lo[i], e.mean[i], e.hi[i]];
+      }));
+    });
+  }
+
+  // Two-axis charts get a right axis with ticks of its own; one-axis charts leave the same room
+  // on the right, so that the charts of a cycle share their horizontal scale on the page.
+  function axes() {
+    return {x: {valueFormatter: function (v) { return 't = ' + clock(v); },
+                axisLabelFormatter: function (v) { return clock(v); }},
+            y2: {independentTicks: true, drawGrid: false, axisLabelWidth: 55}};
+  }
+  var kRightRoom = 75;
+
+  function cycleCharts_(cycle, parent) {
+    var rotor = !!cycle.series.rotor_measured;
+    var temps = ['stator_measured', 'stator_model'].concat(rotor ? ['rotor_measured', 'rotor_model'] : []);
+    var resid = ['stator_residual'].concat(rotor ? ['rotor_residual'] : []);
+    var common = {customBars: true, axes: axes(), xlabel: ''};
+    var charts = [];
+    charts.push(graph(parent, 'temperature', rows(cycle, temps), Object.assign({
+      labels: ['t'].concat(temps.map(function (k) { return k.replace('_', ' ') + ' °C'; })),
+      colors: ['#1f4e9c', '#6fa8ff', '#a01010', '#ff7a7a'], ylabel: '°C', rightGap: kRightRoom}, common), 'tall'));
+    charts.push(graph(parent, 'residual', rows(cycle, resid), Object.assign({
+      labels: ['t'].concat(resid.map(function (k) { return k.replace('_', ' ') + ' K'; })),
+      colors: ['#1f4e9c', '#a01010'], ylabel: 'model − measured K', rightGap: kRightRoom}, common)));
+    charts.push(graph(parent, 'drive', rows(cycle, ['speed', 'torque']), Object.assign({
+      labels: ['t', 'speed 1/min', 'torque N·m'], colors: ['#2b8a3e', '#8a5a00'], ylabel: '1/min', y2label: 'N·m',
+      series: {'torque N·m': {axis: 'y2'}}}, common)));
+    charts.push(graph(parent, 'cooling', rows(cycle, ['airflow', 'ambient']), Object.assign({
+      labels: ['t', 'airflow m³/s', 'ambient °C'], colors: ['#0b7285', '#862e9c'], ylabel: 'm³/s', y2label: '°C',
+      series: {'ambient °C': {axis: 'y2'}}}, common)));
+    return charts;
+  }
+
+  function renderCycles() {
+    var parent = document.getElementById('compare-cycles');
+    R.cycles.forEach(function (cycle) {
+      var block = el('div', {class: 'cycle', id: 'cycle-' + cycle.name, 'data-cycle': cycle.name}, [
+        el('h3', {}, [cycle.name + ' ', roleBadge(cycle.role)]),
+        el('div', {class: 'note'}, [fixed(cycle.hours, 2) + ' h, buckets of ' + fixed(cycle.bucket_s, 1) + ' s; stator RMSE ' +
+          fixed(cycle.metrics.stator.rmse_k, 3) + ' K' + (cycle.metrics.rotor ? ', rotor ' + fixed(cycle.metrics.rotor.rmse_k, 3) + ' K' : '')])]);
+      parent.appendChild(block);
+      guarded('cycle ' + cycle.name, function () {
+        var charts = cycleCharts_(cycle, block);
+        cycleCharts[cycle.name] = charts;
+        Dygraph.synchronize(charts, {zoom: true, selection: true, range: false});
+      });
+    });
+  }
+
+  function zoomTo(cycle, t0, t1) {
+    var charts = cycleCharts[cycle];
+    if (!charts) return;
+    charts.forEach(function (g) { g.updateOptions({dateWindow: [t0, t1]}); });
+    document.getElementById('cycle-' + cycle).scrollIntoView();
+  }
+
+  // --- Where it fails ------------------------------------------------------------------------------
+
+  function renderSpeedTorque(parent, map) {
+    var range = rmseRange([].concat.apply([], map.cells));
+    var se = map.speed_edges, te = map.torque_edges, rowsOut = [];
+    for (var j = te.length - 2; j >= 0; --j) {  // torque upwards, as on a torque-speed plane
+      var cells = [el('th', {}, [fixed(te[j], 0) + ' … ' + fixed(te[j + 1], 0)])];
+      for (var i = 0; i < se.length - 1; ++i) {
+        var b = map.cells[i][j];
+        var td = el('td', {style: 'background:' + heat(b.rmse, range), title: 'n = ' + b.n},
+                    b.n ? [fixed(b.rmse, 2), el('br'), el('small', {}, ['mean ' + fixed(b.mean, 2) + ', n ' + b.n])] : ['']);
+        cells.push(td);
+      }
+      rowsOut.push(el('tr', {}, cells));
+    }
+    var headers = ['torque N·m \\ speed 1/min'].concat(se.slice(0, -1).map(function (lo, i) {
+      return fixed(lo, 0) + ' … ' + fixed(se[i + 1], 0);
+    }));
+    parent.appendChild(el('p', {class: 'note'}, ['Stator residual RMSE K (mean K, count of 1 s samples) by speed and torque; white the best cell, red the worst.']));
+    parent.appendChild(table(headers, rowsOut, {class: 'heat', 'data-table': 'speed-torque'}));
+  }
+
+  function renderBand(parent, band) {
+    var range = rmseRange(band.bins);
+    var rowsOut = band.bins.map(function (b) {
+      return el('tr', {}, [el('td', {}, [fixed(b.lo, 2) + ' … ' + fixed(b.hi, 2)]), el('td', {}, [b.n]),
+        el('td', {}, [fixed(b.mean, 3)]), el('td', {style: 'background:' + heat(b.rmse, range)}, [fixed(b.rmse, 3)])]);
+    });
+    parent.appendChild(el('div', {}, [el('strong', {}, [band.label + ' (' + band.unit + ')']),
+      table([band.unit, 'n', 'mean K', 'RMSE K'], rowsOut, {'data-table': 'band-' + band.label.split(' ')[0]})]));
+  }
+
+  function renderRegions() {
+    var parent = document.getElementById('regions'), regions = R.failures.regions;
+    renderSpeedTorque(parent, regions.speed_torque);
+    var grid = el('div', {class: 'grid2'});
+    parent.appendChild(grid);
+    regions.bands.forEach(function (band) { renderBand(grid, band); });
+  }
+
+  function renderWorst() {
+    var rowsOut = R.failures.worst.map(function (w, i) {
+      var link = el('a', {class: 'zoom', href: '#cycle-' + w.cycle, 'data-zoom': w.cycle}, [w.cycle + ' ' + clock(w.start_s) + '–' + clock(w.end_s)]);
+      link.addEventListener('click', function (ev) { ev.preventDefault(); zoomTo(w.cycle, w.start_s, w.end_s); });
+      return el('tr', {}, [el('td', {}, [i + 1]), el('td', {class: 'text'}, [link]), el('td', {}, [fixed(w.rmse_k, 3)]), el('td', {}, [w.n])]);
+    });
+    var parent = document.getElementById('worst');
+    parent.appendChild(el('p', {class: 'note'}, ['The ' + rowsOut.length + ' worst non-overlapping ' + R.failures.window_s / 60 +
+      '-minute windows by stator RMSE; a link zooms that cycle\'s charts to the window.']));
+    parent.appendChild(table(['#', 'window', 'RMSE K', 'n (1 s)'], rowsOut, {'data-table': 'worst'}));
+  }
+
+  function correlationRows(r, band, firstLag, step) {
+    return r.map(function (v, i) { return [(firstLag + i) * step, v, band, -band]; });
+  }
+
+  function correlationChart(parent, name, title, r, band, firstLag, step) {
+    parent.appendChild(el('div', {}, [el('strong', {}, [title])]));
+    graph(parent, name, correlationRows(r, band, firstLag, step), {
+      labels: ['lag s', 'r', '+95 %', '−95 %'], colors: ['#1f4e9c', '#999', '#999'],
+      series: {'+95 %': {strokePattern: [4, 4]}, '−95 %': {strokePattern: [4, 4]}}, includeZero: true, xlabel: 'lag s'}, 'small');
+  }
+
+  function renderCorrelations() {
+    var c = R.failures.correlations, parent = document.getElementById('correlations');
+    parent.appendChild(el('p', {class: 'note'}, [
+      'On 1 s means (n = ' + c.n + '). Autocorrelation band: ±1.96/√n, uncorrected: the band of white residuals, which a ' +
+      'model that explains everything but the sensor noise would leave. Cross-correlation r(k) = corr(input(t), residual(t + k)), ' +
+      'positive k: the residual follows the input. Its band is corrected for both series\' autocorrelation (Bartlett: ' +
+      '±1.96 √(Σ r_input(k) r_residual(k) / n)); uncorrected, slow inputs against slow residuals would cross it at every lag.']));
+    var grid = el('div', {class: 'grid2'});
+    parent.appendChild(grid);
+    var acfBox = el('div');
+    grid.appendChild(acfBox);
+    guarded('autocorrelation', function () {
+      correlationChart(acfBox, 'acf', 'residual autocorrelation', c.acf.r, c.acf.band, 0, c.lag_step_s);
+    });
+    c.cross.forEach(function (x) {
+      var box = el('div');
+      grid.appendChild(box);
+      guarded('cross-correlation ' + x.input, function () {
+        correlationChart(box, 'xcf-' + x.input, x.input + ' → residual', x.r, x.band, -c.max_lag_s / c.lag_step_s, c.lag_step_s);
+      });
+    });
+  }
+
+  // --- What is missing -----------------------------------------------------------------------------
+
+  function renderDiagnosis() {
+    var parent = document.getElementById('diagnosis'), d = R.diagnosis;
+    if (!d) {
+      parent.appendChild(el('p', {}, ['No diagnosis given. Run ', el('code', {}, ['lptn diagnose --json > diagnosis.json']),
+        ' with this calibration and data, then ', el('code', {}, ['lptn report … --diagnosis diagnosis.json']),
+        ' to see which effects the residual points at.']));
+      return;
+    }
+    parent.appendChild(el('p', {}, ['Residual RMSE as diagnosed: ' + fixed(d.rmse_k, 3) + ' K.']));
+    var rowsOut = d.candidates.map(function (c) {
+      return el('tr', {class: c.significant ? 'significant' : ''}, [el('td', {class: 'text'}, [c.effect]),
+        el('td', {}, [fixed(c.statistic, 2)]), el('td', {}, [fixed(c.predicted_rmse_k, 3)]),
+        el('td', {}, [fixed(c.refit_rmse_k, 3)]), el('td', {}, [c.significant ? 'yes' : 'no'])]);
+    });
+    parent.appendChild(table(['effect', 'statistic', 'predicted RMSE K', 'refit RMSE K', 'significant'], rowsOut,
+                             {'data-table': 'diagnosis'}));
+    parent.appendChild(el('p', {class: 'note'}, ['Evidence for the leading candidates: the stator residual\'s mean over ' +
+      'quantile bins of the effect\'s signature (what the effect would add; from common/lptn/effects). A missing effect ' +
+      'shows as a trend; a flat line means the residual does not follow it.']));
+    var grid = el('div', {class: 'grid2'});
+    parent.appendChild(grid);
+    d.evidence.forEach(function (ev) {
+      var box = el('div');
+      grid.appendChild(box);
+      guarded('evidence ' + ev.effect, function () {
+        box.appendChild(el('div', {}, [el('strong', {}, [ev.effect + ': residual vs ' + ev.label])]));
+        var data = ev.bins.filter(function (b) { return b.n > 0; }).map(function (b) { return [(b.lo + b.hi) / 2, b.mean]; });
+        graph(box, 'evidence-' + ev.effect, data, {labels: [ev.label + ' ' + ev.unit, 'mean residual K'], drawPoints: true,
+          pointSize: 3, strokeWidth: 1, xlabel: ev.label + ' (' + ev.unit + ')', ylabel: 'K', colors: ['#a01010']}, 'small');
+      });
+    });
+  }
+
+  // --- History -------------------------------------------------------------------------------------
+
+  function renderHistory() {
+    var h = R.history, parent = document.getElementById('history-body');
+    parent.appendChild(el('p', {class: 'note'}, ['Calibrations in ' + h.dir + ' by creation time' +
+      (h.skipped ? ' (' + h.skipped + ' other JSON files skipped)' : '') + '.']));
+    var data = h.runs.map(function (r, i) { return [i + 1, r.train_rmse_stator_k, r.test_rmse_stator_k]; });
+    guarded('history chart', function () {
+      graph(parent, 'history', data, {labels: ['run', 'train RMSE stator K', 'test RMSE stator K'], drawPoints: true,
+        pointSize: 4, colors: ['#3b7dd8', '#e39b1b'], xlabel: 'run', ylabel: 'K', includeZero: true,
+        axes: {x: {axisLabelFormatter: function (v) { return Number.isInteger(v) ? String(v) : ''; }}}}, 'small');
+    });
+    var rowsOut = h.runs.map(function (r, i) {
+      return el('tr', {class: r.current ? 'significant' : ''}, [el('td', {}, [i + 1]), el('td', {class: 'text'}, [r.file]),
+        el('td', {class: 'text'}, [r.created_utc]), el('td', {class: 'text'}, [r.method]),
+        el('td', {class: 'text'}, [r.effects.length ? r.effects.join(', ') : 'paper only']),
+        el('td', {}, [fixed(r.train_rmse_stator_k, 3)]), el('td', {}, [fixed(r.test_rmse_stator_k, 3)]),
+        el('td', {}, [fixed(r.train_rmse_rotor_k, 3)]), el('td', {}, [fixed(r.test_rmse_rotor_k, 3)])]);
+    });
+    parent.appendChild(table(['run', 'file', 'created', 'method', 'effects', 'train stator K', 'test stator K',
+                              'train rotor K', 'test rotor K'], rowsOut, {'data-table': 'history'}));
+  }
+
+  guarded('header', renderMeta);
+  guarded('metrics table', renderCompareTable);
+  guarded('compare charts', renderCycles);
+  guarded('operating regions', renderRegions);
+  guarded('worst windows', renderWorst);
+  guarded('correlations', renderCorrelations);
+  guarded('diagnosis', renderDiagnosis);
+  guarded('history', renderHistory);
+  document.body.setAttribute('data-rendered', 'true');
+})();

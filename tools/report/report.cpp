@@ -1,0 +1,409 @@
+#include "tools/report/report.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <ctime>
+#include <fstream>
+#include <iterator>
+#include <optional>
+
+#include "lptn/model.hpp"
+#include "tools/report/signatures.hpp"
+#include "tools/report/stats.hpp"
+#include "trainer/calibrate/calibration_file.hpp"
+#include "trainer/calibrate/lm.hpp"
+#include "trainer/data/dataset.hpp"
+#include "trainer/model/motor_file.hpp"
+#include "trainer/model/simulate.hpp"
+
+namespace lptn::report {
+namespace {
+
+using data::Channel;
+using nlohmann::json;
+
+// Chart points per cycle: about two per pixel of a wide screen, so a nine-cycle, 11-hour dump
+// stays a few MB; zooming in shows each bucket's min and max, so no spike is lost.
+constexpr std::size_t kMaxChartPoints = 3000;
+// Statistics run on 1 s means: the sensors report at 1 Hz, so 10 Hz residuals are interpolations
+// whose neighbours are correlated by construction.
+constexpr double kStatStepS = 1.0;
+constexpr std::size_t kMaxLagS = 1200;          // correlations out to 20 minutes (thermal time constants)
+constexpr std::size_t kWindowS = 300;           // worst windows: 5 minutes,
+constexpr std::size_t kWindowStrideS = 30;      // tried every 30 s,
+constexpr std::size_t kWorstWindows = 10;       // the ten worst
+constexpr std::size_t kLeadingCandidates = 3;   // diagnose candidates with an evidence plot
+constexpr std::size_t kSignatureBins = 20;
+
+// One cycle with the calibrated model run over it.
+struct CycleRun {
+  const data::Cycle* cycle = nullptr;
+  std::string role;  // "train", "test" or "" (in neither list)
+  CycleSimulation sim;
+  CycleMetrics metrics;
+  std::vector<float> stator_residual, rotor_residual;  // model - measured, per grid step
+};
+
+// The model a calibration describes: its motor text, effects and parameter values.
+struct CalibratedModel {
+  Model<double> model;
+  ParamVector<double> params;
+};
+
+double rounded(double v, int decimals) {
+  const double scale = std::pow(10.0, decimals);
+  return std::round(v * scale) / scale;
+}
+
+// NaN becomes null (a gap for dygraphs); fixed decimals keep the page small.
+json numbers(const std::vector<double>& v, int decimals) {
+  json a = json::array();
+  for (double d : v) a.push_back(std::isfinite(d) ? json(rounded(d, decimals)) : json(nullptr));
+  return a;
+}
+
+json number(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
+
+json metrics_json(const ErrorMetrics& m) {
+  return {{"rmse_k", m.rmse_k}, {"mean_abs_k", m.mean_abs_k}, {"max_abs_k", m.max_abs_k},
+          {"bias_k", m.bias_k}, {"samples", m.samples}};
+}
+
+std::string read_text(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw ReportInputError(path.string() + ": cannot be read");
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+std::vector<std::string> effect_names(EffectSet effects) {
+  std::vector<std::string> names;
+  for (int i = 0; i < EffectLibrary::kCount; ++i) {
+    if (effects & effect_bit(i)) names.emplace_back(EffectLibrary::kNames[static_cast<std::size_t>(i)]);
+  }
+  return names;
+}
+
+std::string utc_now() {
+  const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
+  std::tm tm{};
+  gmtime_r(&now, &tm);
+  char buf[32];
+  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
+  return buf;
+}
+
+CalibratedModel calibrated_model(const CalibrationResult& cal) {
+  const MotorFile motor = parse_motor_file(cal.motor_text, cal.motor_file);
+  return {Model<double>(motor.constants, cal.effects), cal.values()};
+}
+
+std::string role_of(const CalibrationResult& cal, const std::string& cycle) {
+  if (std::find(cal.train_cycles.begin(), cal.train_cycles.end(), cycle) != cal.train_cycles.end()) return "train";
+  if (std::find(cal.test_cycles.begin(), cal.test_cycles.end(), cycle) != cal.test_cycles.end()) return "test";
+  return "";
+}
+
+std::vector<float> residual(const std::vector<float>& model, const data::Cycle& cycle, Channel measured) {
+  std::vector<float> r(cycle.steps);
+  for (std::size_t k = 0; k < cycle.steps; ++k) r[k] = model[k] - cycle.at(measured, k);
+  return r;
+}
+
+// As calibrate evaluates a cycle for its metrics: initial offsets from the cycle's first ten
+// minutes, then the whole cycle.
+CycleRun run_cycle_model(const CalibratedModel& cm, const data::Cycle& cycle, const std::string& role) {
+  CycleRun run;
+  run.cycle = &cycle;
+  run.role = role;
+  const InitialOffsets<double> offsets = estimate_initial_offsets(cm.model, cm.params, cycle);
+  run.sim = simulate_cycle(cm.model, cm.params, cycle, offsets);
+  run.metrics = {cycle.name, compare(run.sim.stator_sensor, cycle, Channel::stator_winding_c),
+                 compare(run.sim.rotor_sensor, cycle, Channel::rotor_c)};
+  run.stator_residual = residual(run.sim.stator_sensor, cycle, Channel::stator_winding_c);
+  run.rotor_residual = residual(run.sim.rotor_sensor, cycle, Channel::rotor_c);
+  return run;
+}
+
+std::size_t steps_per_stat(const data::Cycle& cycle) {
+  return std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(kStatStepS / cycle.dt_s)));
+}
+
+// A whole channel, or all-NaN where the file has no such column.
+std::vector<float> channel(const data::Cycle& cycle, Channel c) {
+  const auto& v = cycle.samples[data::index_of(c)];
+  return v.empty() ? std::vector<float>(cycle.steps, std::nanf("")) : v;
+}
+
+// --- Compare ------------------------------------------------------------------------------------
+
+json envelope_json(const std::vector<float>& v, std::size_t bucket, int decimals) {
+  const Envelope e = envelope(v, bucket);
+  return {{"lo", numbers(e.lo, decimals)}, {"mean", numbers(e.mean, decimals)}, {"hi", numbers(e.hi, decimals)}};
+}
+
+json compare_cycle(const CycleRun& run) {
+  const data::Cycle& c = *run.cycle;
+  const std::size_t bucket = std::max<std::size_t>(steps_per_stat(c), (c.steps + kMaxChartPoints - 1) / kMaxChartPoints);
+  std::vector<double> t;
+  for (std::size_t k = 0; k < c.steps; k += bucket) t.push_back(c.time_s(k));
+  json series = {
+      {"stator_measured", envelope_json(channel(c, Channel::stator_winding_c), bucket, 2)},
+      {"stator_model", envelope_json(run.sim.stator_sensor, bucket, 2)},
+      {"stator_residual", envelope_json(run.stator_residual, bucket, 3)},
+      {"speed", envelope_json(channel(c, Channel::speed_rpm), bucket, 0)},
+      {"torque", envelope_json(channel(c, Channel::torque_nm), bucket, 0)},
+      {"airflow", envelope_json(channel(c, Channel::airflow_m3s), bucket, 3)},
+      {"ambient", envelope_json(channel(c, Channel::ambient_c), bucket, 2)},
+  };
+  const bool rotor = run.metrics.rotor.samples > 0;
+  if (rotor) {
+    series["rotor_measured"] = envelope_json(channel(c, Channel::rotor_c), bucket, 2);
+    series["rotor_model"] = envelope_json(run.sim.rotor_sensor, bucket, 2);
+    series["rotor_residual"] = envelope_json(run.rotor_residual, bucket, 3);
+  }
+  json metrics = {{"stator", metrics_json(run.metrics.stator)}};
+  if (rotor) metrics["rotor"] = metrics_json(run.metrics.rotor);
+  return {{"name", c.name}, {"role", run.role}, {"bucket_s", static_cast<double>(bucket) * c.dt_s},
+          {"hours", c.duration_s() / 3600}, {"t", numbers(t, 1)}, {"series", series}, {"metrics", metrics}};
+}
+
+// --- Where it fails -----------------------------------------------------------------------------
+
+// The 1 s means the statistics run on, one segment per cycle.
+struct StatSeries {
+  Segments stator_residual, speed, torque, airflow, ambient, stator_measured;
+  std::vector<double> t0_s;  // each segment's first time
+};
+
+StatSeries stat_series(const std::vector<CycleRun>& runs) {
+  StatSeries s;
+  for (const CycleRun& run : runs) {
+    const data::Cycle& c = *run.cycle;
+    const std::size_t block = steps_per_stat(c);
+    s.stator_residual.push_back(block_means(run.stator_residual, block));
+    s.speed.push_back(block_means(channel(c, Channel::speed_rpm), block));
+    s.torque.push_back(block_means(channel(c, Channel::torque_nm), block));
+    s.airflow.push_back(block_means(channel(c, Channel::airflow_m3s), block));
+    s.ambient.push_back(block_means(channel(c, Channel::ambient_c), block));
+    s.stator_measured.push_back(block_means(channel(c, Channel::stator_winding_c), block));
+    s.t0_s.push_back(c.t0_s);
+  }
+  return s;
+}
+
+std::vector<double> flat(const Segments& s) {
+  std::vector<double> out;
+  for (const auto& seg : s) out.insert(out.end(), seg.begin(), seg.end());
+  return out;
+}
+
+json bins_json(const std::vector<Bin>& bins) {
+  json a = json::array();
+  for (const Bin& b : bins)
+    a.push_back({{"lo", rounded(b.lo, 3)}, {"hi", rounded(b.hi, 3)}, {"n", b.n}, {"mean", number(b.mean)}, {"rmse", number(b.rmse)}});
+  return a;
+}
+
+json region(const std::string& label, const std::string& unit, const std::vector<double>& x, const std::vector<double>& e,
+            const std::vector<double>& edges) {
+  return {{"label", label}, {"unit", unit}, {"bins", bins_json(bin_residuals(x, e, edges))}};
+}
+
+json speed_torque_map(const std::vector<double>& speed, const std::vector<double>& torque, const std::vector<double>& e) {
+  const Range sr = valid_range(speed), tr = valid_range(torque);
+  const auto x_edges = linear_edges(sr.lo, sr.hi, 8);
+  const auto y_edges = linear_edges(std::isnan(tr.lo) ? 0 : tr.lo, std::isnan(tr.hi) ? 1 : tr.hi, 8);
+  json cells = json::array();
+  for (const auto& row : bin_residuals_2d(speed, torque, e, x_edges, y_edges)) cells.push_back(bins_json(row));
+  return {{"speed_edges", numbers(x_edges, 0)}, {"torque_edges", numbers(y_edges, 0)}, {"cells", cells}};
+}
+
+json regions_json(const StatSeries& s) {
+  const auto e = flat(s.stator_residual);
+  const auto speed = flat(s.speed), torque = flat(s.torque), airflow = flat(s.airflow), ambient = flat(s.ambient),
+             temp = flat(s.stator_measured);
+  const Range ar = valid_range(airflow), am = valid_range(ambient), tm = valid_range(temp);
+  return {{"speed_torque", speed_torque_map(speed, torque, e)},
+          {"bands",
+           {region("airflow", "m³/s", airflow, e, linear_edges(ar.lo, ar.hi, 6)),
+            region("ambient", "°C", ambient, e, aligned_edges(am.lo, am.hi, 5)),
+            region("stator winding (measured)", "°C", temp, e, aligned_edges(tm.lo, tm.hi, 20))}},
+          {"total", valid_count(s.stator_residual)}};
+}
+
+json worst_json(const StatSeries& s, const std::vector<CycleRun>& runs) {
+  json a = json::array();
+  for (const Window& w : worst_windows(s.stator_residual, kWindowS, kWindowStrideS, kWorstWindows)) {
+    const double start = s.t0_s[w.segment] + static_cast<double>(w.start) * kStatStepS;
+    a.push_back({{"cycle", runs[w.segment].cycle->name}, {"start_s", start},
+                 {"end_s", start + static_cast<double>(w.length) * kStatStepS}, {"rmse_k", w.rmse}, {"n", w.n}});
+  }
+  return a;
+}
+
+json correlations_json(const StatSeries& s) {
+  const std::size_t n = valid_count(s.stator_residual);
+  const auto acf_e = autocorrelation(s.stator_residual, kMaxLagS);
+  json cross = json::array();
+  const std::pair<const char*, const Segments*> inputs[] = {
+      {"speed", &s.speed}, {"torque", &s.torque}, {"airflow", &s.airflow}, {"ambient", &s.ambient}};
+  for (const auto& [name, x] : inputs) {
+    if (valid_count(*x) == 0) continue;
+    cross.push_back({{"input", name}, {"r", numbers(cross_correlation(*x, s.stator_residual, kMaxLagS), 4)},
+                     {"band", bartlett_band(n, autocorrelation(*x, kMaxLagS), acf_e)}});
+  }
+  return {{"lag_step_s", kStatStepS}, {"max_lag_s", kMaxLagS}, {"n", n},
+          {"acf", {{"r", numbers(acf_e, 4)}, {"band", white_noise_band(n)}}}, {"cross", cross}};
+}
+
+json failures_json(const std::vector<CycleRun>& runs) {
+  const StatSeries s = stat_series(runs);
+  return {{"regions", regions_json(s)}, {"worst", worst_json(s, runs)}, {"correlations", correlations_json(s)},
+          {"window_s", kWindowS}};
+}
+
+// --- What is missing ----------------------------------------------------------------------------
+
+double number_or_nan(const json& j, const char* key) {
+  const auto it = j.find(key);
+  return it != j.end() && it->is_number() ? it->get<double>() : std::nan("");
+}
+
+Candidate parse_candidate(const json& j, const std::string& where) {
+  if (!j.is_object() || !j.contains("effect") || !j["effect"].is_string())
+    throw ReportInputError(where + ": expected an object with a string 'effect'");
+  Candidate c;
+  c.effect = j["effect"].get<std::string>();
+  c.statistic = number_or_nan(j, "statistic");
+  c.predicted_rmse_k = number_or_nan(j, "predicted_rmse_k");
+  c.refit_rmse_k = number_or_nan(j, "refit_rmse_k");
+  c.significant = j.value("significant", false);
+  return c;
+}
+
+// Which candidates get an evidence plot: the significant ones first, each group by statistic.
+std::vector<Candidate> leading(std::vector<Candidate> c) {
+  std::stable_sort(c.begin(), c.end(), [](const Candidate& a, const Candidate& b) {
+    if (a.significant != b.significant) return a.significant;
+    return a.statistic > b.statistic;
+  });
+  if (c.size() > kLeadingCandidates) c.resize(kLeadingCandidates);
+  return c;
+}
+
+json evidence_json(const Candidate& cand, const CalibratedModel& cm, const std::vector<CycleRun>& runs) {
+  std::vector<double> sig, e;
+  std::string label, unit;
+  for (const CycleRun& run : runs) {
+    const auto s = effect_signature(cand.effect, cm.model, cm.params, *run.cycle, run.sim);
+    if (!s) return nullptr;
+    label = s->label;
+    unit = s->unit;
+    const std::size_t block = steps_per_stat(*run.cycle);
+    const auto sm = block_means(s->values, block), em = block_means(run.stator_residual, block);
+    sig.insert(sig.end(), sm.begin(), sm.end());
+    e.insert(e.end(), em.begin(), em.end());
+  }
+  return {{"effect", cand.effect}, {"label", label}, {"unit", unit},
+          {"bins", bins_json(bin_residuals(sig, e, quantile_edges(sig, kSignatureBins)))}};
+}
+
+json diagnosis_json(const std::optional<Diagnosis>& d, const CalibratedModel& cm, const std::vector<CycleRun>& runs) {
+  if (!d) return nullptr;
+  json candidates = json::array();
+  for (const Candidate& c : d->candidates)
+    candidates.push_back({{"effect", c.effect}, {"statistic", number(c.statistic)},
+                          {"predicted_rmse_k", number(c.predicted_rmse_k)}, {"refit_rmse_k", number(c.refit_rmse_k)},
+                          {"significant", c.significant}});
+  json evidence = json::array();
+  for (const Candidate& c : leading(d->candidates)) {
+    json ev = evidence_json(c, cm, runs);
+    if (!ev.is_null()) evidence.push_back(std::move(ev));
+  }
+  return {{"rmse_k", number(d->rmse_k)}, {"candidates", candidates}, {"evidence", evidence}};
+}
+
+// --- History ------------------------------------------------------------------------------------
+
+json history_entry(const std::filesystem::path& file, const CalibrationResult& cal, bool current) {
+  json e = {{"file", file.filename().string()}, {"created_utc", cal.created_utc}, {"method", cal.method},
+            {"effects", effect_names(cal.effects)}, {"motor", cal.motor_name}, {"current", current},
+            {"train_rmse_stator_k", number(cal.train.stator.rmse_k)},
+            {"test_rmse_stator_k", cal.test.cycles.empty() ? json(nullptr) : number(cal.test.stator.rmse_k)}};
+  if (cal.train.rotor.samples) e["train_rmse_rotor_k"] = cal.train.rotor.rmse_k;
+  if (cal.test.rotor.samples) e["test_rmse_rotor_k"] = cal.test.rotor.rmse_k;
+  return e;
+}
+
+// Every calibration JSON in `dir` by created_utc; other JSON files (a diagnosis, settings) are
+// skipped, and counted, since a history directory is usually a working directory.
+json history_json(const std::filesystem::path& dir, const std::filesystem::path& current) {
+  std::vector<std::pair<std::string, json>> entries;
+  std::size_t skipped = 0;
+  std::error_code ec;
+  for (const auto& f : std::filesystem::directory_iterator(dir, ec)) {
+    if (!f.is_regular_file() || f.path().extension() != ".json") continue;
+    try {
+      const CalibrationResult cal = load_calibration(f.path());
+      entries.emplace_back(cal.created_utc + f.path().filename().string(),
+                           history_entry(f.path(), cal, std::filesystem::equivalent(f.path(), current, ec)));
+    } catch (const std::exception&) {
+      ++skipped;
+    }
+  }
+  std::sort(entries.begin(), entries.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  json runs = json::array();
+  for (auto& [key, e] : entries) runs.push_back(std::move(e));
+  return {{"dir", dir.string()}, {"runs", runs}, {"skipped", skipped}};
+}
+
+json meta_json(const ReportOptions& o, const CalibrationResult& cal, const data::Dataset& ds) {
+  double hours = 0;
+  for (const auto& c : ds.cycles) hours += c.duration_s() / 3600;
+  return {{"calibration", o.calibration.string()}, {"data", o.data.string()}, {"method", cal.method},
+          {"created_utc", cal.created_utc}, {"motor", cal.motor_name}, {"effects", effect_names(cal.effects)},
+          {"cycles", ds.cycles.size()}, {"hours", hours}, {"generated_utc", utc_now()},
+          {"train_rmse_stator_k", number(cal.train.stator.rmse_k)},
+          {"test_rmse_stator_k", cal.test.cycles.empty() ? json(nullptr) : number(cal.test.stator.rmse_k)}};
+}
+
+}  // namespace
+
+Diagnosis load_diagnosis(const std::filesystem::path& path) {
+  json j;
+  try {
+    j = json::parse(read_text(path));
+  } catch (const json::parse_error& e) {
+    throw ReportInputError(path.string() + ": not JSON (expected `lptn diagnose --json` output): " + e.what());
+  }
+  if (!j.is_object() || !j.contains("candidates") || !j["candidates"].is_array())
+    throw ReportInputError(path.string() + ": no 'candidates' array (expected `lptn diagnose --json` output)");
+  Diagnosis d;
+  d.rmse_k = number_or_nan(j, "rmse_k");
+  for (std::size_t i = 0; i < j["candidates"].size(); ++i)
+    d.candidates.push_back(parse_candidate(j["candidates"][i], path.string() + ": candidates[" + std::to_string(i) + "]"));
+  return d;
+}
+
+nlohmann::json report_data(const ReportOptions& o, const std::function<void(const std::string&)>& progress) {
+  const CalibrationResult cal = load_calibration(o.calibration);
+  std::optional<Diagnosis> diagnosis;
+  if (!o.diagnosis.empty()) diagnosis = load_diagnosis(o.diagnosis);  // before the long part: bad input fails fast
+  const CalibratedModel cm = calibrated_model(cal);
+  const data::Dataset ds = data::load_fleet_dump({o.data});
+
+  std::vector<CycleRun> runs;
+  json cycles = json::array();
+  for (const data::Cycle& cycle : ds.cycles) {
+    progress("cycle " + std::to_string(runs.size() + 1) + "/" + std::to_string(ds.cycles.size()) + " " + cycle.name);
+    runs.push_back(run_cycle_model(cm, cycle, role_of(cal, cycle.name)));
+    cycles.push_back(compare_cycle(runs.back()));
+  }
+  progress("statistics");
+  const std::filesystem::path history = o.history.empty() ? std::filesystem::absolute(o.calibration).parent_path() : o.history;
+  return {{"meta", meta_json(o, cal, ds)}, {"cycles", cycles}, {"failures", failures_json(runs)},
+          {"diagnosis", diagnosis_json(diagnosis, cm, runs)}, {"history", history_json(history, o.calibration)}};
+}
+
+}  // namespace lptn::report

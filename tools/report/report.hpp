@@ -1,0 +1,51 @@
+// lptn report: one self-contained HTML file on how a calibration fits a fleet dump (Compare),
+// where it fails (operating regions, worst windows, correlations), what lptn diagnose says is
+// missing, and how the error fell from calibration to calibration (History).
+#pragma once
+
+#include <filesystem>
+#include <functional>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace lptn::report {
+
+// Bad input the report itself finds (a diagnosis file that is not `lptn diagnose --json`);
+// one line. An invalid_argument, so that the command line reports it as bad input (exit 2).
+class ReportInputError : public std::invalid_argument {
+ public:
+  using std::invalid_argument::invalid_argument;
+};
+
+struct ReportOptions {
+  std::filesystem::path data;         // fleet dump: a directory of cycle CSVs or one CSV
+  std::filesystem::path calibration;  // calibration.json
+  std::filesystem::path diagnosis;    // lptn diagnose --json output; empty = none
+  std::filesystem::path history;      // directory of calibration JSONs; empty = the calibration's own
+};
+
+// One candidate of lptn diagnose --json (the keys the report knows; others are ignored).
+struct Candidate {
+  std::string effect;
+  double statistic = std::numeric_limits<double>::quiet_NaN();
+  double predicted_rmse_k = std::numeric_limits<double>::quiet_NaN();
+  double refit_rmse_k = std::numeric_limits<double>::quiet_NaN();
+  bool significant = false;
+};
+struct Diagnosis {
+  double rmse_k = std::numeric_limits<double>::quiet_NaN();
+  std::vector<Candidate> candidates;
+};
+// Throws ReportInputError naming the file when it is not JSON or lacks "candidates".
+Diagnosis load_diagnosis(const std::filesystem::path& path);
+
+// Everything the page shows, as the JSON its script reads.
+nlohmann::json report_data(const ReportOptions& options, const std::function<void(const std::string&)>& progress);
+
+// The page: template, styles, dygraphs and the report's script inlined, `data` embedded.
+std::string render_html(const nlohmann::json& data);
+
+}  // namespace lptn::report

@@ -1,0 +1,144 @@
+// The diagnosis: the calibrated model refit as the baseline, then every missing effect scored,
+// refit, tested and ranked.
+#include "trainer/diagnose/diagnose.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+#include "trainer/diagnose/internal/effect_notes.hpp"
+#include "trainer/diagnose/internal/refit.hpp"
+#include "trainer/diagnose/internal/score_test.hpp"
+
+namespace lptn::diagnose {
+namespace {
+
+constexpr double kNoTest = std::numeric_limits<double>::quiet_NaN();
+
+LmSettings lm_settings(const Settings& s) {
+  LmSettings lm;
+  lm.threads = s.threads;
+  lm.correlation_flag = s.correlation_flag;
+  return lm;
+}
+
+// LM's per-iteration report as a progress line of the stage it belongs to.
+LmProgress lm_progress(const Progress& progress, const std::string& stage) {
+  if (!progress) return {};
+  return [progress, stage](int iteration, double rmse, double) {
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "%s: iteration %d, rmse %.4f K", stage.c_str(), iteration, rmse);
+    progress(buf);
+  };
+}
+
+double stator_rmse(const Model<double>& model, const ParamVector<double>& values, const data::Dataset& dataset,
+                   const std::vector<std::size_t>& cycles, int threads) {
+  if (cycles.empty()) return kNoTest;
+  return evaluate_split(model, values, dataset, cycles, threads).stator.rmse_k;
+}
+
+// A parameter confounded with one the model has cannot be claimed whatever the fit gained (the
+// correlation is the data's, present or absent the effect); one that is merely imprecise only
+// matters once the gain is significant (an absent effect's parameter ends near zero, imprecise).
+Verdict verdict(const Candidate& c, const internal::Refit& refit, std::string& reason) {
+  if (!refit.confounded.empty()) {
+    reason = refit.confounded;
+    return Verdict::not_distinguishable;
+  }
+  if (!(c.statistic > c.threshold)) return Verdict::not_significant;
+  if (!refit.imprecise.empty()) {
+    reason = refit.imprecise;
+    return Verdict::not_distinguishable;
+  }
+  return Verdict::significant;
+}
+
+Candidate examine(const MotorFile& motor, int effect, const Diagnosis& before, const data::Dataset& dataset,
+                  const Split& split, const Settings& settings, const Progress& progress) {
+  MotorFile with = motor;
+  enable_effect(with, effect);
+  Candidate c;
+  c.effect = effect;
+  c.name = EffectLibrary::kNames[static_cast<std::size_t>(effect)];
+  c.df = EffectLibrary::kParamCounts[static_cast<std::size_t>(effect)];
+  c.needs = internal::notes_for(effect).needs;
+  if (progress) progress(c.name + ": score test");
+  const internal::Score score = internal::score_test(with, effect, before.baseline, dataset, split.train, settings.threads);
+  c.score = score.statistic;
+  c.predicted_rmse_k = std::sqrt(std::max(0.0, score.rss_k2 - score.reduction_k2) / static_cast<double>(score.residuals));
+
+  LmSettings lm = lm_settings(settings);
+  lm.max_iterations = settings.refit_iterations;
+  const internal::Refit refit =
+      internal::refit_with(with, effect, before.baseline, dataset, split.train, lm, lm_progress(progress, c.name + ": refit"));
+  c.refit = refit.fit;
+  c.refit_rmse_k = refit.fit.rmse_k;
+  // Both fits have the same residuals; a refit that ends worse (a local minimum) gains nothing.
+  c.statistic = std::max(0.0, before.effective_residuals * std::log(before.baseline.final_cost / refit.fit.final_cost));
+  c.threshold = chi_square_quantile(1.0 - settings.level, c.df);
+  c.verdict = verdict(c, refit, c.reason);
+  const Model<double> model = with.model();
+  c.train_stator_rmse_k = stator_rmse(model, refit.fit.values, dataset, split.train, settings.threads);
+  c.test_stator_rmse_k = stator_rmse(model, refit.fit.values, dataset, split.test, settings.threads);
+  return c;
+}
+
+}  // namespace
+
+const char* to_string(Verdict v) {
+  switch (v) {
+    case Verdict::significant: return "significant";
+    case Verdict::not_distinguishable: return "not distinguishable";
+    case Verdict::not_significant: return "not significant";
+  }
+  return "?";
+}
+
+const Candidate* Diagnosis::best() const {
+  for (const Candidate& c : candidates)
+    if (c.verdict == Verdict::significant) return &c;
+  return nullptr;
+}
+
+Diagnosis diagnose(const MotorFile& motor, const ParamVector<double>& calibrated, const data::Dataset& dataset,
+                   const Split& split, const Settings& settings, const Progress& progress) {
+  Diagnosis d;
+  // Refit from the calibration (a few iterations at most): it gives the per-cycle initial
+  // offsets and the residuals' correlation time, and an RSS on exactly the footing of the refits.
+  d.baseline = fit_lm(motor, calibrated, dataset, split.train, lm_settings(settings),
+                      lm_progress(progress, "the model as calibrated"));
+  d.rmse_k = d.baseline.rmse_k;
+  d.effective_residuals = static_cast<double>(d.baseline.residuals) / d.baseline.correlation_time;
+  const Model<double> model = motor.model();
+  d.train_stator_rmse_k = stator_rmse(model, d.baseline.values, dataset, split.train, settings.threads);
+  d.test_stator_rmse_k = stator_rmse(model, d.baseline.values, dataset, split.test, settings.threads);
+  for (int e = 0; e < kNumEffects; ++e)
+    if (!(motor.effects & effect_bit(e))) d.candidates.push_back(examine(motor, e, d, dataset, split, settings, progress));
+  std::stable_sort(d.candidates.begin(), d.candidates.end(),
+                   [](const Candidate& a, const Candidate& b) { return a.refit_rmse_k < b.refit_rmse_k; });
+  return d;
+}
+
+Selection select_effects(const MotorFile& motor, const ParamVector<double>& calibrated, const data::Dataset& dataset,
+                         const Split& split, const Settings& settings, const Progress& progress,
+                         const RoundDone& round_done) {
+  Selection s;
+  s.motor = motor;
+  ParamVector<double> values = calibrated;
+  // Each round adds an effect or ends, so there are at most kNumEffects + 1 rounds.
+  for (;;) {
+    s.rounds.push_back(diagnose(s.motor, values, dataset, split, settings, progress));
+    const Diagnosis& d = s.rounds.back();
+    if (round_done) round_done(d);
+    const Candidate* best = d.best();
+    if (best == nullptr) break;
+    enable_effect(s.motor, best->effect);
+    values = best->refit.values;
+    s.added.push_back(best->name);
+  }
+  return s;
+}
+
+}  // namespace lptn::diagnose

@@ -1,0 +1,129 @@
+// lptn diagnose: which effect of the library (common/lptn/effects/) the calibrated model lacks.
+//
+// For every effect not yet in the model, three questions, cheapest first:
+//   score test   how strongly the residuals point along the effect's parameters at their neutral
+//                value (the calibrated parameters held): one Jacobian, no fit. Ranks candidates.
+//   refit        fit_lm with the effect added, from the calibrated values: the error after adding,
+//                on the training cycles and on the test cycles; the likelihood-ratio statistic
+//                LR = n_eff ln(RSS_before / RSS_after) against the chi-square quantile at
+//                df = the parameters the effect adds.
+//   identifiable whether the refit can tell the effect's parameter from the ones already there
+//                (correlation beyond the flag, or a standard error larger than the value).
+// n_eff is the residual count divided by the residuals' correlation time, as fit_lm corrects its
+// standard errors (sensors at 1 Hz on a 10 Hz grid, slow model error: grid residuals are far from
+// independent, and counting each as one would call every effect significant).
+#pragma once
+
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "trainer/calibrate/calibration_file.hpp"
+#include "trainer/calibrate/lm.hpp"
+#include "trainer/calibrate/problem.hpp"
+#include "trainer/data/dataset.hpp"
+#include "trainer/model/motor_file.hpp"
+
+namespace lptn::diagnose {
+
+// --- the motor a diagnosis works on --------------------------------------------------------
+
+// The library's effect called `name`; throws std::invalid_argument ("OPTION: unknown effect 'x'
+// (known: ...)").
+int effect_by_name(std::string_view name, std::string_view option);
+
+// Switches `effect` on with the library's parameter settings (calibrated from its initial value)
+// and rewrites motor.text, so that a calibration made with it keeps a text that rebuilds this model.
+void enable_effect(MotorFile& motor, int effect);
+
+// The motor a calibration was made with: its stored text, its effects, and the parameters'
+// bounds and calibrate flags as the calibration used them.
+MotorFile motor_of(const CalibrationResult& calibration);
+
+// The calibration's own train/test split, found by cycle name in `dataset`; throws
+// std::invalid_argument naming a cycle the data lacks.
+Split split_of(const CalibrationResult& calibration, const data::Dataset& dataset);
+
+// --- statistics ----------------------------------------------------------------------------
+
+// The p-quantile of the chi-square distribution with df degrees of freedom: exact for df 1 and 2,
+// Wilson-Hilferty's cube-root normal approximation above (within 2 % up to p = 0.999 for df >= 3,
+// and high there: a conservative threshold at diagnose's level).
+double chi_square_quantile(double p, int df);
+
+// --- the diagnosis -------------------------------------------------------------------------
+
+struct Settings {
+  double level = 0.001;            // false-alarm probability of the likelihood-ratio test, per effect
+  double correlation_flag = 0.95;  // |correlation| with an existing parameter that makes an effect indistinguishable
+  // A candidate's refit starts at the calibrated values; one that has not converged in this many
+  // iterations is crawling along a direction the data barely supports (it is not the one to add),
+  // and its verdict rests on where it got. The baseline and --auto's refits get fit_lm's default.
+  int refit_iterations = 15;
+  int threads = 2;
+};
+
+enum class Verdict { significant, not_distinguishable, not_significant };
+const char* to_string(Verdict v);
+
+struct Candidate {
+  int effect = -1;
+  std::string name;
+  int df = 0;                       // parameters the effect adds
+  double score = 0;                 // score statistic (chi-square scale, correlation-corrected)
+  double predicted_rmse_k = 0;      // what the score predicts the training RMSE would fall to
+  double statistic = 0;             // likelihood-ratio statistic of the refit
+  double threshold = 0;             // chi-square quantile it must exceed
+  double refit_rmse_k = 0;          // training RMSE after the refit (fit_lm's pooled residuals)
+  double train_stator_rmse_k = 0;   // after the refit, stator sensor (offsets estimated per cycle)
+  double test_stator_rmse_k = 0;    // after the refit; NaN without test cycles
+  LmReport refit;                   // values, standard errors, correlated pairs
+  Verdict verdict = Verdict::not_significant;
+  std::string reason;               // why not distinguishable (empty otherwise)
+  std::string needs;                // what data would separate the effect (from the effect's notes)
+};
+
+struct Diagnosis {
+  LmReport baseline;                 // the calibrated model refit on the training cycles (offsets, RSS)
+  double rmse_k = 0;                 // training RMSE before (fit_lm's pooled residuals)
+  double train_stator_rmse_k = 0;    // before, stator sensor
+  double test_stator_rmse_k = 0;     // before; NaN without test cycles
+  double effective_residuals = 0;    // n_eff: residuals / correlation time
+  std::vector<Candidate> candidates;  // by training RMSE after the refit, best first
+
+  // The first significant (and distinguishable) candidate, or nullptr.
+  const Candidate* best() const;
+};
+
+// Progress of long work: a line to show (stage and LM iteration).
+using Progress = std::function<void(const std::string&)>;
+
+// Diagnoses `motor` (effects and free parameters as calibrated) at `calibrated`, fitted on
+// split.train and tested on split.test.
+Diagnosis diagnose(const MotorFile& motor, const ParamVector<double>& calibrated, const data::Dataset& dataset,
+                   const Split& split, const Settings& settings, const Progress& progress = {});
+
+// Forward selection: diagnose, add the best significant and distinguishable effect (its refit
+// becomes the new calibration), diagnose again, until no candidate is significant.
+struct Selection {
+  std::vector<Diagnosis> rounds;  // the last one found nothing to add
+  std::vector<std::string> added;
+  MotorFile motor;                // with the added effects
+};
+using RoundDone = std::function<void(const Diagnosis&)>;
+Selection select_effects(const MotorFile& motor, const ParamVector<double>& calibrated, const data::Dataset& dataset,
+                         const Split& split, const Settings& settings, const Progress& progress = {},
+                         const RoundDone& round_done = {});
+
+// `calibration` updated to `motor` (effects, text) and the fit `fit` (values, standard errors,
+// correlated pairs) with metrics recomputed on its split; the method stays "lm".
+CalibrationResult updated_calibration(const CalibrationResult& calibration, const MotorFile& motor, const LmReport& fit,
+                                      const data::Dataset& dataset, const Split& split, const std::string& note);
+
+// {"rmse_k": ..., "candidates": [{"effect", "statistic", "predicted_rmse_k", "refit_rmse_k",
+// "significant", ...}, ...]}, best first.
+nlohmann::json to_json(const Diagnosis& diagnosis);
+
+}  // namespace lptn::diagnose

@@ -1,0 +1,24 @@
+// The score (Lagrange multiplier) test of one effect: no fit, one Jacobian at the calibrated
+// parameters with the effect at its neutral value.
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include "trainer/calibrate/lm.hpp"
+
+namespace lptn::diagnose::internal {
+
+struct Score {
+  double statistic = 0;     // g' (J'J)^-1 g / (s^2 tau): chi-square with df = the effect's parameters under "absent"
+  double reduction_k2 = 0;  // g' (J'J)^-1 g: the fall of the RSS one Gauss-Newton step predicts
+  double rss_k2 = 0;        // at the evaluation point
+  std::size_t residuals = 0;
+};
+
+// `with_effect` is the calibrated motor with `effect` switched on; `baseline` the fit of the
+// model without it (values, per-cycle offsets, RSS, correlation time) on `train`.
+Score score_test(const MotorFile& with_effect, int effect, const LmReport& baseline, const data::Dataset& dataset,
+                 const std::vector<std::size_t>& train, int threads);
+
+}  // namespace lptn::diagnose::internal
