@@ -31,13 +31,6 @@ struct Args {
   bool resume = false, force = false, quiet = false, seed_given = false;
 };
 
-std::string utc_now() {
-  const std::time_t t = std::time(nullptr);
-  char buf[32];
-  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&t));
-  return buf;
-}
-
 // The files behind the cycles, hashed, and one hash over them all (in cycle order).
 void describe_data(const data::Dataset& dataset, CalibrationResult& r) {
   std::map<std::string, std::string> hashes;

@@ -25,13 +25,6 @@ struct Args {
   bool json = false, automatic = false, force = false, quiet = false;
 };
 
-std::string utc_now() {
-  const std::time_t t = std::time(nullptr);
-  char buf[32];
-  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&t));
-  return buf;
-}
-
 std::string effect_list(EffectSet effects) {
   std::string out;
   for (int e = 0; e < kNumEffects; ++e)

@@ -84,15 +84,6 @@ std::vector<std::string> effect_names(EffectSet effects) {
   return names;
 }
 
-std::string utc_now() {
-  const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
-  std::tm tm{};
-  gmtime_r(&now, &tm);
-  char buf[32];
-  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
-  return buf;
-}
-
 CalibratedModel calibrated_model(const CalibrationResult& cal) {
   const MotorFile motor = parse_motor_file(cal.motor_text, cal.motor_file);
   return {Model<double>(motor.constants, cal.effects), cal.values()};

@@ -5,6 +5,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstring>
+#include <ctime>
 #include <fstream>
 #include <iterator>
 
@@ -364,6 +365,15 @@ std::string sha256_file(const std::filesystem::path& path) {
   }
   if (in.bad()) throw std::runtime_error(path.string() + ": read failed");
   return h.hex();
+}
+
+std::string utc_now() {
+  const std::time_t now = std::time(nullptr);
+  std::tm tm{};
+  gmtime_r(&now, &tm);  // thread-safe, unlike std::gmtime
+  char buf[32];
+  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
+  return buf;
 }
 
 }  // namespace lptn

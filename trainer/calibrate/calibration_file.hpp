@@ -127,4 +127,7 @@ CalibrationResult load_calibration(const std::filesystem::path& path);
 std::string sha256_file(const std::filesystem::path& path);
 std::string sha256_hex(const void* data, std::size_t size);
 
+// The present time as calibration files stamp it (created_utc): "2026-11-21T10:00:00Z".
+std::string utc_now();
+
 }  // namespace lptn
