@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # The main job, end to end, on the built-in demo: set up, build, generate a demo fleet dump with a
 # known truth, check it, compare the model (as the motor file guesses it) with the sensors,
-# calibrate it (Levenberg-Marquardt, then TD3 with a demo budget), export the firmware header, and
-# replay a test cycle as CAN frames through the firmware's estimator.
+# calibrate it (Levenberg-Marquardt, then TD3 with a demo budget), export the firmware header,
+# replay a test cycle as CAN frames through the firmware's estimator; then the engineer's loop on a
+# second fleet whose motor has an effect the paper's model lacks: compare, diagnose, add the effect
+# the diagnosis names, recalibrate, and a report before and after.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 tools/setup.sh
@@ -34,7 +36,38 @@ mkdir -p "$out/onboard"
 "$lptn" convert --in "$out/fleet/cycle_09_hilly.csv" --out "$out/onboard/cycle_09_hilly.log" --force
 "$lptn" replay --log "$out/onboard/cycle_09_hilly.log" --calibration "$out/calibration-lm.json" \
   --out "$out/onboard/estimates.csv" --force
+loop="$out/loop"
+mkdir -p "$loop/calibrations"
+echo "== 8. the loop: a second fleet (6 cycles, seed 2) from a motor with windage, which the paper's model lacks;"
+echo "      only $loop/fleet/truth.json says so"
+"$lptn" generate --out "$loop/fleet" --cycles 6 --seed 2 --hidden windage --minutes-min 30 --minutes-max 45 --force
+echo "-- 8a. calibrate the paper's model (LM)"
+"$lptn" calibrate --data "$loop/fleet" --motor "$loop/fleet/motor.toml" --method lm --seed 1 \
+  --out "$loop/calibrations/1-paper.json" --force --quiet
+echo "-- 8b. diagnose: which effect of the library is missing?"
+"$lptn" diagnose --data "$loop/fleet" --calibration "$loop/calibrations/1-paper.json" \
+  --json-out "$loop/diagnosis-1.json" --force --quiet
+"$lptn" report --data "$loop/fleet" --calibration "$loop/calibrations/1-paper.json" \
+  --diagnosis "$loop/diagnosis-1.json" --history "$loop/calibrations" --out "$loop/report-before.html" --force
+# The effect to add is the diagnosis' best significant candidate, whichever it is.
+effect=$(python3 -c 'import json, sys
+c = [c["effect"] for c in json.load(open(sys.argv[1]))["candidates"] if c["significant"]]
+print(c[0] if c else "")' "$loop/diagnosis-1.json")
+if [ -z "$effect" ]; then echo "demo: the diagnosis found no significant effect" >&2; exit 1; fi
+echo "-- 8c. add $effect and recalibrate"
+"$lptn" calibrate --data "$loop/fleet" --motor "$loop/fleet/motor.toml" --method lm --seed 1 --effect "$effect" \
+  --out "$loop/calibrations/2-$effect.json" --force --quiet
+echo "-- 8d. diagnose again, and the report after"
+"$lptn" diagnose --data "$loop/fleet" --calibration "$loop/calibrations/2-$effect.json" \
+  --json-out "$loop/diagnosis-2.json" --force --quiet
+"$lptn" report --data "$loop/fleet" --calibration "$loop/calibrations/2-$effect.json" \
+  --diagnosis "$loop/diagnosis-2.json" --history "$loop/calibrations" --out "$loop/report.html" --force
+
 echo
 echo "demo output in $out/: fleet/ (cycle CSVs, motor.toml, truth.json, truth/), inspect.txt, simulation/ (traces,"
 echo "metrics.json), calibration-lm.json, calibration-td3.json, td3-checkpoints/, thermal_calibration.hpp, thermal_calibration_td3.hpp,"
-echo "onboard/ (the CAN log and the firmware's estimates, one CSV row per 100 ms tick)"
+echo "onboard/ (the CAN log and the firmware's estimates, one CSV row per 100 ms tick), loop/ (the second fleet, its"
+echo "calibrations before and after adding $effect, the diagnoses, report-before.html)"
+echo
+echo "The report after adding $effect (open it in a browser; it needs no network):"
+echo "  $(cd "$loop" && pwd)/report.html"

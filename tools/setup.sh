@@ -6,6 +6,7 @@
 #     cross   aarch64 Linux and Cortex-M7 cross toolchains (+ qemu-user to run aarch64 tests); 530 MB
 #     bench   the vcan bench: a qemu guest with SocketCAN, can-utils, python-can
 #     report  chromium, for lptn report's headless browser test
+#     fuzz    clang-14 with libFuzzer and the sanitizers' runtimes, for tools/run-fuzz.sh
 # The cross toolchains are big, so only the steps that need them ask for them.
 set -euo pipefail
 
@@ -28,6 +29,11 @@ BENCH=(
 REPORT=(
   chromium                                              # the report's headless browser test
 )
+FUZZ=(
+  clang libclang-rt-14-dev                              # clang-14; libFuzzer, ASan and UBSan runtimes
+  cmake ninja-build python3                             # the fuzz preset's build; python3 generates the CAN codecs
+  libtomlplusplus-dev nlohmann-json3-dev                # the fuzzed trainer/ libraries (no libtorch, no Ceres)
+)
 
 PACKAGES=()
 if (($# == 0)); then set -- host; fi
@@ -37,7 +43,8 @@ for group in "$@"; do
     cross) PACKAGES+=("${CROSS[@]}") ;;
     bench) PACKAGES+=("${BENCH[@]}") ;;
     report) PACKAGES+=("${REPORT[@]}") ;;
-    *) echo "setup: unknown group '$group' (host, cross, bench, report)" >&2; exit 2 ;;
+    fuzz) PACKAGES+=("${FUZZ[@]}") ;;
+    *) echo "setup: unknown group '$group' (host, cross, bench, report, fuzz)" >&2; exit 2 ;;
   esac
 done
 

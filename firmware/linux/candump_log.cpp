@@ -1,6 +1,7 @@
 #include "candump_log.hpp"
 
 #include <cstdio>
+#include <cstring>
 
 namespace lptn::fw {
 namespace {
@@ -99,10 +100,16 @@ const char* parse_candump_line(std::string_view line, CandumpRecord& out) {
 std::size_t format_candump_line(char* buf, std::size_t size, TimeUs time_us, std::string_view interface,
                                 const CanFrame& f) {
   const long long sec = time_us / kUsPerS, usec = time_us % kUsPerS;
-  int n = std::snprintf(buf, size, "(%010lld.%06lld) %.*s ", sec, usec, static_cast<int>(interface.size()),
-                        interface.data());
+  const int n = std::snprintf(buf, size, "(%010lld.%06lld) ", sec, usec);
   if (n < 0 || static_cast<std::size_t>(n) >= size) return 0;
   std::size_t at = static_cast<std::size_t>(n);
+  // The name's bytes as they are, then a space: "%.*s" would stop at a NUL byte, which a parsed
+  // line's name may hold, and the line would no longer parse to the same frame.
+  if (size - at <= interface.size() + 1) return 0;
+  std::memcpy(buf + at, interface.data(), interface.size());
+  at += interface.size();
+  buf[at++] = ' ';
+  buf[at] = '\0';
   auto put = [&](const char* fmt, unsigned v) {
     const int k = std::snprintf(buf + at, size - at, fmt, v);
     if (k < 0 || at + static_cast<std::size_t>(k) >= size) return false;

@@ -234,6 +234,30 @@ TEST(CalibrationFile, UnknownNamesAreRefused) {
   EXPECT_EQ(error_for(j), "cal.json: field 'parameters[0].unit': 'W', but this lptn has lambda_1s in 'W/K'");
 }
 
+// A file written before an effect was appended to the library lacks that effect's parameters; it
+// stays readable as long as it does not enable the effect (docs/effects.md, "Writing a new effect").
+TEST(CalibrationFile, ParametersOfEffectsItDoesNotEnableMayBeAbsent) {
+  const CalibrationResult sample = testing::sample_result(kMotorText);
+  int absent_effect = kNumEffects - 1;  // the last effect the sample leaves off
+  while (absent_effect >= 0 && (sample.effects & effect_bit(absent_effect))) --absent_effect;
+  ASSERT_GE(absent_effect, 0);
+  const int p = kNumPaperParams + EffectLibrary::kParamOffsets[absent_effect];
+  nlohmann::json j = to_json(sample);
+  j["parameters"].erase(static_cast<std::size_t>(p));
+  const CalibrationResult r = calibration_from_json(j, "cal.json");
+  EXPECT_EQ(r.parameters[p].name, param_spec(p).name);
+  EXPECT_EQ(r.parameters[p].value, param_spec(p).initial);
+  EXPECT_FALSE(r.parameters[p].calibrated);
+  for (int i = 0; i < kNumParams; ++i)
+    if (i != p) EXPECT_EQ(r.parameters[i].value, sample.parameters[i].value) << param_spec(i).name;
+
+  // Not so for an effect the file enables.
+  j = to_json(sample);
+  j["effects"].push_back(std::string(EffectLibrary::kNames[absent_effect]));
+  j["parameters"].erase(static_cast<std::size_t>(p));
+  EXPECT_NE(error_for(j).find("'" + std::string(param_spec(p).name) + "' is missing"), std::string::npos) << error_for(j);
+}
+
 TEST(CalibrationFile, InconsistentActorIsRefused) {
   nlohmann::json j = to_json(testing::sample_result(kMotorText));
   j["actor"]["layers"][1]["weight"].erase(0);

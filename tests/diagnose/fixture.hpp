@@ -4,6 +4,7 @@
 
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "../cli/temp_dir.hpp"
@@ -23,14 +24,17 @@ struct Generated {
 
 // `cycles` cycles of `minutes_min`..`minutes_max`; the generator rotates blower modes
 // (load following, stepped, fixed 0.5, fixed 1.0), so four or more cycles have every mode.
+// `truth` sets true values the built-in truth lacks (an effect of one's own).
 inline std::unique_ptr<Generated> generate(const std::vector<std::string>& hidden, int cycles, double minutes_min,
-                                           double minutes_max, std::uint64_t seed) {
+                                           double minutes_max, std::uint64_t seed,
+                                           const std::vector<std::pair<std::string, double>>& truth = {}) {
   auto g = std::make_unique<Generated>();
   gen::GenerateOptions o;
   o.cycles = cycles;
   o.seed = seed;
   o.min_duration_s = minutes_min * 60;
   o.max_duration_s = minutes_max * 60;
+  o.truth_overrides = truth;
   for (const std::string& e : hidden) o.hidden |= effect_bit(effect_index(e));
   gen::generate(o, g->dir.path());
   g->dataset = data::load_fleet_dump({g->dir.path()});

@@ -10,54 +10,10 @@
 
 #include <cstdio>
 
-#include "fixture.hpp"
+#include "hidden_effect_check.hpp"
 
 namespace lptn::diagnose {
 namespace {
-
-constexpr double kStatorNoiseK = 0.4, kRotorNoiseK = 0.5;  // the generator's sensor model
-
-struct TestErrors {
-  double stator, rotor;
-};
-
-TestErrors test_errors(const MotorFile& motor, const ParamVector<double>& values, const testing::Generated& g) {
-  const SplitMetrics m = evaluate_split(motor.model(), values, g.dataset, g.split.test);
-  return {m.stator.rmse_k, m.rotor.rmse_k};
-}
-
-void print(const Diagnosis& d) {
-  std::printf("  training RMSE %.3f K, test stator %.3f K\n", d.rmse_k, d.test_stator_rmse_k);
-  for (const Candidate& c : d.candidates)
-    std::printf("  %-24s score %8.1f  LR %8.1f / %.1f  train %.3f -> %.3f K  test stator -> %.3f K  %s %s\n",
-                c.name.c_str(), c.score, c.statistic, c.threshold, d.rmse_k, c.refit_rmse_k, c.test_stator_rmse_k,
-                to_string(c.verdict), c.reason.c_str());
-}
-
-// The effect ranks first and is significant; recalibrated with it (from the motor file's
-// starting point, as `lptn calibrate --effect` does), the test error falls to the noise.
-void expect_found_and_fixed(const std::string& effect, const testing::Generated& g) {
-  const Diagnosis d = diagnose(g.motor, g.calibrated.values, g.dataset, g.split, Settings{});
-  print(d);
-  ASSERT_FALSE(d.candidates.empty());
-  EXPECT_EQ(d.candidates.front().name, effect);
-  EXPECT_EQ(d.candidates.front().verdict, Verdict::significant) << d.candidates.front().reason;
-
-  MotorFile with = g.motor;
-  enable_effect(with, effect_index(effect));
-  const LmReport fit = fit_lm(with, with.initial_values(), g.dataset, g.split.train, LmSettings{});
-  const TestErrors before = test_errors(g.motor, g.calibrated.values, g), after = test_errors(with, fit.values, g);
-  std::printf("%s: test RMSE stator %.3f -> %.3f K, rotor %.3f -> %.3f K; %s = %.4g +- %.2g\n", effect.c_str(),
-              before.stator, after.stator, before.rotor, after.rotor,
-              std::string(param_spec(kNumPaperParams + EffectLibrary::kParamOffsets[effect_index(effect)]).name).c_str(),
-              fit.values[kNumPaperParams + EffectLibrary::kParamOffsets[effect_index(effect)]],
-              fit.std_error[kNumPaperParams + EffectLibrary::kParamOffsets[effect_index(effect)]]);
-  EXPECT_LE(after.stator, 2 * kStatorNoiseK);
-  EXPECT_LE(after.rotor, 2 * kRotorNoiseK);
-  const bool stator_shows = before.stator / kStatorNoiseK > before.rotor / kRotorNoiseK;
-  EXPECT_LE(stator_shows ? after.stator : after.rotor, 0.5 * (stator_shows ? before.stator : before.rotor))
-      << (stator_shows ? "stator" : "rotor");
-}
 
 // Six cycles of 25-30 minutes: every blower mode in the four training cycles, with rotor telemetry.
 std::unique_ptr<testing::Generated> short_cycles(const std::string& hidden) {

@@ -13,13 +13,14 @@
 #include "trainer/calibrate/calibration_file.hpp"
 #include "trainer/data/dataset.hpp"
 #include "trainer/diagnose/diagnose.hpp"
+#include "trainer/io/atomic_output.hpp"
 
 namespace lptn::cli {
 namespace {
 
 struct Args {
   std::vector<std::string> data;
-  std::string calibration, out;
+  std::string calibration, out, json_out;
   std::vector<std::string> test_cycles;
   double level = 0.001;
   bool json = false, automatic = false, force = false, quiet = false;
@@ -75,6 +76,8 @@ void run(const Args& a) {
   if (!a.out.empty() && !a.automatic) throw BadInput("--out: only with --auto (the calibration after forward selection)");
   if (!a.out.empty() && !a.force && std::filesystem::exists(a.out))
     throw BadInput(a.out + ": exists (use --force to replace it)");
+  if (!a.json_out.empty() && !a.force && std::filesystem::exists(a.json_out))
+    throw BadInput(a.json_out + ": exists (use --force to replace it)");
   if (!(a.level > 0 && a.level < 0.5)) throw BadInput("--level: must be in (0, 0.5), got " + std::to_string(a.level));
   CalibrationResult calibration;
   try {
@@ -104,8 +107,10 @@ void run(const Args& a) {
   if (!a.automatic) {
     const diagnose::Diagnosis d = diagnose::diagnose(motor, calibration.values(), dataset, split, settings, progress);
     line.finish();
-    if (a.json) std::printf("%s\n", diagnose::to_json(d).dump(2).c_str());
+    const nlohmann::json j = diagnose::to_json(d);
+    if (a.json) std::printf("%s\n", j.dump(2).c_str());
     else print_table(d, a.level);
+    if (!a.json_out.empty()) write_file_atomically(a.json_out, j.dump(2) + "\n");
     return;
   }
   int round = 0;
@@ -118,11 +123,12 @@ void run(const Args& a) {
         std::fflush(stdout);
       });
   const diagnose::Diagnosis& last = s.rounds.back();
+  nlohmann::json j = diagnose::to_json(last);  // the final model's figures
+  j["added"] = s.added;
+  j["rounds"] = nlohmann::json::array();
+  for (const diagnose::Diagnosis& d : s.rounds) j["rounds"].push_back(diagnose::to_json(d));
+  if (!a.json_out.empty()) write_file_atomically(a.json_out, j.dump(2) + "\n");
   if (a.json) {
-    nlohmann::json j = diagnose::to_json(last);  // the final model's figures
-    j["added"] = s.added;
-    j["rounds"] = nlohmann::json::array();
-    for (const diagnose::Diagnosis& d : s.rounds) j["rounds"].push_back(diagnose::to_json(d));
     std::printf("%s\n", j.dump(2).c_str());
   } else {
     std::string added;
@@ -151,6 +157,7 @@ void add_diagnose(CLI::App& app) {
       ->delimiter(',');
   cmd->add_option("--level", a->level, "False-alarm probability of the likelihood-ratio test per effect (default 0.001)");
   cmd->add_flag("--json", a->json, "Print the diagnosis as JSON: {\"rmse_k\", \"candidates\": [...]}, best first");
+  cmd->add_option("--json-out", a->json_out, "Also write that JSON to this file (for lptn report --diagnosis)");
   cmd->add_flag("--auto", a->automatic, "Forward selection: add the best significant effect, refit, repeat until none is");
   cmd->add_option("--out", a->out, "With --auto: write the final calibration here");
   cmd->add_flag("--force", a->force, "Replace --out if it exists");

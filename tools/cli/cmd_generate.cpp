@@ -1,7 +1,10 @@
 // lptn generate: a fleet dump with a known truth from the synthetic plant.
+#include <cmath>
 #include <cstdio>
 #include <sstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "trainer/io/atomic_output.hpp"
 #include "tools/cli/commands.hpp"
@@ -27,12 +30,36 @@ EffectSet parse_effects(const std::string& list) {
   return set;
 }
 
+// NAME=VALUE pairs: true values of parameters the built-in truth does not set (an effect of one's own).
+std::vector<std::pair<std::string, double>> parse_truth(const std::vector<std::string>& items) {
+  std::vector<std::pair<std::string, double>> out;
+  for (const std::string& item : items) {
+    const std::size_t eq = item.find('=');
+    const std::string name = item.substr(0, eq);
+    if (eq == std::string::npos || param_index(name) < 0)
+      throw BadInput("--truth: expected PARAMETER=VALUE with a known parameter, got '" + item + "'");
+    const std::string text = item.substr(eq + 1);
+    std::size_t used = 0;
+    double value = 0;
+    try {
+      value = std::stod(text, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != text.size() || !std::isfinite(value))
+      throw BadInput("--truth: '" + item + "': the value is not a number");
+    out.emplace_back(name, value);
+  }
+  return out;
+}
+
 }  // namespace
 
 void add_generate(CLI::App& app) {
   auto* cmd = app.add_subcommand("generate", "Generate a fleet dump with a known truth from the synthetic plant");
   struct Args {
     std::string out, hidden;
+    std::vector<std::string> truth;
     gen::GenerateOptions options;
     double minutes_min = 60, minutes_max = 90;
     bool no_rotor = false, force = false;
@@ -42,6 +69,7 @@ void add_generate(CLI::App& app) {
   cmd->add_option("--cycles", args->options.cycles, "Number of driving cycles")->capture_default_str()->check(CLI::Range(1, 10000));
   cmd->add_option("--seed", args->options.seed, "Random seed: the same seed gives the same data")->capture_default_str();
   cmd->add_option("--hidden", args->hidden, "Effects the plant has and the paper's model lacks, comma-separated");
+  cmd->add_option("--truth", args->truth, "True value of a parameter, NAME=VALUE (repeatable; for effects of your own)");
   cmd->add_option("--minutes-min", args->minutes_min, "Shortest cycle, minutes")->capture_default_str()->check(CLI::Range(2.0, 1440.0));
   cmd->add_option("--minutes-max", args->minutes_max, "Longest cycle, minutes")->capture_default_str()->check(CLI::Range(2.0, 1440.0));
   cmd->add_option("--stator-noise", args->options.sensors.stator_noise_k, "Stator sensor noise, K (standard deviation)")
@@ -52,6 +80,7 @@ void add_generate(CLI::App& app) {
   cmd->callback([args] {
     if (args->minutes_max < args->minutes_min) throw BadInput("--minutes-max must not be below --minutes-min");
     args->options.hidden = parse_effects(args->hidden);
+    args->options.truth_overrides = parse_truth(args->truth);
     args->options.min_duration_s = 60 * args->minutes_min;
     args->options.max_duration_s = 60 * args->minutes_max;
     args->options.rotor_sensor = !args->no_rotor;

@@ -83,7 +83,12 @@ std::vector<CycleSummary> generate(const GenerateOptions& options, const std::fi
   if (options.cycles < 1) throw std::invalid_argument("--cycles must be at least 1");
   std::filesystem::create_directories(dir / "truth");
   const MotorFile motor = example_motor_file();
-  const ParamVector<double> truth = true_parameters();
+  ParamVector<double> truth = true_parameters();
+  for (const auto& [name, value] : options.truth_overrides) {
+    const int p = param_index(name);
+    if (p < 0) throw std::invalid_argument("--truth: unknown parameter '" + name + "'");
+    truth[p] = value;
+  }
   const Model<double> plant_model(motor.constants, options.hidden);
   const plant::MotorSpec spec = plant_motor_spec(motor.constants);
   const plant::TrainSpec train = plant::default_train_spec(spec);

@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "lptn/model.hpp"
@@ -32,6 +33,9 @@ struct GenerateOptions {
   bool rotor_sensor = true;  // bench-style rotor telemetry (fleet data often lacks it)
   bool long_gaps = false;    // add gaps the loader must mask or split at
   SensorModel sensors;
+  // True values by parameter name, over the built-in truth (plant_truth.hpp): for an effect of
+  // one's own, whose parameters the built-in truth leaves at their initial values.
+  std::vector<std::pair<std::string, double>> truth_overrides;
 };
 
 struct CycleSummary {

@@ -169,7 +169,10 @@ SplitMetrics read_split(const JsonField& f) {
   return m;
 }
 
-std::vector<ParameterResult> read_parameters(const JsonField& list) {
+// Every parameter of the model must be listed, except those of effects the calibration does not
+// enable: a file written before an effect was appended to the library (docs/effects.md) lacks
+// them, and they take no part in its model.
+std::vector<ParameterResult> read_parameters(const JsonField& list, EffectSet effects) {
   std::vector<ParameterResult> out(kNumParams);
   std::vector<bool> seen(kNumParams, false);
   for (std::size_t i = 0; i < list.size(); ++i) {
@@ -189,10 +192,24 @@ std::vector<ParameterResult> read_parameters(const JsonField& list) {
     r.calibrated = p["calibrated"].boolean();
     r.std_error = p["std_error"].number_or_null();
   }
-  for (int i = 0; i < kNumParams; ++i)
-    if (!seen[i])
-      list.fail("'" + std::string(param_spec(i).name) + "' is missing (every parameter of the model is listed; " +
+  for (int i = 0; i < kNumParams; ++i) {
+    if (seen[i]) continue;
+    const int effect = effect_of_param(i);
+    if (effect >= 0 && !(effects & effect_bit(effect))) {
+      const ParamSpec& spec = param_spec(i);
+      ParameterResult& r = out[i];
+      r.name = spec.name;
+      r.unit = spec.unit;
+      r.value = r.initial = spec.initial;
+      r.min = spec.min;
+      r.max = spec.max;
+      r.calibrated = false;
+      r.std_error = std::nan("");
+      continue;
+    }
+    list.fail("'" + std::string(param_spec(i).name) + "' is missing (every parameter of the model is listed; " +
                 "a file from an lptn with a different parameter set?)");
+  }
   return out;
 }
 
@@ -284,7 +301,7 @@ CalibrationResult calibration_from_json(const nlohmann::json& j, const std::stri
     r.effects |= effect_bit(e);
   }
 
-  r.parameters = read_parameters(root["parameters"]);
+  r.parameters = read_parameters(root["parameters"], r.effects);
   const JsonField correlated = root["correlated"];
   for (std::size_t i = 0; i < correlated.size(); ++i) {
     const JsonField c = correlated.at(i);

@@ -69,15 +69,26 @@ Candidate examine(const MotorFile& motor, int effect, const Diagnosis& before, c
   c.score = score.statistic;
   c.predicted_rmse_k = std::sqrt(std::max(0.0, score.rss_k2 - score.reduction_k2) / static_cast<double>(score.residuals));
 
+  c.threshold = chi_square_quantile(1.0 - settings.level, c.df);
+  if (!score.feasible) {
+    // One-sided: the data would need the effect below its neutral value. The constrained fit is
+    // the baseline itself, so there is nothing to refit.
+    c.refit = before.baseline;
+    c.refit_rmse_k = before.rmse_k;
+    c.train_stator_rmse_k = before.train_stator_rmse_k;
+    c.test_stator_rmse_k = before.test_stator_rmse_k;
+    c.reason = "the data pull it below its neutral value (no refit)";
+    return c;
+  }
+
   LmSettings lm = lm_settings(settings);
   lm.max_iterations = settings.refit_iterations;
   const internal::Refit refit =
-      internal::refit_with(with, effect, before.baseline, dataset, split.train, lm, lm_progress(progress, c.name + ": refit"));
+      internal::refit_with(with, effect, score.predicted, dataset, split.train, lm, lm_progress(progress, c.name + ": refit"));
   c.refit = refit.fit;
   c.refit_rmse_k = refit.fit.rmse_k;
   // Both fits have the same residuals; a refit that ends worse (a local minimum) gains nothing.
   c.statistic = std::max(0.0, before.effective_residuals * std::log(before.baseline.final_cost / refit.fit.final_cost));
-  c.threshold = chi_square_quantile(1.0 - settings.level, c.df);
   c.verdict = verdict(c, refit, c.reason);
   const Model<double> model = with.model();
   c.train_stator_rmse_k = stator_rmse(model, refit.fit.values, dataset, split.train, settings.threads);

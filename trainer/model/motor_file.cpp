@@ -11,11 +11,18 @@
 namespace lptn {
 namespace {
 
+// The error is one line (motor_file.hpp), but toml++'s descriptions quote the character they
+// stopped at, a newline too, and a quoted key may hold one.
+std::string one_line(std::string message) {
+  std::replace_if(message.begin(), message.end(), [](char c) { return c == '\n' || c == '\r'; }, ' ');
+  return message;
+}
+
 [[noreturn]] void fail(const std::filesystem::path& file, const toml::source_region& where, std::string_view key,
                        std::string_view reason) {
   std::ostringstream s;
   s << file.string() << ':' << where.begin.line << ": key '" << key << "': " << reason;
-  throw MotorFileError(s.str());
+  throw MotorFileError(one_line(s.str()));
 }
 
 // Reads a table's keys, refusing any it does not know and naming any required key that is missing.
@@ -137,7 +144,7 @@ MotorFile parse_motor_file(const std::string& text, const std::filesystem::path&
   } catch (const toml::parse_error& e) {
     std::ostringstream s;
     s << shown_as.string() << ':' << e.source().begin.line << ": " << e.description();
-    throw MotorFileError(s.str());
+    throw MotorFileError(one_line(s.str()));
   }
   MotorFile motor;
   motor.path = shown_as;

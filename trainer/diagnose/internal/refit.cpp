@@ -33,11 +33,8 @@ std::string imprecise(const LmReport& fit, int i) {
 
 }  // namespace
 
-Refit refit_with(const MotorFile& with_effect, int effect, const LmReport& baseline, const data::Dataset& dataset,
+Refit refit_with(const MotorFile& with_effect, int effect, const ParamVector<double>& start, const data::Dataset& dataset,
                  const std::vector<std::size_t>& train, const LmSettings& settings, const LmProgress& progress) {
-  ParamVector<double> start = baseline.values;
-  for (int i = 0; i < kNumParams; ++i)
-    if (effect_of_param(i) == effect) start[i] = with_effect.parameters[static_cast<std::size_t>(i)].initial;
   Refit out;
   out.fit = fit_lm(with_effect, start, dataset, train, settings, progress);
   for (int i : FreeParameters::from_motor(with_effect).index) {

@@ -15,9 +15,10 @@ struct Refit {
   std::string imprecise;   // a standard error beyond the value (or none at all)
 };
 
-// fit_lm of `with_effect` (the calibrated motor with `effect` switched on) from the baseline's
-// values and the effect's initial ones.
-Refit refit_with(const MotorFile& with_effect, int effect, const LmReport& baseline, const data::Dataset& dataset,
+// fit_lm of `with_effect` (the calibrated motor with `effect` switched on) from `start`: the
+// baseline's values with the effect's where the score test's Gauss-Newton step puts them (from
+// the motor file's initial guess, a refit of a few iterations can end worse than the baseline).
+Refit refit_with(const MotorFile& with_effect, int effect, const ParamVector<double>& start, const data::Dataset& dataset,
                  const std::vector<std::size_t>& train, const LmSettings& settings, const LmProgress& progress);
 
 }  // namespace lptn::diagnose::internal

@@ -1,6 +1,7 @@
 #include "trainer/diagnose/internal/score_test.hpp"
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
 
 #include "trainer/diagnose/internal/effect_notes.hpp"
@@ -64,7 +65,15 @@ Score score_test(const MotorFile& with_effect, int effect, const LmReport& basel
   Score out;
   out.rss_k2 = ne.rss;
   out.residuals = ne.residuals;
+  out.predicted = baseline.values;
   if (!step_feasible(free, at, -delta, effect)) return out;
+  out.feasible = true;
+  // The step's end for the effect's parameters (linear coordinates, see linear_in_effect), in bounds.
+  for (std::size_t j = 0; j < free.size(); ++j) {
+    const int i = free.index[j];
+    if (effect_of_param(i) == effect)
+      out.predicted[i] = std::clamp(at[i] - delta(static_cast<Eigen::Index>(j)), free.min[j], free.max[j]);
+  }
   out.reduction_k2 = std::max(0.0, g.dot(delta));
   std::size_t fitted_before = 0;  // the baseline's free parameters: all but the effect's
   for (int i : free.index) fitted_before += effect_of_param(i) != effect;

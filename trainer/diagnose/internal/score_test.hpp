@@ -14,6 +14,11 @@ struct Score {
   double reduction_k2 = 0;  // g' (J'J)^-1 g: the fall of the RSS one Gauss-Newton step predicts
   double rss_k2 = 0;        // at the evaluation point
   std::size_t residuals = 0;
+  // Whether the Gauss-Newton step moves the effect into its bounds. Where it does not, the data
+  // pull the effect below its neutral value: the constrained fit stays there (to first order) and
+  // the likelihood ratio is 0, so no refit is needed.
+  bool feasible = false;
+  ParamVector<double> predicted{};  // the calibrated values with the effect's where the step puts them
 };
 
 // `with_effect` is the calibrated motor with `effect` switched on; `baseline` the fit of the
