@@ -43,7 +43,7 @@ echo "      only $loop/fleet/truth.json says so"
 "$lptn" generate --out "$loop/fleet" --cycles 6 --seed 2 --hidden windage --minutes-min 30 --minutes-max 45 --force
 echo "-- 8a. calibrate the paper's model (LM)"
 "$lptn" calibrate --data "$loop/fleet" --motor "$loop/fleet/motor.toml" --method lm --seed 1 \
-  --out "$loop/calibrations/1-paper.json" --force --quiet
+  --out "$loop/calibrations/1-paper.json" --force
 echo "-- 8b. diagnose: which effect of the library is missing?"
 "$lptn" diagnose --data "$loop/fleet" --calibration "$loop/calibrations/1-paper.json" \
   --json-out "$loop/diagnosis-1.json" --force --quiet
@@ -56,7 +56,7 @@ print(c[0] if c else "")' "$loop/diagnosis-1.json")
 if [ -z "$effect" ]; then echo "demo: the diagnosis found no significant effect" >&2; exit 1; fi
 echo "-- 8c. add $effect and recalibrate"
 "$lptn" calibrate --data "$loop/fleet" --motor "$loop/fleet/motor.toml" --method lm --seed 1 --effect "$effect" \
-  --out "$loop/calibrations/2-$effect.json" --force --quiet
+  --out "$loop/calibrations/2-$effect.json" --force
 echo "-- 8d. diagnose again, and the report after"
 "$lptn" diagnose --data "$loop/fleet" --calibration "$loop/calibrations/2-$effect.json" \
   --json-out "$loop/diagnosis-2.json" --force --quiet
