@@ -25,6 +25,7 @@
 
 #include LPTN_CALIBRATION_HEADER  // firmware/CMakeLists.txt: an `lptn export`
 #include "atomic_file.hpp"
+#include "line_reader.hpp"
 #include "estimate_csv.hpp"
 #include "lptn/firmware/exported_calibration.hpp"
 #include "lptn/firmware/output_frames.hpp"
@@ -157,8 +158,7 @@ int run_replay(const Options& o) {
 // to the log's first frame), for the timer loop's --log mode.
 class PacedLog {
  public:
-  explicit PacedLog(std::FILE* f, const char* name) : f_(f), name_(name) { advance(); }
-  ~PacedLog() { std::free(buf_); }
+  explicit PacedLog(std::FILE* f, const char* name) : f_(f), reader_(f), name_(name) { advance(); }
   bool done() const { return !have_; }
   TimeUs last_delivered() const { return last_; }
   template <class Deliver>
@@ -174,25 +174,24 @@ class PacedLog {
   void advance() {
     have_ = false;
     if (!f_) return;
-    ssize_t n;
-    while ((n = getline(&buf_, &cap_, f_)) != -1) {
-      ++line_;
-      std::string_view line(buf_, static_cast<std::size_t>(n));
-      if (!line.empty() && line.back() == '\n') line.remove_suffix(1);
-      if (line.empty()) continue;
-      if (const char* why = lptn::fw::parse_candump_line(line, rec_)) {
-        std::fprintf(stderr, "%s:%zu: %s (line skipped)\n", name_, line_, why);
+    std::string_view line;
+    for (lptn::fw::LineReader::Status status; (status = reader_.next(line)) != lptn::fw::LineReader::Status::end;) {
+      const char* why = status == lptn::fw::LineReader::Status::too_long
+                            ? "line longer than 512 bytes, not a candump line"
+                            : line.empty() ? nullptr : lptn::fw::parse_candump_line(line, rec_);
+      if (why) {
+        std::fprintf(stderr, "%s:%zu: %s (line skipped)\n", name_, reader_.line_number(), why);
         continue;
       }
+      if (line.empty()) continue;
       if (first_ < 0) first_ = rec_.time_us;
       have_ = true;
       return;
     }
   }
   std::FILE* f_;
+  lptn::fw::LineReader reader_;
   const char* name_;
-  char* buf_ = nullptr;
-  std::size_t cap_ = 0, line_ = 0;
   lptn::fw::CandumpRecord rec_;
   TimeUs first_ = -1, last_ = 0;
   bool have_ = false;

@@ -1,6 +1,7 @@
 #include "replay.hpp"
 
-#include <cstdlib>
+#include "line_reader.hpp"
+
 #include <string_view>
 
 namespace lptn::fw {
@@ -20,13 +21,15 @@ ReplayStats replay_candump(std::FILE* log, Estimator<double>& estimator, const R
     next_tick += dt_us;
   };
 
-  char* buf = nullptr;
-  std::size_t cap = 0;
-  ssize_t n;
-  while ((n = getline(&buf, &cap, log)) != -1) {
+  LineReader reader(log);
+  std::string_view line;
+  for (LineReader::Status status; (status = reader.next(line)) != LineReader::Status::end;) {
     ++stats.lines;
-    std::string_view line(buf, static_cast<std::size_t>(n));
-    if (!line.empty() && line.back() == '\n') line.remove_suffix(1);
+    if (status == LineReader::Status::too_long) {
+      ++stats.bad_lines;
+      if (sinks.bad_line) sinks.bad_line(stats.lines, "line longer than 512 bytes, not a candump line");
+      continue;
+    }
     if (line.empty()) continue;
     CandumpRecord rec;
     if (const char* why = parse_candump_line(line, rec)) {
@@ -49,7 +52,6 @@ ReplayStats replay_candump(std::FILE* log, Estimator<double>& estimator, const R
     ++stats.frames;
     if (sinks.progress && stats.frames % sinks.progress_every == 0) sinks.progress(stats);
   }
-  std::free(buf);
   if (started)
     while (next_tick <= stats.last_us) tick();
   return stats;

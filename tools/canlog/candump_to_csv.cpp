@@ -4,14 +4,16 @@
 #include <charconv>
 #include <cmath>
 #include <cstdint>
-#include <fstream>
+#include <cstdio>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <string>
 #include <type_traits>
 #include <vector>
 
 #include "candump_log.hpp"
+#include "line_reader.hpp"
 #include "tools/canlog/bus_channels.hpp"
 #include "tools/canlog/convert.hpp"
 
@@ -116,6 +118,8 @@ class CsvBuilder {
     }
     take(rec.time_us, d.values);
   }
+
+  void line_too_long(std::size_t number) { line_warning(number, "line longer than 512 bytes, not a candump line"); }
 
   Converted finish() {
     if (rows_.empty())
@@ -228,12 +232,17 @@ class CsvBuilder {
 }  // namespace
 
 Converted csv_from_candump(const fs::path& log) {
-  std::ifstream in(log, std::ios::binary);
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> in(std::fopen(log.c_str(), "rb"), &std::fclose);
   if (!in) throw ConvertError(log.string() + ": cannot open for reading");
   CsvBuilder builder(log);
-  std::string text;
-  for (std::size_t number = 1; std::getline(in, text); ++number) builder.line(text, number);
-  if (in.bad()) throw ConvertError(log.string() + ": read error");
+  // A bounded reader: a corrupt log with one endless line costs no memory.
+  fw::LineReader reader(in.get());
+  std::string_view text;
+  for (fw::LineReader::Status status; (status = reader.next(text)) != fw::LineReader::Status::end;) {
+    if (status == fw::LineReader::Status::too_long) builder.line_too_long(reader.line_number());
+    else builder.line(text, reader.line_number());
+  }
+  if (std::ferror(in.get())) throw ConvertError(log.string() + ": read error");
   return builder.finish();
 }
 

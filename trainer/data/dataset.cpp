@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstring>
 #include <fstream>
 #include <limits>
 #include <set>
@@ -55,6 +56,10 @@ void check(const LoadOptions& o) {
   if (!(o.min_segment_s >= 0)) throw std::invalid_argument("LoadOptions: min_segment_s must be zero or positive");
 }
 
+// Read in chunks, each scanned for line ends as it arrives: a file with an endless line (corrupt,
+// or not a CSV at all) is refused after its first megabyte instead of being read whole.
+constexpr std::size_t kMaxLineBytes = std::size_t{1} << 20;
+
 std::string read_whole_file(const fs::path& file) {
   std::error_code ec;
   if (!fs::is_regular_file(file, ec)) {
@@ -62,13 +67,32 @@ std::string read_whole_file(const fs::path& file) {
   }
   std::ifstream in(file, std::ios::binary);
   if (!in) throw DataError(file.string() + ": cannot open for reading");
-  in.seekg(0, std::ios::end);
-  const std::streamoff size = in.tellg();
-  in.seekg(0, std::ios::beg);
-  std::string text(static_cast<std::size_t>(std::max<std::streamoff>(size, 0)), '\0');
-  if (!in.read(text.data(), static_cast<std::streamsize>(text.size()))) {
-    throw DataError(file.string() + ": read error");
+  const auto size = fs::file_size(file, ec);
+  std::string text;
+  constexpr std::size_t kChunk = std::size_t{4} << 20;
+  // Reserved, not touched (costs nothing if refused early); a chunk beyond, so the last read's
+  // resize does not reallocate.
+  if (!ec) text.reserve(static_cast<std::size_t>(size) + kChunk);
+  std::size_t line_start = 0, lines = 0;
+  for (;;) {
+    const std::size_t at = text.size();
+    text.resize(at + kChunk);
+    in.read(text.data() + at, static_cast<std::streamsize>(kChunk));
+    const auto got = static_cast<std::size_t>(in.gcount());
+    text.resize(at + got);
+    const char* const end = text.data() + text.size();
+    for (const char* p = text.data() + at; p < end; ++p) {
+      p = static_cast<const char*>(std::memchr(p, '\n', static_cast<std::size_t>(end - p)));
+      if (p == nullptr) break;
+      line_start = static_cast<std::size_t>(p - text.data()) + 1;
+      ++lines;
+    }
+    if (text.size() - line_start > kMaxLineBytes)
+      throw DataError(file.string() + ":" + std::to_string(lines + 1) +
+                      ": line longer than 1 MiB (a fleet-dump row is a few hundred bytes): not a CSV, or a broken file");
+    if (got < kChunk) break;
   }
+  if (in.bad()) throw DataError(file.string() + ": read error");
   return text;
 }
 

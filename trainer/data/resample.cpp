@@ -43,16 +43,30 @@ Series merge_duplicates(const RawCycle& raw, Channel c) {
   s.first_line.reserve(ch.rows.size());
   s.last_line.reserve(ch.rows.size());
   std::size_t group = 0;  // samples merged into s.v.back() so far
+  bool group_conflicts = false;
   for (std::size_t i = 0; i < ch.rows.size(); ++i) {
     const double t = raw.time[ch.rows[i]];
     const std::uint32_t line = raw.line[ch.rows[i]];
     if (!s.t.empty() && t == s.t.back()) {
+      if (group == 1) ++s.repeated;
+      const double first = ch.values[i - group];
+      if (!group_conflicts && ch.values[i] != first) {
+        group_conflicts = true;
+        if (s.conflicting++ == 0) {
+          s.conflict_t = t;
+          s.conflict_a = first;
+          s.conflict_b = ch.values[i];
+          s.conflict_line_a = s.first_line.back();
+          s.conflict_line_b = line;
+        }
+      }
       // Running mean rather than sum/count so the common no-duplicate case needs no second pass.
       ++group;
       s.v.back() += (ch.values[i] - s.v.back()) / static_cast<double>(group);
       s.last_line.back() = line;
     } else {
       group = 1;
+      group_conflicts = false;
       s.t.push_back(t);
       s.v.push_back(ch.values[i]);
       s.first_line.push_back(line);
@@ -131,6 +145,19 @@ Dataset assemble(RawCycle&& raw, const LoadOptions& options) {
 
     const Series s = merge_duplicates(raw, c);
     raw.channels[i] = RawChannel{true, {}, {}};  // the grid copy replaces it; keep the peak down
+    // The contract lets time stamps repeat (rows need only be non-decreasing), so readings of one
+    // instant are averaged; readings that disagree usually mean a logger fault, so they are named.
+    if (s.conflicting > 0) {
+      warn(strf("%s: column '%s': %zu time stamps carry differing readings, each averaged; the first at t=%s s: %s on "
+                "line %u, %s on line %u (two readings of one instant: a logger fault?)",
+                where.c_str(), cname(c).c_str(), s.conflicting, num(s.conflict_t).c_str(), num(s.conflict_a).c_str(),
+                static_cast<unsigned>(s.conflict_line_a), num(s.conflict_b).c_str(),
+                static_cast<unsigned>(s.conflict_line_b)));
+    } else if (s.repeated > 0) {
+      rep.findings.push_back({Finding::Severity::info,
+                              strf("%s: column '%s': %zu time stamps repeated with the same reading; merged", where.c_str(),
+                                   cname(c).c_str(), s.repeated)});
+    }
     if (s.t.empty()) {
       grid[i].assign(steps, kNaN);
       continue;

@@ -1,7 +1,9 @@
 #include "trainer/io/atomic_output.hpp"
 
+#include <signal.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <fstream>
 #include <stdexcept>
 #include <system_error>
@@ -10,17 +12,47 @@ namespace lptn {
 namespace fs = std::filesystem;
 
 namespace {
+std::string temp_prefix_for(const fs::path& target) {
+  // Appended piece by piece: GCC 12 warns falsely (-Wrestrict) on "literal" + std::string chains.
+  std::string name(".");
+  name.append(target.filename().string()).append(".tmp-");
+  return name;
+}
+
 fs::path temp_name_for(const fs::path& target) {
   fs::path dir = target.parent_path();
   if (dir.empty()) dir = ".";
-  // Appended piece by piece: GCC 12 warns falsely (-Wrestrict) on "literal" + std::string chains.
-  std::string name(".");
-  name.append(target.filename().string()).append(".tmp-").append(std::to_string(::getpid()));
-  return dir / name;
+  return dir / (temp_prefix_for(target) + std::to_string(::getpid()));
+}
+
+// A process killed outright (SIGKILL, power loss) leaves its temporary behind; the next writer of
+// the same target removes those whose process is gone, so that kills do not pile them up.
+void remove_stale_temporaries(const fs::path& target) {
+  fs::path dir = target.parent_path();
+  if (dir.empty()) dir = ".";
+  const std::string prefix = temp_prefix_for(target);
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(dir, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (name.rfind(prefix, 0) != 0) continue;
+    std::size_t used = 0;
+    long pid = 0;
+    try {
+      pid = std::stol(name.substr(prefix.size()), &used);
+    } catch (const std::exception&) {
+      continue;
+    }
+    const std::string rest = name.substr(prefix.size() + used);
+    if (pid <= 0 || pid == ::getpid() || !(rest.empty() || rest == ".old")) continue;
+    if (::kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH) continue;  // alive, or not ours to judge
+    std::error_code ignored;
+    fs::remove_all(entry.path(), ignored);
+  }
 }
 }  // namespace
 
 void write_file_atomically(const fs::path& path, const std::string& text) {
+  remove_stale_temporaries(path);
   const fs::path temp = temp_name_for(path);
   {
     std::ofstream out(temp, std::ios::binary | std::ios::trunc);
@@ -46,6 +78,7 @@ AtomicDirectory::AtomicDirectory(fs::path target, bool replace) : target_(std::m
   if (target_.filename().empty()) target_ = target_.parent_path();  // "out/" -> "out"
   if (fs::exists(target_) && !(fs::is_directory(target_) && fs::is_empty(target_)) && !replace_)
     throw std::invalid_argument(target_.string() + ": exists and is not empty (use --force to replace it)");
+  remove_stale_temporaries(target_);
   temp_ = temp_name_for(target_);
   fs::remove_all(temp_);
   fs::create_directories(temp_);

@@ -35,6 +35,11 @@ RawCycle parse_csv(std::string_view text, const std::filesystem::path& file);
 struct Series {
   std::vector<double> t, v;
   std::vector<std::uint32_t> first_line, last_line;  // of the rows merged into each sample
+  // Time stamps that carried more than one reading (merged into their mean), and how many of
+  // those disagreed; the first disagreement for the message: its time, lines and readings.
+  std::size_t repeated = 0, conflicting = 0;
+  double conflict_t = 0, conflict_a = 0, conflict_b = 0;
+  std::uint32_t conflict_line_a = 0, conflict_line_b = 0;
 };
 Series merge_duplicates(const RawCycle& raw, Channel c);
 
