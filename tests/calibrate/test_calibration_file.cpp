@@ -248,8 +248,11 @@ TEST(CalibrationFile, ParametersOfEffectsItDoesNotEnableMayBeAbsent) {
   EXPECT_EQ(r.parameters[p].name, param_spec(p).name);
   EXPECT_EQ(r.parameters[p].value, param_spec(p).initial);
   EXPECT_FALSE(r.parameters[p].calibrated);
-  for (int i = 0; i < kNumParams; ++i)
-    if (i != p) EXPECT_EQ(r.parameters[i].value, sample.parameters[i].value) << param_spec(i).name;
+  for (int i = 0; i < kNumParams; ++i) {
+    if (i != p) {
+      EXPECT_EQ(r.parameters[i].value, sample.parameters[i].value) << param_spec(i).name;
+    }
+  }
 
   // Not so for an effect the file enables.
   j = to_json(sample);
