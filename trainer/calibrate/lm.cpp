@@ -18,32 +18,56 @@ namespace {
 
 constexpr int kOffsets = 2;  // per cycle: the stator core's and the rotor core's initial offset
 
-// One cycle's residuals as a function of the free parameters' internal coordinates (block 0) and
-// the cycle's initial offsets (block 1). The Jacobian comes from running the same simulation with
-// ceres::Jet<double, N> (N >= free parameters + 2): derivatives propagate exactly through
-// assembly, LU and both SDIRK stages.
+// One cycle's residuals, as Ceres sees them: compressed to the cycle's contribution to the normal
+// equations, so that memory does not grow with the data (a 200 h fleet dump has 14 million grid
+// residuals; their Jacobian alone would need tens of gigabytes).
+//
+// With J (m x M) and r the cycle's grid residuals and their Jacobian in the M = free parameters +
+// 2 offsets, and J^T J = V diag(lambda) V^T, the block presents M + 1 residuals:
+//     r~_k = v_k^T J^T r / sqrt(lambda_k)   with Jacobian row sqrt(lambda_k) v_k^T   (lambda_k > 0)
+//     e    = sqrt(r^T r - |r~|^2)           with Jacobian row 0
+// Then |r~|^2 + e^2 = r^T r, J~^T J~ = J^T J and J~^T r~ = J^T r: the cost, the gradient and the
+// Gauss-Newton model are those of the full residuals, so Levenberg-Marquardt takes the same steps,
+// while J^T J, J^T r and r^T r are summed as the simulation runs and nothing per step is kept.
+// Where Ceres asks for the cost only, the block presents (sqrt(r^T r), 0, ..., 0).
+//
+// The derivatives come from running the same simulation with ceres::Jet<double, N> (N >= M):
+// they propagate exactly through assembly, LU and both SDIRK stages.
+class CycleBlock : public ceres::CostFunction {
+ public:
+  // Grid points with a measurement (the residuals before compression).
+  std::size_t measured() const { return measured_; }
+
+ protected:
+  std::size_t measured_ = 0;
+};
+
 template <int N>
-class CycleResiduals final : public ceres::CostFunction {
+class CycleResiduals final : public CycleBlock {
  public:
   CycleResiduals(const Model<double>& model, const data::Cycle& cycle, const FreeParameters& free,
                  const ParamVector<double>& fixed, std::size_t max_steps)
       : model_(model), cycle_(cycle), free_(free), fixed_(fixed), max_steps_(std::min(max_steps, cycle.steps)) {
-    int count = 0;
     for (std::size_t k = 1; k < max_steps_; ++k)
-      count += measured(k, data::Channel::stator_winding_c) + measured(k, data::Channel::rotor_c);
-    set_num_residuals(count);
+      measured_ += static_cast<std::size_t>(measured(k, data::Channel::stator_winding_c)) +
+                   static_cast<std::size_t>(measured(k, data::Channel::rotor_c));
+    set_num_residuals(static_cast<int>(columns()) + 1);
     mutable_parameter_block_sizes()->push_back(static_cast<int>(free.size()));
     mutable_parameter_block_sizes()->push_back(kOffsets);
   }
 
   bool Evaluate(double const* const* blocks, double* residuals, double** jacobians) const override {
-    const std::size_t nf = free_.size();
+    const std::size_t nf = free_.size(), m = columns();
     const double* theta = blocks[0];
     const double* offset = blocks[1];
+    std::fill(residuals, residuals + m + 1, 0.0);
     if (jacobians == nullptr || (jacobians[0] == nullptr && jacobians[1] == nullptr)) {
       ParamVector<double> p = fixed_;
       for (std::size_t j = 0; j < nf; ++j) p[free_.index[j]] = free_.to_physical(j, theta[j]);
-      return fill(p, InitialOffsets<double>{offset[0], offset[1]}, [&](std::size_t r, const double& e) { residuals[r] = e; });
+      double rss = 0;
+      const bool ok = fill(p, InitialOffsets<double>{offset[0], offset[1]}, [&](const double& e) { rss += e * e; });
+      residuals[0] = std::sqrt(rss);
+      return ok;
     }
     using Jet = ceres::Jet<double, N>;
     ParamVector<Jet> p;
@@ -54,16 +78,48 @@ class CycleResiduals final : public ceres::CostFunction {
       p[free_.index[j]].v[static_cast<int>(j)] = free_.slope(j, value);  // chain rule into internal coordinates
     }
     const InitialOffsets<Jet> start{Jet(offset[0], static_cast<int>(nf)), Jet(offset[1], static_cast<int>(nf) + 1)};
-    return fill(p, start, [&](std::size_t r, const Jet& e) {
-      residuals[r] = e.a;
-      if (jacobians[0] != nullptr)
-        for (std::size_t j = 0; j < nf; ++j) jacobians[0][r * nf + j] = e.v[static_cast<int>(j)];
-      if (jacobians[1] != nullptr)
-        for (int j = 0; j < kOffsets; ++j) jacobians[1][r * kOffsets + static_cast<std::size_t>(j)] = e.v[static_cast<int>(nf) + j];
+    const auto mm = static_cast<Eigen::Index>(m);
+    Eigen::MatrixXd jtj = Eigen::MatrixXd::Zero(mm, mm);  // lower triangle summed; the solver reads only that
+    Eigen::VectorXd jtr = Eigen::VectorXd::Zero(mm);
+    double rss = 0;
+    const bool ok = fill(p, start, [&](const Jet& e) {
+      for (Eigen::Index a = 0; a < mm; ++a) {
+        const double da = e.v[a];
+        if (da == 0) continue;
+        jtr(a) += da * e.a;
+        for (Eigen::Index b = 0; b <= a; ++b) jtj(a, b) += da * e.v[b];
+      }
+      rss += e.a * e.a;
     });
+    if (!ok) return false;
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(jtj);  // Lower: the default
+    const Eigen::VectorXd& lambda = eig.eigenvalues();
+    const double floor = 1e-14 * std::max(lambda.maxCoeff(), 0.0);
+    double kept = 0;
+    for (Eigen::Index k = 0; k < mm; ++k) {
+      const auto row = static_cast<std::size_t>(k);
+      const double l = lambda(k);
+      const bool informative = l > floor && l > 0;
+      const Eigen::VectorXd v = eig.eigenvectors().col(k);
+      if (informative) {
+        residuals[row] = v.dot(jtr) / std::sqrt(l);
+        kept += residuals[row] * residuals[row];
+      }
+      const double scale = informative ? std::sqrt(l) : 0.0;
+      if (jacobians[0] != nullptr)
+        for (std::size_t j = 0; j < nf; ++j) jacobians[0][row * nf + j] = scale * v(static_cast<Eigen::Index>(j));
+      if (jacobians[1] != nullptr)
+        for (int j = 0; j < kOffsets; ++j)
+          jacobians[1][row * kOffsets + static_cast<std::size_t>(j)] = scale * v(static_cast<Eigen::Index>(nf) + j);
+    }
+    residuals[m] = std::sqrt(std::max(0.0, rss - kept));
+    if (jacobians[0] != nullptr) std::fill(jacobians[0] + m * nf, jacobians[0] + (m + 1) * nf, 0.0);
+    if (jacobians[1] != nullptr) std::fill(jacobians[1] + m * kOffsets, jacobians[1] + (m + 1) * kOffsets, 0.0);
+    return true;
   }
 
  private:
+  std::size_t columns() const { return free_.size() + kOffsets; }
   bool measured(std::size_t k, data::Channel c) const { return !std::isnan(cycle_.at(c, k)); }
 
   // Runs the cycle and hands each residual (model - measured) to `put` in a fixed order: per grid
@@ -71,15 +127,14 @@ class CycleResiduals final : public ceres::CostFunction {
   // state, which starts at the measurement by construction.) False if the numbers left finite.
   template <class T, class Put>
   bool fill(const ParamVector<T>& p, const InitialOffsets<T>& start, Put&& put) const {
-    std::size_t r = 0;
     bool finite = true;
     run_cycle(model_, p.data(), cycle_, [&](std::ptrdiff_t k, const T* x) {
       if (k < 0) return;
       const auto grid = static_cast<std::size_t>(k + 1);
       const float ys = cycle_.at(data::Channel::stator_winding_c, grid);
       const float yr = cycle_.at(data::Channel::rotor_c, grid);
-      if (!std::isnan(ys)) put(r++, model_.stator_sensor(x) - T(ys));
-      if (!std::isnan(yr)) put(r++, model_.rotor_sensor(x) - T(yr));
+      if (!std::isnan(ys)) put(model_.stator_sensor(x) - T(ys));
+      if (!std::isnan(yr)) put(model_.rotor_sensor(x) - T(yr));
       finite = finite && std::isfinite(value_of(x[0]));
     }, start, max_steps_);
     return finite;
@@ -93,7 +148,7 @@ class CycleResiduals final : public ceres::CostFunction {
 };
 
 // The smallest Jet that carries `n` derivatives.
-ceres::CostFunction* make_residuals(const Model<double>& model, const data::Cycle& cycle, const FreeParameters& free,
+CycleBlock* make_residuals(const Model<double>& model, const data::Cycle& cycle, const FreeParameters& free,
                                     const ParamVector<double>& fixed, std::size_t max_steps) {
   const std::size_t n = free.size() + kOffsets;
   if (n <= 4) return new CycleResiduals<4>(model, cycle, free, fixed, max_steps);
@@ -221,12 +276,12 @@ LmReport fit_lm(const MotorFile& motor, const ParamVector<double>& start, const 
   report.offsets.assign(cycles.size(), InitialOffsets<double>{});
   std::vector<std::array<double, kOffsets>> offsets(cycles.size(), {0.0, 0.0});
   for (std::size_t i = 0; i < cycles.size(); ++i) {
-    ceres::CostFunction* cost = make_residuals(model, dataset.cycles[cycles[i]], free, start, SIZE_MAX);
-    if (cost->num_residuals() == 0) {
+    CycleBlock* cost = make_residuals(model, dataset.cycles[cycles[i]], free, start, SIZE_MAX);
+    if (cost->measured() == 0) {
       delete cost;
       continue;
     }
-    report.residuals += static_cast<std::size_t>(cost->num_residuals());
+    report.residuals += cost->measured();
     problem.AddResidualBlock(cost, nullptr, theta.data(), offsets[i].data());
     for (int j = 0; j < kOffsets; ++j) {
       problem.SetParameterLowerBound(offsets[i].data(), j, -kOffsetBoundK);
@@ -322,10 +377,10 @@ NormalEquations normal_equations(const Model<double>& model, const FreeParameter
   NormalEquations out;
   for (std::size_t i = 0; i < cycles.size(); ++i) {
     offset[i] = {offsets[i].stator_core, offsets[i].rotor_core};
-    ceres::CostFunction* cost = make_residuals(model, dataset.cycles[cycles[i]], free, at, SIZE_MAX);
-    out.residuals += static_cast<std::size_t>(cost->num_residuals());
+    CycleBlock* cost = make_residuals(model, dataset.cycles[cycles[i]], free, at, SIZE_MAX);
+    out.residuals += cost->measured();
     // A cycle without measurements has no residual block, and its offsets no columns.
-    if (cost->num_residuals() == 0) {
+    if (cost->measured() == 0) {
       delete cost;
       continue;
     }
@@ -361,8 +416,8 @@ InitialOffsets<double> estimate_initial_offsets(const Model<double>& model, cons
   double unused = params[0];
   const auto steps = static_cast<std::size_t>(std::max(2.0, window_s / cycle.dt_s));
   ceres::Problem problem;
-  ceres::CostFunction* cost = make_residuals(model, cycle, held, params, steps);
-  if (cost->num_residuals() == 0) {
+  CycleBlock* cost = make_residuals(model, cycle, held, params, steps);
+  if (cost->measured() == 0) {
     delete cost;
     return {};
   }
