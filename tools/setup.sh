@@ -17,6 +17,7 @@ HOST=(
   libgtest-dev libgmock-dev googletest libbenchmark-dev # tests and benchmarks; googletest's sources are built for aarch64
   libcli11-dev libtomlplusplus-dev nlohmann-json3-dev   # command line, motor files, JSON
   libjs-dygraphs                                        # lptn report's charts, embedded at build time
+  time                                                  # GNU time: tools/bench-scale.sh's peak memory
 )
 CROSS=(
   g++-aarch64-linux-gnu qemu-user-static                # aarch64 Linux; tests run under qemu-aarch64-static
