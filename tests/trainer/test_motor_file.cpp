@@ -68,6 +68,21 @@ TEST(MotorFile, RoundTripsThroughItsOwnFormat) {
   EXPECT_DOUBLE_EQ(back.constants.iron_rated_w, m.constants.iron_rated_w);
 }
 
+// What the parser accepts, the writer writes back exactly: any name (quotes, backslashes, control
+// characters), and every number to the last bit (the calibration rebuilds its model from the text).
+TEST(MotorFile, WritesBackAnyNameAndEveryNumberExactly) {
+  MotorFile m = parse_motor_file(example_text(), "motor.toml");
+  m.name = "say \"hi\" \\ tab\there\nnewline \x7f unicode \xc3\xa9";
+  m.parameters[kLambda1s] = {1.0 + 0.1 + 0.2, 1.0 / 3.0, 1e300, true, true};
+  m.constants.iron_rated_w = 1234.5678901234567;
+  const MotorFile back = parse_motor_file(format_motor_file(m), "again.toml");
+  EXPECT_EQ(back.name, m.name);
+  EXPECT_EQ(back.parameters[kLambda1s].initial, 1.0 + 0.1 + 0.2);
+  EXPECT_EQ(back.parameters[kLambda1s].min, 1.0 / 3.0);
+  EXPECT_EQ(back.parameters[kLambda1s].max, 1e300);
+  EXPECT_EQ(back.constants.iron_rated_w, m.constants.iron_rated_w);
+}
+
 struct BadCase {
   const char* what;
   std::string from, to;

@@ -1,7 +1,9 @@
 #include "trainer/model/motor_file.hpp"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -289,13 +291,33 @@ MotorFile load_motor_file(const std::filesystem::path& path) {
 }
 
 namespace {
+// The shortest text that reads back as exactly v, so that a written motor file parses to the same
+// numbers (the calibration keeps the motor's text, and the model is rebuilt from it).
 std::string num(double v) {
-  std::ostringstream s;
-  s.precision(10);
-  s << v;
-  std::string out = s.str();
+  char buf[64];
+  const auto end = std::to_chars(buf, buf + sizeof buf, v).ptr;
+  std::string out(buf, end);
   if (out.find_first_of(".eEn") == std::string::npos) out += ".0";  // keep TOML floats floats
   return out;
+}
+
+// A TOML basic string: quotes, backslashes and control characters escaped.
+std::string toml_string(std::string_view text) {
+  std::string out = "\"";
+  for (const char ch : text) {
+    const auto c = static_cast<unsigned char>(ch);
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += ch;
+    } else if (c < 0x20 || c == 0x7f) {
+      char esc[8];
+      std::snprintf(esc, sizeof esc, "\\u%04x", c);
+      out += esc;
+    } else {
+      out += ch;
+    }
+  }
+  return out + "\"";
 }
 }  // namespace
 
@@ -303,7 +325,7 @@ std::string format_motor_file(const MotorFile& motor) {
   const MotorConstants<double>& c = motor.constants;
   std::ostringstream o;
   o << "# Motor description for lptn (see README.md, 'The motor file'). Keys carry their units.\n";
-  o << "name = \"" << motor.name << "\"\n\n";
+  o << "name = " << toml_string(motor.name) << "\n\n";
   o << "[nameplate]\npole_pairs = " << c.pole_pairs << "\nrated_frequency_hz = " << num(c.rated_frequency_hz)
     << "\nrated_voltage_v = " << num(c.rated_voltage_v) << "          # line, RMS\nrated_current_a = " << num(c.rated_current_a)
     << "           # phase, RMS\nrated_power_w = " << num(c.rated_power_w) << "\n\n";
