@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -67,16 +68,33 @@ TEST_F(CalibrateCli, BadInputIsOneLineAndLeavesNothing) {
   EXPECT_FALSE(std::filesystem::exists(out));
   const Result method = run(base() + " --method sgd --out " + out.string(), t.path());
   EXPECT_EQ(method.code, 2);
+#if LPTN_WITH_TD3
   std::ofstream(t.path() / "bad.toml") << "[agent]\nhidden = -3\n";
   const Result config = run(base() + " --method td3 --config " + (t.path() / "bad.toml").string() + " --out " + out.string(), t.path());
   EXPECT_EQ(config.code, 2);
   EXPECT_NE(config.err.find("bad.toml:2: key 'agent.hidden'"), std::string::npos) << config.err;
   EXPECT_FALSE(std::filesystem::exists(out));
+#endif
   std::ofstream(out) << "keep me";
   const Result exists = run(base() + " --method lm --out " + out.string(), t.path());
   EXPECT_EQ(exists.code, 2);
   EXPECT_NE(exists.err.find("--force"), std::string::npos);
 }
+
+#if !LPTN_WITH_TD3
+// Built without libtorch (LPTN_WITH_TD3=OFF): TD3 is bad input, one line, nothing written.
+TEST_F(CalibrateCli, Td3WithoutLibtorchIsBadInput) {
+  testing::TempDir t;
+  const auto out = t.path() / "calibration.json";
+  for (const char* method : {"td3", "td3-episode"}) {
+    const Result r = run(base() + " --method " + method + " --out " + out.string(), t.path());
+    EXPECT_EQ(r.code, 2) << method;
+    EXPECT_NE(r.err.find("built without libtorch"), std::string::npos) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_FALSE(std::filesystem::exists(out));
+  }
+}
+#endif
 
 }  // namespace
 }  // namespace lptn

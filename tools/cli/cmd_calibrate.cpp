@@ -16,7 +16,9 @@
 #include "trainer/data/dataset.hpp"
 #include "trainer/diagnose/diagnose.hpp"
 #include "trainer/model/motor_file.hpp"
+#if LPTN_WITH_TD3
 #include "trainer/td3/td3_calibration.hpp"
+#endif
 
 namespace lptn::cli {
 namespace {
@@ -88,6 +90,7 @@ void run_lm(const Args& a, const MotorFile& motor, const data::Dataset& dataset,
   r.seconds = rep.seconds;
 }
 
+#if LPTN_WITH_TD3
 void run_td3(const Args& a, td3::Formulation formulation, const MotorFile& motor, const data::Dataset& dataset,
              const Split& split, CalibrationResult& r) {
   td3::TrainingSettings settings =
@@ -138,6 +141,7 @@ void run_td3(const Args& a, td3::Formulation formulation, const MotorFile& motor
   x.check_obs = o.check_obs;
   x.check_actions = o.check_actions;
 }
+#endif  // LPTN_WITH_TD3
 
 void print_metrics(const char* side, const SplitMetrics& m) {
   std::printf("%-6s stator rmse %.3f K  max %.3f K  bias %+.3f K", side, m.stator.rmse_k, m.stator.max_abs_k, m.stator.bias_k);
@@ -169,6 +173,10 @@ void add_calibrate(CLI::App& app) {
   cmd->add_flag("--quiet", a->quiet, "No progress output");
   cmd->callback([a, seed] {
     a->seed_given = seed->count() > 0;
+#if !LPTN_WITH_TD3
+    if (a->method != "lm")
+      throw BadInput("--method " + a->method + ": this lptn was built without libtorch (LPTN_WITH_TD3=OFF); only --method lm is available");
+#endif
     if (!a->force && std::filesystem::exists(a->out))
       throw BadInput(a->out + ": exists (use --force to replace it)");
     std::vector<int> added;  // checked before any file is read
@@ -209,7 +217,9 @@ void add_calibrate(CLI::App& app) {
     std::fflush(stdout);  // before the progress lines on stderr
 
     if (a->method == "lm") run_lm(*a, motor, dataset, split, r);
+#if LPTN_WITH_TD3
     else run_td3(*a, a->method == "td3" ? td3::Formulation::per_step : td3::Formulation::episode, motor, dataset, split, r);
+#endif
 
     const Model<double> model = motor.model();
     r.train = evaluate_split(model, r.values(), dataset, split.train);

@@ -8,7 +8,9 @@
 #include "trainer/calibrate/calibration_file.hpp"
 #include "trainer/data/dataset.hpp"
 #include "trainer/model/motor_file.hpp"
+#if LPTN_WITH_TD3
 #include "trainer/td3/td3_settings.hpp"
+#endif
 
 namespace {
 // Bad input of any kind: one line naming what was wrong, exit code 2.
@@ -58,8 +60,10 @@ int main(int argc, char** argv) {
     return bad_input(e);
   } catch (const lptn::MotorFileError& e) {
     return bad_input(e);
+#if LPTN_WITH_TD3
   } catch (const lptn::td3::SettingsError& e) {
     return bad_input(e);
+#endif
   } catch (const lptn::CalibrationFileError& e) {
     return bad_input(e);
   } catch (const lptn::cli::BadInput& e) {
