@@ -20,8 +20,7 @@ start=$SECONDS
 
 tools/setup.sh fuzz
 cmake --preset fuzz >/dev/null
-# One job: the build takes about a minute, and the second core stays free for whoever shares it.
-nice -n 10 cmake --build --preset fuzz -j1
+cmake --build --preset fuzz -j"$(nproc)"
 
 # Longest input per target: a CAN payload and a double; a log line; a short CSV or motor file;
 # 340 frames for the estimator.
