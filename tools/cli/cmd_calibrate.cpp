@@ -177,8 +177,7 @@ void add_calibrate(CLI::App& app) {
     if (a->method != "lm")
       throw BadInput("--method " + a->method + ": this lptn was built without libtorch (LPTN_WITH_TD3=OFF); only --method lm is available");
 #endif
-    if (!a->force && std::filesystem::exists(a->out))
-      throw BadInput(a->out + ": exists (use --force to replace it)");
+    refuse_overwrite(a->out, a->force);
     std::vector<int> added;  // checked before any file is read
     for (const std::string& name : a->effects) added.push_back(diagnose::effect_by_name(name, "--effect"));
     MotorFile motor = load_motor_file(a->motor);

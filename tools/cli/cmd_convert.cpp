@@ -110,7 +110,7 @@ void convert_file(const CLI::App& cmd, const Args& args) {
   const fs::path in(args.in), out(args.out);
   if (fs::exists(out) && fs::equivalent(in, out)) throw BadInput(args.out + ": is the input");
   if (fs::is_directory(out)) throw BadInput(args.out + ": is a directory (one input file makes one output file)");
-  if (fs::exists(out) && !args.force) throw BadInput(args.out + ": exists (use --force to replace it)");
+  refuse_overwrite(args.out, args.force);
   const bool from_log = is_candump_log(in);
   if (from_log) reject_log_options(cmd, in);
   const canlog::Converted c = convert(in, from_log, args);

@@ -74,10 +74,8 @@ void print_table(const diagnose::Diagnosis& d, double level) {
 
 void run(const Args& a) {
   if (!a.out.empty() && !a.automatic) throw BadInput("--out: only with --auto (the calibration after forward selection)");
-  if (!a.out.empty() && !a.force && std::filesystem::exists(a.out))
-    throw BadInput(a.out + ": exists (use --force to replace it)");
-  if (!a.json_out.empty() && !a.force && std::filesystem::exists(a.json_out))
-    throw BadInput(a.json_out + ": exists (use --force to replace it)");
+  refuse_overwrite(a.out, a.force);
+  refuse_overwrite(a.json_out, a.force);
   if (!(a.level > 0 && a.level < 0.5)) throw BadInput("--level: must be in (0, 0.5), got " + std::to_string(a.level));
   CalibrationResult calibration;
   try {
@@ -160,7 +158,7 @@ void add_diagnose(CLI::App& app) {
   cmd->add_option("--json-out", a->json_out, "Also write that JSON to this file (for lptn report --diagnosis)");
   cmd->add_flag("--auto", a->automatic, "Forward selection: add the best significant effect, refit, repeat until none is");
   cmd->add_option("--out", a->out, "With --auto: write the final calibration here");
-  cmd->add_flag("--force", a->force, "Replace --out if it exists");
+  cmd->add_flag("--force", a->force, "Replace --out and --json-out if they exist");
   cmd->add_flag("--quiet", a->quiet, "No progress output");
   cmd->callback([a] { run(*a); });
 }

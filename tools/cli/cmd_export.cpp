@@ -23,8 +23,7 @@ void add_export(CLI::App& app) {
   cmd->add_flag("--force", args->force, "Replace --out if it exists");
   cmd->callback([args] {
     // Checked before any work, so that a mistaken --out costs nothing and overwrites nothing.
-    if (std::filesystem::exists(args->out) && !args->force)
-      throw BadInput(args->out + ": exists (use --force to replace it)");
+    refuse_overwrite(args->out, args->force);
     try {
       const CalibrationResult calibration = load_calibration(args->calibration);
       ExportOptions options;

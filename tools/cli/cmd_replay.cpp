@@ -36,8 +36,7 @@ void add_replay(CLI::App& app) {
   cmd->add_flag("--force", args->force, "Replace --out if it exists");
   cmd->add_flag("--quiet", args->quiet, "No progress line");
   cmd->callback([args] {
-    if (std::filesystem::exists(args->out) && !args->force)
-      throw BadInput(args->out + ": exists (use --force to replace it)");
+    refuse_overwrite(args->out, args->force);
     // A bad calibration file is bad input (main.cpp reports CalibrationFileError as such).
     const auto cal = estimator_config_from(load_calibration(args->calibration), args->calibration);
     if (args->use_actor && !cal->config.actor.actor)

@@ -28,7 +28,7 @@ void add_report(CLI::App& app) {
                   "Directory of calibration JSONs for the 'History' section (default: the calibration's directory)");
   cmd->add_flag("--force", a->force, "Replace --out if it exists");
   cmd->callback([a] {
-    if (!a->force && std::filesystem::exists(a->out)) throw BadInput(a->out + ": exists (use --force to replace it)");
+    refuse_overwrite(a->out, a->force);
     if (!std::filesystem::exists(a->calibration)) throw BadInput(a->calibration + ": no such file");
     if (!a->history.empty() && !std::filesystem::is_directory(a->history))
       throw BadInput(a->history + ": not a directory");

@@ -3,6 +3,10 @@
 
 #include <CLI/CLI.hpp>
 
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+
 namespace lptn::cli {
 
 void add_generate(CLI::App& app);
@@ -20,5 +24,11 @@ void add_report(CLI::App& app);
 struct BadInput : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
+
+// An output that is there already is replaced only with --force (empty: no such output asked for).
+inline void refuse_overwrite(const std::string& path, bool force) {
+  if (!path.empty() && !force && std::filesystem::exists(path))
+    throw BadInput(path + ": exists (use --force to replace it)");
+}
 
 }  // namespace lptn::cli
