@@ -24,11 +24,12 @@
 #include <iterator>
 
 #include LPTN_CALIBRATION_HEADER  // firmware/CMakeLists.txt: an `lptn export`
-#include "atomic_file.hpp"
-#include "line_reader.hpp"
+#include "hostio/atomic_file.hpp"
+#include "hostio/line_reader.hpp"
 #include "estimate_csv.hpp"
 #include "lptn/firmware/exported_calibration.hpp"
 #include "lptn/firmware/output_frames.hpp"
+#include "lptn/version.hpp"
 #include "replay.hpp"
 #include "socketcan.hpp"
 
@@ -97,7 +98,7 @@ int parse_options(int argc, char** argv, Options& o) {
       case 'L': o.open_loop = true; break;
       case 'A': o.use_actor = true; break;
       case 'h': std::fputs(kUsage, stdout); return -1;
-      case 'V': std::printf("lptn-daemon 0.1.0 (calibration: %s, %s)\n", lptn::calibration::kMethod, lptn::calibration::kCreatedUtc); return -1;
+      case 'V': std::printf("lptn-daemon %s (calibration: %s, %s)\n", lptn::kVersion, lptn::calibration::kMethod, lptn::calibration::kCreatedUtc); return -1;
       default: return usage_error(argv[optind - 1] ? argv[optind - 1] : "bad option");
     }
   }
@@ -128,7 +129,7 @@ int run_replay(const Options& o) {
     std::fprintf(stderr, "lptn-daemon: error: %s: %s\n", o.replay.c_str(), std::strerror(errno));
     return 2;
   }
-  lptn::fw::AtomicFile csv;
+  lptn::AtomicFile csv;
   if (!csv.open(o.csv)) {
     std::fprintf(stderr, "lptn-daemon: error: %s: %s\n", o.csv.c_str(), std::strerror(errno));
     std::fclose(log);
@@ -175,8 +176,8 @@ class PacedLog {
     have_ = false;
     if (!f_) return;
     std::string_view line;
-    for (lptn::fw::LineReader::Status status; (status = reader_.next(line)) != lptn::fw::LineReader::Status::end;) {
-      const char* why = status == lptn::fw::LineReader::Status::too_long
+    for (lptn::LineReader::Status status; (status = reader_.next(line)) != lptn::LineReader::Status::end;) {
+      const char* why = status == lptn::LineReader::Status::too_long
                             ? "line longer than 512 bytes, not a candump line"
                             : line.empty() ? nullptr : lptn::fw::parse_candump_line(line, rec_);
       if (why) {
@@ -190,7 +191,7 @@ class PacedLog {
     }
   }
   std::FILE* f_;
-  lptn::fw::LineReader reader_;
+  lptn::LineReader reader_;
   const char* name_;
   lptn::fw::CandumpRecord rec_;
   TimeUs first_ = -1, last_ = 0;
@@ -222,7 +223,7 @@ int run_live(const Options& o) {
     std::fprintf(stderr, "lptn-daemon: error: %s: %s\n", o.log.c_str(), std::strerror(errno));
     return 2;
   }
-  lptn::fw::AtomicFile out;
+  lptn::AtomicFile out;
   if (log && !out.open(o.out)) {
     std::fprintf(stderr, "lptn-daemon: error: %s: %s\n", o.out.c_str(), std::strerror(errno));
     std::fclose(log);

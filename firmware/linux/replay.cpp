@@ -1,6 +1,6 @@
 #include "replay.hpp"
 
-#include "line_reader.hpp"
+#include "hostio/line_reader.hpp"
 
 #include <string_view>
 

@@ -21,7 +21,7 @@ int lines(const std::string& s) { return static_cast<int>(std::count(s.begin(), 
 
 TEST(Cli, EverySubcommandHasHelp) {
   testing::TempDir t;
-  for (const char* sub : {"generate", "inspect", "simulate", "calibrate", "export", "convert", "replay", "vcan-bench"}) {
+  for (const char* sub : {"generate", "inspect", "simulate", "calibrate", "export", "convert", "replay"}) {
     const Result r = run(std::string(sub) + " --help", t.path());
     EXPECT_EQ(r.code, 0) << sub;
     EXPECT_NE(r.out.find("--"), std::string::npos) << sub;

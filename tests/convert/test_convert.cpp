@@ -12,8 +12,8 @@
 #include <string>
 #include <vector>
 
-#include "tests/cli/run_lptn.hpp"
-#include "tests/cli/temp_dir.hpp"
+#include "../cli/run_lptn.hpp"
+#include "../cli/temp_dir.hpp"
 #include "trainer/data/dataset.hpp"
 
 namespace lptn {

@@ -4,7 +4,7 @@
 #include <cstring>
 #include <string>
 
-#include "candump_log.hpp"
+#include "firmware/linux/candump_log.hpp"
 
 namespace lptn::fw {
 namespace {

@@ -10,7 +10,7 @@
 #include <string_view>
 #include <vector>
 
-#include "candump_log.hpp"
+#include "firmware/linux/candump_log.hpp"
 #include "fuzz_check.hpp"
 
 namespace {

@@ -11,6 +11,9 @@
 #include "tools/generate/generate.hpp"
 #include "tools/generate/plant_truth.hpp"
 #include "trainer/calibrate/lm.hpp"
+#include "trainer/model/initial_offsets.hpp"
+
+#include <ceres/ceres.h>
 
 namespace lptn {
 namespace {
@@ -128,6 +131,118 @@ TEST(InitialOffsets, EstimateFindsTheUnmeasuredNodesTrueStart) {
   // not exact; it must beat the rule and stay within the sensor's noise.
   EXPECT_LT(estimate_sum, rule_sum);
   EXPECT_LT(estimate_error, 0.6);
+}
+
+// The reference for the closed form: the bounded least-squares problem solved iteratively in Ceres
+// (as the offsets were before), its Jacobian by automatic differentiation through the simulation.
+struct OffsetResiduals {
+  const Model<double>& model;
+  const ParamVector<double>& params;
+  const data::Cycle& cycle;
+  std::size_t steps;
+  template <class T>
+  bool operator()(T const* const* offsets, T* r) const {
+    std::size_t n = 0;
+    ParamVector<T> p;
+    for (int i = 0; i < kNumParams; ++i) p[i] = T(params[i]);
+    run_cycle(model, p.data(), cycle, [&](std::ptrdiff_t k, const T* x) {
+      if (k < 0) return;
+      const auto grid = static_cast<std::size_t>(k + 1);
+      const float ys = cycle.at(data::Channel::stator_winding_c, grid), yr = cycle.at(data::Channel::rotor_c, grid);
+      if (!std::isnan(ys)) r[n++] = model.stator_sensor(x) - T(ys);
+      if (!std::isnan(yr)) r[n++] = model.rotor_sensor(x) - T(yr);
+    }, InitialOffsets<T>{offsets[0][0], offsets[0][1]}, steps);
+    return true;
+  }
+};
+
+// The sum of squared residuals over the window at given offsets (the objective both minimize).
+double window_cost(const Model<double>& model, const ParamVector<double>& params, const data::Cycle& cycle,
+                   const InitialOffsets<double>& o) {
+  const std::size_t steps = static_cast<std::size_t>(600.0 / cycle.dt_s);
+  double cost = 0;
+  run_cycle(model, params.data(), cycle, [&](std::ptrdiff_t k, const double* x) {
+    if (k < 0) return;
+    const auto grid = static_cast<std::size_t>(k + 1);
+    const float ys = cycle.at(data::Channel::stator_winding_c, grid), yr = cycle.at(data::Channel::rotor_c, grid);
+    if (!std::isnan(ys)) cost += (model.stator_sensor(x) - ys) * (model.stator_sensor(x) - ys);
+    if (!std::isnan(yr)) cost += (model.rotor_sensor(x) - yr) * (model.rotor_sensor(x) - yr);
+  }, o, steps);
+  return cost;
+}
+
+InitialOffsets<double> offsets_by_ceres(const Model<double>& model, const ParamVector<double>& params,
+                                        const data::Cycle& cycle) {
+  const std::size_t steps = static_cast<std::size_t>(600.0 / cycle.dt_s);
+  std::size_t measured = 0;
+  for (std::size_t k = 1; k < std::min(steps, cycle.steps); ++k)
+    measured += static_cast<std::size_t>(!std::isnan(cycle.at(data::Channel::stator_winding_c, k))) +
+                static_cast<std::size_t>(!std::isnan(cycle.at(data::Channel::rotor_c, k)));
+  auto* cost = new ceres::DynamicAutoDiffCostFunction<OffsetResiduals, 2>(
+      new OffsetResiduals{model, params, cycle, steps});
+  cost->AddParameterBlock(2);
+  cost->SetNumResiduals(static_cast<int>(measured));
+  double o[2] = {0, 0};
+  ceres::Problem problem;
+  problem.AddResidualBlock(cost, nullptr, o);
+  for (int j = 0; j < 2; ++j) {
+    problem.SetParameterLowerBound(o, j, -kInitialOffsetBoundK);
+    problem.SetParameterUpperBound(o, j, kInitialOffsetBoundK);
+  }
+  ceres::Solver::Options options;
+  options.linear_solver_type = ceres::DENSE_QR;
+  options.function_tolerance = options.gradient_tolerance = options.parameter_tolerance = 1e-16;
+  options.max_num_iterations = 200;
+  ceres::Solver::Summary summary;
+  ceres::Solve(options, &problem, &summary);
+  return {o[0], o[1]};
+}
+
+// The closed form is the exact minimum; an iterative solver stops near it. So: never a higher
+// cost than Ceres reaches with its tolerances at their tightest, and the same point to that
+// solver's precision, on the truth and on a starting guess 18 K off (where the offsets are large).
+TEST(InitialOffsets, ClosedFormIsTheMinimumTheIterativeSolverApproaches) {
+  const Fixture& f = generated();
+  const Model<double> model = f.motor.model();
+  double worst = 0, largest = 0, worst_excess = -1;
+  for (const ParamVector<double>& params : {gen::true_parameters(), f.motor.initial_values()}) {
+    for (const data::Cycle& cycle : f.dataset.cycles) {
+      const InitialOffsets<double> closed = estimate_initial_offsets(model, params, cycle);
+      const InitialOffsets<double> ceres = offsets_by_ceres(model, params, cycle);
+      worst = std::max({worst, std::abs(closed.stator_core - ceres.stator_core), std::abs(closed.rotor_core - ceres.rotor_core)});
+      largest = std::max({largest, std::abs(closed.stator_core), std::abs(closed.rotor_core)});
+      const double c = window_cost(model, params, cycle, closed), i = window_cost(model, params, cycle, ceres);
+      worst_excess = std::max(worst_excess, (c - i) / i);
+      EXPECT_LE(c, i * (1 + 1e-12)) << cycle.name;
+    }
+  }
+  std::printf("closed form vs Ceres over 18 cycle fits: largest offset %.3f K, worst difference %.2e K, "
+              "closed form's cost minus Ceres' at most %.1e of it\n", largest, worst, worst_excess);
+  EXPECT_GT(largest, 1.0) << "offsets that matter";
+  EXPECT_LT(worst, 1e-6);
+}
+
+// A bound that holds: a cycle whose first reading is far off its true start makes the unbounded
+// offset exceed the bound, and the estimate must then be the bounded minimum, not the clamp of the
+// unbounded one (both offsets pull on the same residuals).
+TEST(InitialOffsets, AtTheBoundItIsTheBoundedMinimum) {
+  const Fixture& f = generated();
+  data::Cycle cycle = f.dataset.cycles[0];
+  for (std::size_t k = 0; k < cycle.steps; ++k) {  // every temperature reading 60 K higher after the first
+    float* s = &cycle.samples[data::index_of(data::Channel::stator_winding_c)][k];
+    if (k > 0 && !std::isnan(*s)) *s += 60.0f;
+  }
+  const Model<double> model = f.motor.model();
+  const ParamVector<double> truth = gen::true_parameters();
+  const InitialOffsets<double> closed = estimate_initial_offsets(model, truth, cycle);
+  const InitialOffsets<double> ceres = offsets_by_ceres(model, truth, cycle);
+  EXPECT_NEAR(std::max(std::abs(closed.stator_core), std::abs(closed.rotor_core)), kInitialOffsetBoundK, 1e-12);
+  const double c = window_cost(model, truth, cycle, closed), i = window_cost(model, truth, cycle, ceres);
+  std::printf("at the bound: closed form (%.6f, %.6f) K, cost %.9g; Ceres (%.6f, %.6f) K, cost %.9g\n", closed.stator_core,
+              closed.rotor_core, c, ceres.stator_core, ceres.rotor_core, i);
+  EXPECT_LE(c, i * (1 + 1e-12));
+  EXPECT_NEAR(closed.stator_core, ceres.stator_core, 1e-6);
+  EXPECT_NEAR(closed.rotor_core, ceres.rotor_core, 1e-3);  // Ceres' bounded steps crawl along the edge
 }
 
 TEST(Split, SeededFractionIsRepeatableAndNamedCyclesAreHonoured) {

@@ -8,8 +8,8 @@
 #include <regex>
 #include <string>
 
-#include "tests/cli/run_lptn.hpp"
-#include "tests/cli/temp_dir.hpp"
+#include "../cli/run_lptn.hpp"
+#include "../cli/temp_dir.hpp"
 
 namespace lptn {
 namespace {

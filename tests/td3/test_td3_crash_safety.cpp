@@ -52,22 +52,6 @@ pid_t spawn_lptn(const std::vector<std::string>& args, const fs::path& log) {
   return rc == 0 ? pid : -1;
 }
 
-// Waits for the child at most `limit`; kills it with SIGKILL at the limit. Returns its exit code,
-// or -SIGKILL where it was killed.
-int wait_or_kill(pid_t pid, std::chrono::milliseconds limit) {
-  const auto until = std::chrono::steady_clock::now() + limit;
-  int status = 0;
-  for (;;) {
-    const pid_t r = waitpid(pid, &status, WNOHANG);
-    if (r == pid) return WIFEXITED(status) ? WEXITSTATUS(status) : -WTERMSIG(status);
-    if (std::chrono::steady_clock::now() >= until) break;
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  }
-  kill(pid, SIGKILL);
-  waitpid(pid, &status, 0);
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -WTERMSIG(status);
-}
-
 // The last checkpoint, where there is one, must be whole: state.json parses and the agent file
 // it names exists. Returns its episode (0: none yet).
 int checkpoint_episode(const fs::path& dir) {
@@ -78,6 +62,55 @@ int checkpoint_episode(const fs::path& dir) {
   if (!j.is_object()) return -1;
   EXPECT_TRUE(fs::exists(dir / j.at("agent_file").get<std::string>())) << j.at("agent_file");
   return j.at("episode").get<int>();
+}
+
+// The episode of the newest checkpoint as a watcher sees it while the run goes on (0: none yet,
+// or none readable at this instant). The whole-checkpoint checks run only after a kill.
+int checkpoint_progress(const fs::path& dir) {
+  try {
+    const nlohmann::json j = nlohmann::json::parse(slurp(dir / "state.json"));
+    return j.at("episode").get<int>();
+  } catch (const std::exception&) {
+    return 0;
+  }
+}
+// Exit code of a finished child, or -SIGKILL once killed.
+int code_of(int status) { return WIFEXITED(status) ? WEXITSTATUS(status) : -WTERMSIG(status); }
+
+using Ms = std::chrono::milliseconds;
+Ms since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration_cast<Ms>(std::chrono::steady_clock::now() - t0);
+}
+
+// Watches a child: kills it (SIGKILL) once `kill_at(progress)` says so, where `progress` holds the
+// times from its start at which each new checkpoint appeared. Returns the exit code (-SIGKILL if
+// killed) and those times. A child left alone gets ten minutes.
+struct Watched {
+  int code = -1;
+  std::vector<Ms> checkpoints;  // time from the start to each new checkpoint seen
+};
+template <class KillAt>
+Watched watch(pid_t pid, const fs::path& checkpoint_dir, KillAt&& kill_at) {
+  const auto t0 = std::chrono::steady_clock::now();
+  Watched w;
+  int seen = checkpoint_progress(checkpoint_dir), status = 0;
+  while (since(t0) < std::chrono::minutes(10)) {
+    if (waitpid(pid, &status, WNOHANG) == pid) {
+      w.code = code_of(status);
+      return w;
+    }
+    const int now = checkpoint_progress(checkpoint_dir);
+    if (now > seen) {
+      seen = now;
+      w.checkpoints.push_back(since(t0));
+    }
+    if (since(t0) >= kill_at(w.checkpoints)) break;
+    std::this_thread::sleep_for(Ms(2));
+  }
+  kill(pid, SIGKILL);
+  waitpid(pid, &status, 0);
+  w.code = code_of(status);
+  return w;
 }
 
 // What an interrupted run must reproduce: the parameters and the training curve's rewards (wall
@@ -107,12 +140,17 @@ TEST(Td3CrashSafety, KilledAtRandomMomentsAndResumedItEndsWhereAnUninterruptedRu
                                     "--out", out, "--checkpoint-dir", checkpoints, "--force", "--quiet"};
   };
 
+  // The uninterrupted run, watched for how long its start-up and its episodes take here, now.
   const fs::path straight = dir.path() / "straight.json";
-  const auto t0 = std::chrono::steady_clock::now();
-  ASSERT_EQ(wait_or_kill(spawn_lptn(args(straight.string(), (dir.path() / "straight.ckpt").string()), log),
-                         std::chrono::minutes(5)), 0) << slurp(log);
-  const auto run_ms = std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - t0);
-  std::printf("uninterrupted run: %lld ms\n", static_cast<long long>(run_ms.count()));
+  const Watched first = watch(spawn_lptn(args(straight.string(), (dir.path() / "straight.ckpt").string()), log),
+                              dir.path() / "straight.ckpt", [](const std::vector<Ms>&) { return Ms::max(); });
+  ASSERT_EQ(first.code, 0) << slurp(log);
+  ASSERT_GE(first.checkpoints.size(), 3u) << "a checkpoint after every episode";
+  const Ms start_up = first.checkpoints.front();  // start-up and the first episode
+  const Ms episode((first.checkpoints.back() - first.checkpoints.front()).count() /
+                   static_cast<long long>(first.checkpoints.size() - 1));
+  std::printf("uninterrupted run: first checkpoint after %lld ms, then an episode every %lld ms\n",
+              static_cast<long long>(start_up.count()), static_cast<long long>(episode.count()));
 
   // An earlier result in the output's place: no kill may touch it, only the finished run replace it.
   const fs::path out = dir.path() / "killed.json", checkpoints = dir.path() / "killed.ckpt";
@@ -120,33 +158,43 @@ TEST(Td3CrashSafety, KilledAtRandomMomentsAndResumedItEndsWhereAnUninterruptedRu
   std::ofstream(out, std::ios::app) << "\n";  // told apart from the final result
   const std::string earlier = slurp(out);
 
-  // Random moments, the same ones on every run of the test: up to a third of a whole run, so that
-  // every attempt is killed before it could finish and each resumes from where the last one got.
+  // Random moments, the same ones on every run of the test, set by each attempt's own progress
+  // rather than by a wall time measured once, so that the schedule holds on any machine and under
+  // any load: attempts in turn are killed during start-up (at a random share of the time the last
+  // attempt took to its first new checkpoint) and within the episode after their first new
+  // checkpoint (at a random share of an episode's time). Each attempt so gets at most a couple of
+  // episodes further, and eight kills leave the 14-episode run well short of its end.
   std::mt19937 rng(20261123);
-  std::uniform_real_distribution<double> share(0.02, 1.0 / 3);
+  std::uniform_real_distribution<double> share(0.05, 0.95);
   int kills = 0, code = -1, last_episode = 0;
+  Ms to_first_checkpoint = start_up;
   std::vector<int> episodes;
   for (int attempt = 0; attempt < 40 && code != 0; ++attempt) {
     std::vector<std::string> a = args(out.string(), checkpoints.string());
     if (fs::exists(checkpoints / "state.json")) a.push_back("--resume");
-    // Six kills at least, and on until a checkpoint exists (a loaded machine may need longer: the
-    // window widens with each kill).
-    const bool kill_this_one = kills < 6 || (last_episode == 0 && kills < 20);
-    const auto moment = std::chrono::milliseconds(
-        static_cast<long long>(share(rng) * (1.0 + kills / 3.0) * static_cast<double>(run_ms.count())));
-    code = wait_or_kill(spawn_lptn(a, log), kill_this_one ? moment : std::chrono::minutes(5));
+    const bool kill_this_one = kills < 8;
+    const bool in_start_up = kills % 2 == 0;
+    const double s = share(rng);
+    const Watched w = watch(spawn_lptn(a, log), checkpoints, [&](const std::vector<Ms>& seen) {
+      if (!kill_this_one) return Ms::max();
+      if (in_start_up) return Ms(static_cast<long long>(s * static_cast<double>(to_first_checkpoint.count())));
+      if (seen.empty()) return Ms::max();
+      return seen.front() + Ms(static_cast<long long>(s * static_cast<double>(episode.count())));
+    });
+    code = w.code;
+    if (!w.checkpoints.empty()) to_first_checkpoint = w.checkpoints.front();
     if (code == -SIGKILL) {
       ++kills;
       EXPECT_EQ(slurp(out), earlier) << "kill " << kills << " changed the earlier result";
-      const int episode = checkpoint_episode(checkpoints);
-      EXPECT_GE(episode, last_episode) << "a checkpoint went back";
-      last_episode = episode;
-      episodes.push_back(episode);
+      const int episode_now = checkpoint_episode(checkpoints);
+      EXPECT_GE(episode_now, last_episode) << "a checkpoint went back";
+      last_episode = episode_now;
+      episodes.push_back(episode_now);
     } else {
       ASSERT_EQ(code, 0) << slurp(log);
     }
   }
-  EXPECT_GE(kills, 6);
+  EXPECT_EQ(kills, 8) << "every attempt but the last killed before it could finish";
   ASSERT_EQ(code, 0);
   const nlohmann::json resumed = nlohmann::json::parse(slurp(out));
   const int resumed_from = resumed.at("method").at("details").at("resumed_from_episode").get<int>();

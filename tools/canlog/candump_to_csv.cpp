@@ -12,8 +12,8 @@
 #include <type_traits>
 #include <vector>
 
-#include "candump_log.hpp"
-#include "line_reader.hpp"
+#include "firmware/linux/candump_log.hpp"
+#include "hostio/line_reader.hpp"
 #include "tools/canlog/bus_channels.hpp"
 #include "tools/canlog/convert.hpp"
 
@@ -236,10 +236,10 @@ Converted csv_from_candump(const fs::path& log) {
   if (!in) throw ConvertError(log.string() + ": cannot open for reading");
   CsvBuilder builder(log);
   // A bounded reader: a corrupt log with one endless line costs no memory.
-  fw::LineReader reader(in.get());
+  LineReader reader(in.get());
   std::string_view text;
-  for (fw::LineReader::Status status; (status = reader.next(text)) != fw::LineReader::Status::end;) {
-    if (status == fw::LineReader::Status::too_long) builder.line_too_long(reader.line_number());
+  for (LineReader::Status status; (status = reader.next(text)) != LineReader::Status::end;) {
+    if (status == LineReader::Status::too_long) builder.line_too_long(reader.line_number());
     else builder.line(text, reader.line_number());
   }
   if (std::ferror(in.get())) throw ConvertError(log.string() + ": read error");

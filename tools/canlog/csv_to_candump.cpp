@@ -9,11 +9,11 @@
 #include <limits>
 #include <type_traits>
 
-#include "candump_log.hpp"
+#include "firmware/linux/candump_log.hpp"
 #include "tools/canlog/bus_channels.hpp"
 #include "tools/canlog/convert.hpp"
 #include "trainer/data/dataset.hpp"
-#include "trainer/data/internal/raw_cycle.hpp"
+#include "trainer/data/source_line.hpp"
 
 namespace lptn::canlog {
 namespace {
@@ -25,31 +25,10 @@ static_assert(data::LoadOptions{}.dt_s * 1e6 == kGridStepUs, "the frames' schedu
 // PulsesEnabled is no column of the contract: the converter's pulses are on while current flows.
 constexpr double kPulsesOnAboveA = 0.5;
 
-// The CSV line of the sample that put an out-of-range value onto the grid near t: linear
-// interpolation between values within a range stays within it, so there is one. Only on this
-// error path is the file parsed a second time, by the loader's own parser, for its line numbers.
-std::size_t offending_line(const fs::path& csv, data::Channel c, double t, double min, double max) {
-  std::ifstream in(csv, std::ios::binary);
-  const std::string text(std::istreambuf_iterator<char>(in), {});
-  const data::internal::RawCycle raw = data::internal::parse_csv(text, csv);
-  const data::internal::RawChannel& ch = raw.channels[data::index_of(c)];
-  std::size_t line = 0;
-  double best = std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i < ch.values.size(); ++i) {
-    if (ch.values[i] >= min && ch.values[i] <= max) continue;
-    const double distance = std::fabs(raw.time[ch.rows[i]] - t);
-    if (distance < best) {
-      best = distance;
-      line = raw.line[ch.rows[i]];
-    }
-  }
-  return line;
-}
-
 template <class Msg>
 [[noreturn]] void out_of_range(const fs::path& csv, const char* message, const ChannelSignal<Msg>& s, double value,
                                double t) {
-  const std::size_t line = offending_line(csv, s.channel, t, s.min, s.max);
+  const std::size_t line = data::line_of_sample_outside(csv, s.channel, t, s.min, s.max);
   const std::string where = line ? csv.string() + ":" + std::to_string(line) : csv.string();
   char reason[256];
   std::snprintf(reason, sizeof reason, "%g at t=%.3f s is outside %.*s's range [%g, %g] (%s)", value, t,

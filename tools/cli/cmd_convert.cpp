@@ -13,7 +13,7 @@
 #include "tools/canlog/bus_channels.hpp"
 #include "tools/canlog/convert.hpp"
 #include "tools/cli/commands.hpp"
-#include "trainer/io/atomic_output.hpp"
+#include "hostio/atomic_file.hpp"
 
 namespace lptn::cli {
 namespace {

@@ -9,11 +9,11 @@
 #include <vector>
 
 #include "tools/cli/commands.hpp"
-#include "tools/cli/progress.hpp"
+#include "hostio/progress_line.hpp"
 #include "trainer/calibrate/calibration_file.hpp"
 #include "trainer/data/dataset.hpp"
 #include "trainer/diagnose/diagnose.hpp"
-#include "trainer/io/atomic_output.hpp"
+#include "hostio/atomic_file.hpp"
 
 namespace lptn::cli {
 namespace {
@@ -83,10 +83,10 @@ void run(const Args& a) {
   } catch (const CalibrationFileError& e) {
     throw BadInput(e.what());
   }
-  const MotorFile motor = diagnose::motor_of(calibration);
+  const MotorFile motor = motor_of(calibration);
   std::vector<std::filesystem::path> paths(a.data.begin(), a.data.end());
   const data::Dataset dataset = data::load_fleet_dump(paths);
-  const Split split = a.test_cycles.empty() ? diagnose::split_of(calibration, dataset)
+  const Split split = a.test_cycles.empty() ? split_of(calibration, dataset)
                                             : split_cycles(dataset, a.test_cycles, 0.0, 0);
   diagnose::Settings settings;
   settings.level = a.level;

@@ -6,7 +6,7 @@
 #include "tools/cli/commands.hpp"
 #include "tools/export/export_header.hpp"
 #include "trainer/calibrate/calibration_file.hpp"
-#include "trainer/io/atomic_output.hpp"
+#include "hostio/atomic_file.hpp"
 
 namespace lptn::cli {
 

@@ -6,7 +6,7 @@
 #include <utility>
 #include <vector>
 
-#include "trainer/io/atomic_output.hpp"
+#include "hostio/atomic_file.hpp"
 #include "tools/cli/commands.hpp"
 #include "tools/generate/generate.hpp"
 

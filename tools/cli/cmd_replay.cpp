@@ -7,7 +7,7 @@
 #include <string>
 
 #include "tools/cli/commands.hpp"
-#include "tools/cli/progress.hpp"
+#include "hostio/progress_line.hpp"
 #include "tools/replay/calibrated_estimator.hpp"
 #include "tools/replay/replay_to_csv.hpp"
 #include "trainer/calibrate/calibration_file.hpp"

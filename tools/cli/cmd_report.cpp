@@ -6,9 +6,9 @@
 #include <string>
 
 #include "tools/cli/commands.hpp"
-#include "tools/cli/progress.hpp"
+#include "hostio/progress_line.hpp"
 #include "tools/report/report.hpp"
-#include "trainer/io/atomic_output.hpp"
+#include "hostio/atomic_file.hpp"
 
 namespace lptn::cli {
 

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "trainer/io/atomic_output.hpp"
+#include "hostio/atomic_file.hpp"
 #include "tools/cli/commands.hpp"
 #include "trainer/data/dataset.hpp"
 #include "trainer/model/motor_file.hpp"

@@ -6,9 +6,9 @@
 #include <memory>
 #include <stdexcept>
 
-#include "atomic_file.hpp"
-#include "estimate_csv.hpp"
-#include "tools/cli/progress.hpp"
+#include "hostio/atomic_file.hpp"
+#include "firmware/linux/estimate_csv.hpp"
+#include "hostio/progress_line.hpp"
 
 namespace lptn {
 
@@ -16,11 +16,11 @@ ReplaySummary replay_to_csv(const std::string& log_path, const fw::EstimatorConf
                               const std::string& csv_path, bool quiet) {
   std::unique_ptr<std::FILE, int (*)(std::FILE*)> log(std::fopen(log_path.c_str(), "r"), &std::fclose);
   if (!log) throw std::invalid_argument(log_path + ": cannot be opened");
-  fw::AtomicFile csv;
+  AtomicFile csv;
   if (!csv.open(csv_path)) throw std::invalid_argument(csv_path + ": cannot be written");
   auto estimator = std::make_unique<fw::Estimator<double>>(config);
   fw::write_estimate_header(csv.get());
-  cli::ProgressLine progress(quiet);
+  ProgressLine progress(quiet);
   fw::ReplaySinks sinks;
   ReplaySummary summary;
   double sum_stator = 0, sum_rotor = 0;
@@ -42,7 +42,7 @@ ReplaySummary replay_to_csv(const std::string& log_path, const fw::EstimatorConf
   sinks.progress_every = 200000;
   sinks.progress = [&](const fw::ReplayStats& s) {
     progress.update("replay: " + std::to_string(s.frames) + " frames, " +
-                    cli::ProgressLine::clock(static_cast<double>(s.last_us - s.first_us) / 1e6) + " of log");
+                    ProgressLine::clock(static_cast<double>(s.last_us - s.first_us) / 1e6) + " of log");
   };
   const auto start = std::chrono::steady_clock::now();
   summary.stats = fw::replay_candump(log.get(), *estimator, sinks);

@@ -5,7 +5,7 @@
 #include <string>
 
 #include "lptn/firmware/estimator_config.hpp"
-#include "replay.hpp"
+#include "firmware/linux/replay.hpp"
 
 namespace lptn {
 

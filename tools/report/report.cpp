@@ -7,12 +7,13 @@
 #include <fstream>
 #include <iterator>
 #include <optional>
+#include <utility>
 
 #include "lptn/model.hpp"
 #include "tools/report/signatures.hpp"
 #include "tools/report/stats.hpp"
 #include "trainer/calibrate/calibration_file.hpp"
-#include "trainer/calibrate/lm.hpp"
+#include "trainer/calibrate/problem.hpp"
 #include "trainer/data/dataset.hpp"
 #include "trainer/model/motor_file.hpp"
 #include "trainer/model/simulate.hpp"
@@ -101,16 +102,14 @@ std::vector<float> residual(const std::vector<float>& model, const data::Cycle& 
   return r;
 }
 
-// As calibrate evaluates a cycle for its metrics: initial offsets from the cycle's first ten
-// minutes, then the whole cycle.
+// As calibrate evaluates a cycle for its metrics (simulate_and_evaluate), with the residuals kept.
 CycleRun run_cycle_model(const CalibratedModel& cm, const data::Cycle& cycle, const std::string& role) {
   CycleRun run;
   run.cycle = &cycle;
   run.role = role;
-  const InitialOffsets<double> offsets = estimate_initial_offsets(cm.model, cm.params, cycle);
-  run.sim = simulate_cycle(cm.model, cm.params, cycle, offsets);
-  run.metrics = {cycle.name, compare(run.sim.stator_sensor, cycle, Channel::stator_winding_c),
-                 compare(run.sim.rotor_sensor, cycle, Channel::rotor_c)};
+  CycleEvaluation e = simulate_and_evaluate(cm.model, cm.params, cycle);
+  run.sim = std::move(e.simulation);
+  run.metrics = std::move(e.metrics);
   run.stator_residual = residual(run.sim.stator_sensor, cycle, Channel::stator_winding_c);
   run.rotor_residual = residual(run.sim.rotor_sensor, cycle, Channel::rotor_c);
   return run;
@@ -261,10 +260,10 @@ double number_or_nan(const json& j, const char* key) {
   return it != j.end() && it->is_number() ? it->get<double>() : std::nan("");
 }
 
-Candidate parse_candidate(const json& j, const std::string& where) {
+SavedCandidate parse_candidate(const json& j, const std::string& where) {
   if (!j.is_object() || !j.contains("effect") || !j["effect"].is_string())
     throw ReportInputError(where + ": expected an object with a string 'effect'");
-  Candidate c;
+  SavedCandidate c;
   c.effect = j["effect"].get<std::string>();
   c.statistic = number_or_nan(j, "statistic");
   c.predicted_rmse_k = number_or_nan(j, "predicted_rmse_k");
@@ -274,8 +273,8 @@ Candidate parse_candidate(const json& j, const std::string& where) {
 }
 
 // Which candidates get an evidence plot: the significant ones first, each group by statistic.
-std::vector<Candidate> leading(std::vector<Candidate> c) {
-  std::stable_sort(c.begin(), c.end(), [](const Candidate& a, const Candidate& b) {
+std::vector<SavedCandidate> leading(std::vector<SavedCandidate> c) {
+  std::stable_sort(c.begin(), c.end(), [](const SavedCandidate& a, const SavedCandidate& b) {
     if (a.significant != b.significant) return a.significant;
     return a.statistic > b.statistic;
   });
@@ -283,7 +282,7 @@ std::vector<Candidate> leading(std::vector<Candidate> c) {
   return c;
 }
 
-json evidence_json(const Candidate& cand, const CalibratedModel& cm, const std::vector<CycleRun>& runs) {
+json evidence_json(const SavedCandidate& cand, const CalibratedModel& cm, const std::vector<CycleRun>& runs) {
   std::vector<double> sig, e;
   std::string label, unit;
   for (const CycleRun& run : runs) {
@@ -300,15 +299,15 @@ json evidence_json(const Candidate& cand, const CalibratedModel& cm, const std::
           {"bins", bins_json(bin_residuals(sig, e, quantile_edges(sig, kSignatureBins)))}};
 }
 
-json diagnosis_json(const std::optional<Diagnosis>& d, const CalibratedModel& cm, const std::vector<CycleRun>& runs) {
+json diagnosis_json(const std::optional<SavedDiagnosis>& d, const CalibratedModel& cm, const std::vector<CycleRun>& runs) {
   if (!d) return nullptr;
   json candidates = json::array();
-  for (const Candidate& c : d->candidates)
+  for (const SavedCandidate& c : d->candidates)
     candidates.push_back({{"effect", c.effect}, {"statistic", number(c.statistic)},
                           {"predicted_rmse_k", number(c.predicted_rmse_k)}, {"refit_rmse_k", number(c.refit_rmse_k)},
                           {"significant", c.significant}});
   json evidence = json::array();
-  for (const Candidate& c : leading(d->candidates)) {
+  for (const SavedCandidate& c : leading(d->candidates)) {
     json ev = evidence_json(c, cm, runs);
     if (!ev.is_null()) evidence.push_back(std::move(ev));
   }
@@ -361,7 +360,7 @@ json meta_json(const ReportOptions& o, const CalibrationResult& cal, const data:
 
 }  // namespace
 
-Diagnosis load_diagnosis(const std::filesystem::path& path) {
+SavedDiagnosis load_diagnosis(const std::filesystem::path& path) {
   json j;
   try {
     j = json::parse(read_text(path));
@@ -370,7 +369,7 @@ Diagnosis load_diagnosis(const std::filesystem::path& path) {
   }
   if (!j.is_object() || !j.contains("candidates") || !j["candidates"].is_array())
     throw ReportInputError(path.string() + ": no 'candidates' array (expected `lptn diagnose --json` output)");
-  Diagnosis d;
+  SavedDiagnosis d;
   d.rmse_k = number_or_nan(j, "rmse_k");
   for (std::size_t i = 0; i < j["candidates"].size(); ++i)
     d.candidates.push_back(parse_candidate(j["candidates"][i], path.string() + ": candidates[" + std::to_string(i) + "]"));
@@ -379,7 +378,7 @@ Diagnosis load_diagnosis(const std::filesystem::path& path) {
 
 nlohmann::json report_data(const ReportOptions& o, const std::function<void(const std::string&)>& progress) {
   const CalibrationResult cal = load_calibration(o.calibration);
-  std::optional<Diagnosis> diagnosis;
+  std::optional<SavedDiagnosis> diagnosis;
   if (!o.diagnosis.empty()) diagnosis = load_diagnosis(o.diagnosis);  // before the long part: bad input fails fast
   const CalibratedModel cm = calibrated_model(cal);
   const data::Dataset ds = data::load_fleet_dump({o.data});

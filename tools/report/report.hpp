@@ -27,20 +27,21 @@ struct ReportOptions {
   std::filesystem::path history;      // directory of calibration JSONs; empty = the calibration's own
 };
 
-// One candidate of lptn diagnose --json (the keys the report knows; others are ignored).
-struct Candidate {
+// A diagnosis as lptn diagnose --json-out saved it (the keys the report knows; others are ignored).
+// One candidate:
+struct SavedCandidate {
   std::string effect;
   double statistic = std::numeric_limits<double>::quiet_NaN();
   double predicted_rmse_k = std::numeric_limits<double>::quiet_NaN();
   double refit_rmse_k = std::numeric_limits<double>::quiet_NaN();
   bool significant = false;
 };
-struct Diagnosis {
+struct SavedDiagnosis {
   double rmse_k = std::numeric_limits<double>::quiet_NaN();
-  std::vector<Candidate> candidates;
+  std::vector<SavedCandidate> candidates;
 };
 // Throws ReportInputError naming the file when it is not JSON or lacks "candidates".
-Diagnosis load_diagnosis(const std::filesystem::path& path);
+SavedDiagnosis load_diagnosis(const std::filesystem::path& path);
 
 // Everything the page shows, as the JSON its script reads.
 nlohmann::json report_data(const ReportOptions& options, const std::function<void(const std::string&)>& progress);

@@ -11,7 +11,7 @@
 
 #include "trainer/calibrate/internal/json_reader.hpp"
 #include "trainer/calibrate/internal/sha256.hpp"
-#include "trainer/io/atomic_output.hpp"
+#include "hostio/atomic_file.hpp"
 
 namespace lptn {
 namespace {

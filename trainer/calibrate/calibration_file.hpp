@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "lptn/model.hpp"
-#include "trainer/model/simulate.hpp"
+#include "trainer/calibrate/metrics.hpp"
 
 namespace lptn {
 
@@ -23,20 +23,6 @@ inline constexpr int kCalibrationFormatVersion = 1;
 class CalibrationFileError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
-};
-
-// Model-minus-measurement statistics of one cycle; rotor.samples == 0 where the rotor is not measured.
-struct CycleMetrics {
-  std::string name;
-  ErrorMetrics stator;
-  ErrorMetrics rotor;
-};
-
-// One side of the split: every cycle and the pooled figures.
-struct SplitMetrics {
-  ErrorMetrics stator;
-  ErrorMetrics rotor;
-  std::vector<CycleMetrics> cycles;
 };
 
 struct ParameterResult {

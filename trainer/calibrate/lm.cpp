@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <stdexcept>
 
+#include "trainer/model/initial_offsets.hpp"
 #include "trainer/model/simulate.hpp"
 
 namespace lptn {
@@ -158,7 +159,6 @@ CycleBlock* make_residuals(const Model<double>& model, const data::Cycle& cycle,
   return new CycleResiduals<std::max(18, kNumParams + kOffsets)>(model, cycle, free, fixed, max_steps);
 }
 
-constexpr double kOffsetBoundK = 40.0;
 
 // How many grid residuals carry the information of one independent one: 1 + 2 sum rho_k over the
 // residuals' autocorrelation, summed while it stays positive (Geyer's initial positive sequence).
@@ -284,8 +284,8 @@ LmReport fit_lm(const MotorFile& motor, const ParamVector<double>& start, const 
     report.residuals += cost->measured();
     problem.AddResidualBlock(cost, nullptr, theta.data(), offsets[i].data());
     for (int j = 0; j < kOffsets; ++j) {
-      problem.SetParameterLowerBound(offsets[i].data(), j, -kOffsetBoundK);
-      problem.SetParameterUpperBound(offsets[i].data(), j, kOffsetBoundK);
+      problem.SetParameterLowerBound(offsets[i].data(), j, -kInitialOffsetBoundK);
+      problem.SetParameterUpperBound(offsets[i].data(), j, kInitialOffsetBoundK);
     }
   }
   if (report.residuals == 0) throw std::runtime_error("no training cycle has a stator or rotor measurement");
@@ -402,38 +402,6 @@ NormalEquations normal_equations(const Model<double>& model, const FreeParameter
   out.jtr.assign(jtr.data(), jtr.data() + jtr.size());
   out.rss = 2.0 * cost;
   return out;
-}
-
-InitialOffsets<double> estimate_initial_offsets(const Model<double>& model, const ParamVector<double>& params,
-                                               const data::Cycle& cycle, double window_s) {
-  // Ceres needs a non-empty parameter block: the first parameter, held constant, stands in.
-  FreeParameters held;
-  held.index = {0};
-  held.min = {params[0]};
-  held.max = {params[0]};
-  held.log_scale = {false};
-  std::array<double, kOffsets> offsets{0.0, 0.0};
-  double unused = params[0];
-  const auto steps = static_cast<std::size_t>(std::max(2.0, window_s / cycle.dt_s));
-  ceres::Problem problem;
-  CycleBlock* cost = make_residuals(model, cycle, held, params, steps);
-  if (cost->measured() == 0) {
-    delete cost;
-    return {};
-  }
-  problem.AddResidualBlock(cost, nullptr, &unused, offsets.data());
-  problem.SetParameterBlockConstant(&unused);
-  for (int j = 0; j < kOffsets; ++j) {
-    problem.SetParameterLowerBound(offsets.data(), j, -kOffsetBoundK);
-    problem.SetParameterUpperBound(offsets.data(), j, kOffsetBoundK);
-  }
-  ceres::Solver::Options options;
-  options.linear_solver_type = ceres::DENSE_QR;
-  options.max_num_iterations = 20;
-  options.logging_type = ceres::SILENT;
-  ceres::Solver::Summary summary;
-  ceres::Solve(options, &problem, &summary);
-  return {offsets[0], offsets[1]};
 }
 
 }  // namespace lptn

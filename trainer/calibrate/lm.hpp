@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "hostio/worker_threads.hpp"
+#include "trainer/calibrate/calibration_file.hpp"  // CorrelatedPair
 #include "trainer/calibrate/problem.hpp"
 
 namespace lptn {
@@ -15,7 +17,7 @@ struct LmSettings {
   int max_iterations = 60;
   double function_tolerance = 1e-9;   // relative change of the cost that ends the fit
   double parameter_tolerance = 1e-9;  // relative step that ends the fit
-  int threads = 2;                    // residual blocks (cycles) evaluated in parallel
+  int threads = worker_threads();     // residual blocks (cycles) evaluated in parallel
   double correlation_flag = 0.95;     // |correlation| from which a parameter pair is flagged
 };
 
@@ -59,13 +61,6 @@ struct NormalEquations {
 };
 NormalEquations normal_equations(const Model<double>& model, const FreeParameters& free, const ParamVector<double>& at,
                                  const data::Dataset& dataset, const std::vector<std::size_t>& cycles,
-                                 const std::vector<InitialOffsets<double>>& offsets, int threads = 2);
-
-// The initial offsets of the nodes no sensor sees (InitialOffsets, trainer/model/simulate.hpp)
-// for one cycle and given parameters: least squares on the cycle's first `window_s` seconds.
-// Calibration fits them jointly for the training cycles; for evaluating any other cycle (a test
-// cycle, a TD3 episode) this estimates them from the start of that cycle only.
-InitialOffsets<double> estimate_initial_offsets(const Model<double>& model, const ParamVector<double>& params,
-                                               const data::Cycle& cycle, double window_s = 600.0);
+                                 const std::vector<InitialOffsets<double>>& offsets, int threads = worker_threads());
 
 }  // namespace lptn

@@ -6,7 +6,7 @@
 #include <stdexcept>
 #include <thread>
 
-#include "trainer/calibrate/lm.hpp"
+#include "trainer/model/initial_offsets.hpp"
 #include "trainer/model/simulate.hpp"
 
 namespace lptn {
@@ -75,13 +75,18 @@ Split split_cycles(const data::Dataset& dataset, const std::vector<std::string>&
   return split;
 }
 
+CycleEvaluation simulate_and_evaluate(const Model<double>& model, const ParamVector<double>& params,
+                                      const data::Cycle& cycle) {
+  CycleEvaluation e;
+  e.simulation = simulate_cycle(model, params, cycle, estimate_initial_offsets(model, params, cycle));
+  e.metrics.name = cycle.name;
+  e.metrics.stator = compare(e.simulation.stator_sensor, cycle, data::Channel::stator_winding_c);
+  e.metrics.rotor = compare(e.simulation.rotor_sensor, cycle, data::Channel::rotor_c);
+  return e;
+}
+
 CycleMetrics evaluate_cycle(const Model<double>& model, const ParamVector<double>& params, const data::Cycle& cycle) {
-  const CycleSimulation sim = simulate_cycle(model, params, cycle, estimate_initial_offsets(model, params, cycle));
-  CycleMetrics m;
-  m.name = cycle.name;
-  m.stator = compare(sim.stator_sensor, cycle, data::Channel::stator_winding_c);
-  m.rotor = compare(sim.rotor_sensor, cycle, data::Channel::rotor_c);
-  return m;
+  return simulate_and_evaluate(model, params, cycle).metrics;
 }
 
 SplitMetrics evaluate_split(const Model<double>& model, const ParamVector<double>& params, const data::Dataset& dataset,

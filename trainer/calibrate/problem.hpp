@@ -6,8 +6,9 @@
 #include <string>
 #include <vector>
 
+#include "hostio/worker_threads.hpp"
 #include "lptn/model.hpp"
-#include "trainer/calibrate/calibration_file.hpp"
+#include "trainer/calibrate/metrics.hpp"
 #include "trainer/data/dataset.hpp"
 #include "trainer/model/motor_file.hpp"
 
@@ -42,12 +43,20 @@ struct Split {
 Split split_cycles(const data::Dataset& dataset, const std::vector<std::string>& test_names, double test_fraction,
                    std::uint64_t seed);
 
-// Model-minus-measurement metrics of one cycle (stator winding sensor, and the rotor where
-// measured), the unmeasured nodes' initial offsets estimated from the cycle's first ten minutes
-// (estimate_initial_offsets) whether the cycle trained or not, so train and test compare alike.
+// One cycle as the metrics see it, whether it trained or not, so that train and test compare alike:
+// the unmeasured nodes' initial offsets estimated from the cycle's first ten minutes
+// (estimate_initial_offsets), the whole cycle simulated, and the model-minus-measurement metrics
+// of the stator winding sensor and, where measured, the rotor.
+struct CycleEvaluation {
+  CycleSimulation simulation;
+  CycleMetrics metrics;
+};
+CycleEvaluation simulate_and_evaluate(const Model<double>& model, const ParamVector<double>& params,
+                                      const data::Cycle& cycle);
+// The metrics alone.
 CycleMetrics evaluate_cycle(const Model<double>& model, const ParamVector<double>& params, const data::Cycle& cycle);
 // Every listed cycle and the pooled figures (cycles simulated in parallel on `threads`).
 SplitMetrics evaluate_split(const Model<double>& model, const ParamVector<double>& params, const data::Dataset& dataset,
-                            const std::vector<std::size_t>& cycles, int threads = 2);
+                            const std::vector<std::size_t>& cycles, int threads = worker_threads());
 
 }  // namespace lptn

@@ -16,6 +16,7 @@
 #include <thread>
 #include <system_error>
 
+#include "hostio/worker_threads.hpp"
 #include "trainer/data/internal/raw_cycle.hpp"
 
 namespace lptn::data {
@@ -173,7 +174,7 @@ Dataset load_fleet_dump(const std::vector<fs::path>& paths, const LoadOptions& o
       }
     }
   };
-  const std::size_t threads = std::min<std::size_t>(files.size(), std::max(1u, std::thread::hardware_concurrency()));
+  const std::size_t threads = std::min<std::size_t>(files.size(), static_cast<std::size_t>(worker_threads()));
   std::vector<std::thread> pool;
   for (std::size_t t = 1; t < threads; ++t) pool.emplace_back(work);
   work();

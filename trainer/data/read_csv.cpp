@@ -63,7 +63,7 @@ RawCycle parse_csv(std::string_view text, const std::filesystem::path& file) {
   raw.file = file;
   const std::string where = file.string();
 
-  LineReader lines(text);
+  LineSplitter lines(text);
   std::string_view line;
   bool have_header = false;
   while (lines.next(line)) {

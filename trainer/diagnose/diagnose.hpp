@@ -23,28 +23,12 @@
 #include "trainer/calibrate/calibration_file.hpp"
 #include "trainer/calibrate/lm.hpp"
 #include "trainer/calibrate/problem.hpp"
+#include "trainer/calibrate/calibration_result.hpp"
+#include "trainer/model/motor_effects.hpp"
 #include "trainer/data/dataset.hpp"
 #include "trainer/model/motor_file.hpp"
 
 namespace lptn::diagnose {
-
-// --- the motor a diagnosis works on --------------------------------------------------------
-
-// The library's effect called `name`; throws std::invalid_argument ("OPTION: unknown effect 'x'
-// (known: ...)").
-int effect_by_name(std::string_view name, std::string_view option);
-
-// Switches `effect` on with the library's parameter settings (calibrated from its initial value)
-// and rewrites motor.text, so that a calibration made with it keeps a text that rebuilds this model.
-void enable_effect(MotorFile& motor, int effect);
-
-// The motor a calibration was made with: its stored text, its effects, and the parameters'
-// bounds and calibrate flags as the calibration used them.
-MotorFile motor_of(const CalibrationResult& calibration);
-
-// The calibration's own train/test split, found by cycle name in `dataset`; throws
-// std::invalid_argument naming a cycle the data lacks.
-Split split_of(const CalibrationResult& calibration, const data::Dataset& dataset);
 
 // --- statistics ----------------------------------------------------------------------------
 
@@ -62,7 +46,7 @@ struct Settings {
   // iterations is crawling along a direction the data barely supports (it is not the one to add),
   // and its verdict rests on where it got. The baseline and --auto's refits get fit_lm's default.
   int refit_iterations = 15;
-  int threads = 2;
+  int threads = worker_threads();
 };
 
 enum class Verdict { significant, not_distinguishable, not_significant };

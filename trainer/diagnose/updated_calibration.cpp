@@ -1,4 +1,6 @@
 // A calibration carried forward to the model diagnose settled on.
+#include "trainer/calibrate/calibration_result.hpp"
+#include "trainer/calibrate/lm_result.hpp"
 #include "trainer/diagnose/diagnose.hpp"
 
 namespace lptn::diagnose {
@@ -8,32 +10,17 @@ CalibrationResult updated_calibration(const CalibrationResult& calibration, cons
   CalibrationResult r = calibration;
   r.motor_text = motor.text;
   r.effects = motor.effects;
+  // The parameters of an effect added since take the motor's settings; the others keep theirs.
   for (int i = 0; i < kNumParams; ++i) {
-    const ParameterSetting& s = motor.parameters[static_cast<std::size_t>(i)];
-    ParameterResult& p = r.parameters[static_cast<std::size_t>(i)];
     const int effect = effect_of_param(i);
-    const bool added = effect >= 0 && (motor.effects & effect_bit(effect)) && !(calibration.effects & effect_bit(effect));
-    if (added) {
-      p.initial = s.initial;
-      p.min = s.min;
-      p.max = s.max;
-      p.calibrated = s.calibrate;
-    }
-    p.value = fit.values[i];
-    p.std_error = fit.std_error[i];
+    if (effect >= 0 && (motor.effects & effect_bit(effect)) && !(calibration.effects & effect_bit(effect)))
+      r.parameters[static_cast<std::size_t>(i)] = parameter_result(motor, i);
   }
-  r.correlated = fit.correlated;
-  r.method = "lm";
-  r.has_actor = false;  // a TD3 actor belongs to the model it was trained for
-  r.settings = {{"refit", note}};
-  r.details = {{"iterations", fit.iterations},   {"converged", fit.converged}, {"termination", fit.termination},
-               {"initial_cost_k2", fit.initial_cost}, {"final_cost_k2", fit.final_cost},
-               {"residuals", fit.residuals},     {"rmse_k", fit.rmse_k},     {"correlation_time", fit.correlation_time},
-               {"note", note}};
-  r.seconds = fit.seconds;
-  const Model<double> model = motor.model();
-  r.train = evaluate_split(model, fit.values, dataset, split.train);
-  r.test = evaluate_split(model, fit.values, dataset, split.test);
+  std::vector<std::string> fitted;
+  for (std::size_t c : split.train) fitted.push_back(dataset.cycles[c].name);
+  record_lm_fit(r, fit, FreeParameters::from_motor(motor), fitted, {{"refit", note}});
+  r.details["note"] = note;
+  score_calibration(r, motor, dataset, split);
   return r;
 }
 

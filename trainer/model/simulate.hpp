@@ -43,7 +43,7 @@ inline double first_valid(const data::Cycle& cycle, data::Channel channel) {
 }
 
 // The nodes no sensor sees start at the rule's value plus these offsets (K). Calibration
-// estimates them per cycle (trainer/calibrate/lm.hpp, estimate_initial_offsets); zero means the
+// estimates them per cycle (initial_offsets.hpp beside this file); zero means the
 // rule alone.
 template <class T>
 struct InitialOffsets {

@@ -26,7 +26,7 @@
 #include <string>
 #include <utility>
 
-#include "trainer/io/atomic_output.hpp"
+#include "hostio/atomic_file.hpp"
 #include "trainer/td3/internal/binary_io.hpp"
 #include "trainer/td3/internal/replay_buffer.hpp"
 

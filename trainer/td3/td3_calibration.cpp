@@ -9,9 +9,9 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "trainer/calibrate/lm.hpp"
+#include "trainer/model/initial_offsets.hpp"
 #include "trainer/calibrate/problem.hpp"
-#include "trainer/io/atomic_output.hpp"
+#include "hostio/atomic_file.hpp"
 #include "trainer/model/simulate.hpp"
 
 namespace lptn::td3 {

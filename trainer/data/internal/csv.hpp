@@ -21,9 +21,9 @@ inline std::string_view trim(std::string_view s) {
 }
 
 // Walks a buffer line by line; accepts LF and CRLF (one trailing '\r' is dropped).
-class LineReader {
+class LineSplitter {
  public:
-  explicit LineReader(std::string_view text) : text_(text) {
+  explicit LineSplitter(std::string_view text) : text_(text) {
     // A UTF-8 byte order mark from spreadsheet exports would otherwise glue onto the first name.
     if (text_.substr(0, 3) == "\xEF\xBB\xBF") pos_ = 3;
   }

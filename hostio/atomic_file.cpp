@@ -1,4 +1,4 @@
-#include "trainer/io/atomic_output.hpp"
+#include "hostio/atomic_file.hpp"
 
 #include <signal.h>
 #include <unistd.h>
@@ -50,6 +50,37 @@ void remove_stale_temporaries(const fs::path& target) {
   }
 }
 }  // namespace
+
+AtomicFile::~AtomicFile() {
+  if (f_ && f_ != stdout) {
+    std::fclose(f_);
+    std::error_code ignored;
+    fs::remove(temp_, ignored);
+  }
+}
+
+bool AtomicFile::open(const std::string& path) {
+  if (path.empty()) return true;
+  path_ = path;
+  remove_stale_temporaries(path_);
+  temp_ = temp_name_for(path_);
+  f_ = std::fopen(temp_.c_str(), "w");
+  return f_ != nullptr;
+}
+
+bool AtomicFile::commit() {
+  if (f_ == stdout) return std::fflush(stdout) == 0;
+  const bool written = !std::ferror(f_);
+  const bool closed = std::fclose(f_) == 0;
+  f_ = nullptr;
+  std::error_code ec;
+  if (written && closed) {
+    fs::rename(temp_, path_, ec);
+    if (!ec) return true;
+  }
+  fs::remove(temp_, ec);
+  return false;
+}
 
 void write_file_atomically(const fs::path& path, const std::string& text) {
   remove_stale_temporaries(path);

@@ -1,4 +1,6 @@
-// lptn vcan-bench: the daemon on a real (virtual) CAN bus against the in-process replay.
+// lptn-vcan-bench: the daemon on a real (virtual) CAN bus against the in-process replay. A test
+// bench of this source tree (it runs the scripts beside this file and the daemon built here), so
+// it is built here and never installed: the shipped lptn holds no source or build path.
 //
 // This machine's kernel has no CAN, so the bus lives in a throw-away qemu guest with a Debian
 // kernel (tools/vcan-bench/run-guest.sh): canplayer plays the log onto vcan0 (time stamps scaled
@@ -15,18 +17,21 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <memory>
+#include <stdexcept>
 #include <sstream>
 #include <string>
 #include <vector>
 
-#include "candump_log.hpp"
+#include <CLI/CLI.hpp>
+
+#include "firmware/linux/candump_log.hpp"
 #include "lptn/can/lptn_frames.hpp"
-#include "tools/cli/commands.hpp"
 #include "tools/replay/calibrated_estimator.hpp"
 #include "tools/replay/replay_to_csv.hpp"
 #include "trainer/calibrate/calibration_file.hpp"
 
-namespace lptn::cli {
+namespace lptn::bench {
 namespace {
 
 namespace fs = std::filesystem;
@@ -39,7 +44,6 @@ void shell(const std::string& what, const std::string& cmd) {
     throw std::runtime_error(what + " failed (exit " + std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) + ")");
 }
 
-fs::path self_path() { return fs::read_symlink("/proc/self/exe"); }
 
 // The replay's estimates and standard deviations by row (ticks since the estimator started).
 struct ReplayRow {
@@ -132,10 +136,13 @@ Comparison compare(const fs::path& recording, const std::vector<ReplayRow>& repl
   return c;
 }
 
-}  // namespace
+// Bad input: one line, exit code 2.
+struct BadInput : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
 
-void add_vcan_bench(CLI::App& app) {
-  auto* cmd = app.add_subcommand("vcan-bench", "Run lptn-daemon on vcan0 in a qemu guest and compare it with the replay");
+void add_options(CLI::App& app) {
+  CLI::App* cmd = &app;
   cmd->footer(
       "Boots a throw-away qemu guest (software emulation) with Debian's kernel, loads vcan, plays the log onto vcan0 "
       "with canplayer (time stamps divided by --time-scale), runs lptn-daemon on vcan0 with its timer scaled alike, "
@@ -173,12 +180,16 @@ void add_vcan_bench(CLI::App& app) {
   cmd->callback([args] {
     if (!(args->time_scale >= 1 && args->time_scale <= 100)) throw BadInput("--time-scale: between 1 and 100");
     if (!fs::exists(args->daemon)) throw BadInput(args->daemon + ": no such daemon (build lptn-daemon)");
-    // A bad calibration file is bad input (main.cpp reports CalibrationFileError as such).
-    const auto cal = estimator_config_from(load_calibration(args->calibration), args->calibration);
+    std::unique_ptr<CalibratedEstimatorConfig> cal;
+    try {
+      cal = estimator_config_from(load_calibration(args->calibration), args->calibration);
+    } catch (const CalibrationFileError& e) {
+      throw BadInput(e.what());
+    }
     cal->config.fuse_stator_sensor = !args->open_loop;
     const fs::path out = fs::absolute(args->out);
     fs::create_directories(out);
-    const fs::path self = self_path(), scripts = fs::path(LPTN_SOURCE_DIR) / "tools/vcan-bench";
+    const fs::path self = LPTN_BINARY, scripts = LPTN_BENCH_SCRIPTS;
 
     fs::path log = args->log;
     if (log.empty()) {
@@ -213,7 +224,7 @@ void add_vcan_bench(CLI::App& app) {
     shell("scaling the log", "python3 " + quote(scripts / "scale-log.py") + " " + quote(log) + " " + quote(share / "play.log") + " " + scale);
     {
       std::ofstream run(share / "run.sh");
-      run << "# The bench payload (lptn vcan-bench): daemon on vcan0, its frames recorded, the log played.\n"
+      run << "# The bench payload (lptn-vcan-bench): daemon on vcan0, its frames recorded, the log played.\n"
           << "lptn-daemon --interface vcan0 --time-scale " << scale << (args->open_loop ? " --open-loop" : "")
           << " 2>daemon.err &\n"
           << "daemon=$!\n"
@@ -258,4 +269,22 @@ void add_vcan_bench(CLI::App& app) {
   });
 }
 
-}  // namespace lptn::cli
+}  // namespace
+}  // namespace lptn::bench
+
+int main(int argc, char** argv) {
+  CLI::App app{"lptn-vcan-bench: lptn-daemon on vcan0 in a qemu guest against the in-process replay", "lptn-vcan-bench"};
+  lptn::bench::add_options(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const lptn::bench::BadInput& e) {
+    std::fprintf(stderr, "lptn-vcan-bench: error: %s\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "lptn-vcan-bench: failed: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}

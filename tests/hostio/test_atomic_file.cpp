@@ -4,11 +4,12 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cstdio>
 #include <fstream>
 #include <iterator>
 
 #include "../cli/temp_dir.hpp"
-#include "trainer/io/atomic_output.hpp"
+#include "hostio/atomic_file.hpp"
 
 namespace lptn {
 namespace {
@@ -28,7 +29,7 @@ pid_t dead_pid() {
   return pid;
 }
 
-TEST(AtomicOutput, ReplacesWholeAndLeavesNoTemporary) {
+TEST(AtomicFile, ReplacesWholeAndLeavesNoTemporary) {
   testing::TempDir dir;
   const fs::path f = dir.path() / "out.json";
   write_file_atomically(f, "first");
@@ -39,7 +40,7 @@ TEST(AtomicOutput, ReplacesWholeAndLeavesNoTemporary) {
   EXPECT_EQ(entries, 1);
 }
 
-TEST(AtomicOutput, ClearsTheTemporariesOfDeadWritersOfTheSameTargetOnly) {
+TEST(AtomicFile, ClearsTheTemporariesOfDeadWritersOfTheSameTargetOnly) {
   testing::TempDir dir;
   const fs::path f = dir.path() / "state.json";
   const std::string dead = std::to_string(dead_pid()), alive = std::to_string(::getppid());
@@ -60,7 +61,7 @@ TEST(AtomicOutput, ClearsTheTemporariesOfDeadWritersOfTheSameTargetOnly) {
   EXPECT_TRUE(fs::exists(lookalike));
 }
 
-TEST(AtomicOutput, DirectoryAppearsOnlyOnCommit) {
+TEST(AtomicFile, DirectoryAppearsOnlyOnCommit) {
   testing::TempDir dir;
   const fs::path target = dir.path() / "sim";
   {
@@ -73,6 +74,32 @@ TEST(AtomicOutput, DirectoryAppearsOnlyOnCommit) {
   std::ofstream(d.path() / "a.csv") << "y";
   d.commit();
   EXPECT_EQ(slurp(target / "a.csv"), "y");
+}
+
+// The streamed writer (the daemon's and the replay's outputs) is the same writer: whole on commit,
+// nothing without, and it clears what a killed writer of the same file left.
+TEST(AtomicFile, StreamedOutputAppearsOnlyOnCommitAndClearsDeadWritersTemporaries) {
+  testing::TempDir dir;
+  const fs::path f = dir.path() / "estimates.csv";
+  const fs::path stale = dir.path() / (".estimates.csv.tmp-" + std::to_string(dead_pid()));
+  std::ofstream(stale) << "half";
+  {
+    AtomicFile out;
+    ASSERT_TRUE(out.open(f.string()));
+    std::fputs("never committed\n", out.get());
+    EXPECT_FALSE(fs::exists(stale)) << "a dead writer's temporary";
+    EXPECT_FALSE(fs::exists(f));
+  }
+  EXPECT_FALSE(fs::exists(f));
+  AtomicFile out;
+  ASSERT_TRUE(out.open(f.string()));
+  std::fputs("a,b\n1,2\n", out.get());
+  EXPECT_FALSE(fs::exists(f)) << "not before commit";
+  ASSERT_TRUE(out.commit());
+  EXPECT_EQ(slurp(f), "a,b\n1,2\n");
+  int entries = 0;
+  for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir.path())) ++entries;
+  EXPECT_EQ(entries, 1) << "no temporary left";
 }
 
 }  // namespace

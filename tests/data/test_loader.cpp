@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "tests/data/test_util.hpp"
+#include "../data/test_util.hpp"
 #include "trainer/data/dataset.hpp"
 
 namespace lptn::data {

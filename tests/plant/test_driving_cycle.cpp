@@ -3,7 +3,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "tests/plant/plant_fixtures.hpp"
+#include "../plant/plant_fixtures.hpp"
 #include "tools/plant/ambient.hpp"
 #include "tools/plant/driving_cycle.hpp"
 

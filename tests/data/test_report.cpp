@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "tests/data/test_util.hpp"
+#include "../data/test_util.hpp"
 #include "trainer/data/dataset.hpp"
 #include "trainer/data/report.hpp"
 

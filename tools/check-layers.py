@@ -1,0 +1,206 @@
+#!/usr/bin/env python3
+"""The layers of lptn, checked on every #include of the tree (a ctest test, tests/layers).
+
+Each directory below is one module; DEPENDS lists what each may include directly, and a module
+may include everything its dependencies may (the closure). An include fails the check when
+  - it reaches a module outside that closure (a layer crossed the wrong way: firmware/ into
+    trainer/, trainer/ into tools/, a tool into the command line...);
+  - it names another module's internal/ header (internal headers stay inside their module; the
+    tests of a module listed in INTERNAL_FOR_TESTS may reach its internals, as tests beside the
+    code do);
+  - it is a bare name that only some other module's include directory resolves ("replay.hpp"
+    for firmware/linux/replay.hpp): every include is relative to the including file or to a
+    module root (the repository root, common/, firmware/include/, or the generated headers).
+
+  tools/check-layers.py [REPO]    exit 0 if every include keeps to the layers; else one line each
+"""
+import os
+import re
+import sys
+
+# Longest prefix first wins. The generated headers (lptn/can/*, lptn/version.hpp) belong to the
+# modules that generate them.
+MODULES = [
+    "common", "can-dbc", "hostio",
+    "firmware/include", "firmware/linux", "firmware/baremetal", "firmware/calibration", "firmware/bench",
+    "trainer/data", "trainer/model", "trainer/calibrate", "trainer/calibrate/lm*", "trainer/td3", "trainer/diagnose",
+    "tools/plant", "tools/generate", "tools/export", "tools/canlog", "tools/replay", "tools/report",
+    "tools/cli", "tools/vcan-bench",
+    "tests",
+]
+
+# Direct dependencies: the layers, bottom up. common/, the CAN codecs and hostio/ know nothing of
+# each other; firmware/ and trainer/ stand on them and never on each other; tools/ on top.
+DEPENDS = {
+    "common": [],
+    "can-dbc": [],
+    "hostio": [],
+    "firmware/include": ["common", "can-dbc"],
+    "firmware/calibration": ["common"],
+    "firmware/linux": ["firmware/include", "hostio"],
+    "firmware/baremetal": ["firmware/include", "firmware/calibration"],
+    # Benchmarks are tests beside the code: they may use the tests' simulated converter.
+    "firmware/bench": ["firmware/linux", "firmware/calibration", "tests"],
+    "trainer/data": ["common", "hostio"],
+    "trainer/model": ["trainer/data"],
+    "trainer/calibrate": ["trainer/model"],
+    # LM (Ceres) sits above what every calibrator shares, so that reading a calibration needs no Ceres.
+    "trainer/calibrate/lm*": ["trainer/calibrate"],
+    "trainer/td3": ["trainer/calibrate"],
+    "trainer/diagnose": ["trainer/calibrate/lm*"],
+    "tools/plant": ["common"],
+    "tools/generate": ["tools/plant", "trainer/model"],
+    "tools/export": ["trainer/calibrate"],
+    "tools/canlog": ["trainer/data", "firmware/linux"],
+    "tools/replay": ["trainer/calibrate", "firmware/linux", "firmware/calibration"],
+    "tools/report": ["trainer/diagnose"],
+    "tools/cli": ["tools/generate", "tools/export", "tools/canlog", "tools/replay", "tools/report", "trainer/td3",
+                  "trainer/diagnose"],
+    "tools/vcan-bench": ["tools/replay"],
+    "tests": [m for m in MODULES if m not in ("tests", "firmware/bench")],
+}
+
+# Internal headers the tests of a module may reach (its own tests, beside the code).
+INTERNAL_FOR_TESTS = {"common", "trainer/calibrate", "trainer/diagnose", "trainer/data", "trainer/td3"}
+
+# Module roots a quoted include may be relative to, and headers generated into the build tree.
+ROOTS = ["", "common", "firmware/include"]
+# thermal_calibration.hpp: headers the tests export at build time.
+GENERATED = {"lptn/version.hpp": "common", "lptn/can/": "can-dbc", "thermal_calibration.hpp": "tests"}
+SOURCE_EXTENSIONS = (".hpp", ".cpp", ".h", ".cc")
+INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"')
+
+
+def module_of(path):
+    """The module a path belongs to; "dir/name*" is a module of the files in dir named name*."""
+    for m in sorted(MODULES, key=len, reverse=True):
+        if m.endswith("*") and path.startswith(m[:-1]) and "/" not in path[len(m) - 1:]:
+            return m
+        if path == m or path.startswith(m + "/"):
+            return m
+    return None
+
+
+def closure(module):
+    seen, todo = set(), [module]
+    while todo:
+        m = todo.pop()
+        for d in DEPENDS[m]:
+            if d not in seen:
+                seen.add(d)
+                todo.append(d)
+    return seen
+
+
+def resolve(repo, including, name):
+    """The repository path an include names, or None where only another module's include
+    directory could resolve it. Generated headers resolve to their module's pseudo-path."""
+    here = os.path.dirname(including)
+    candidate = os.path.normpath(os.path.join(here, name))
+    if os.path.isfile(os.path.join(repo, candidate)):
+        return candidate
+    for root in ROOTS:
+        candidate = os.path.normpath(os.path.join(root, name))
+        if os.path.isfile(os.path.join(repo, candidate)):
+            return candidate
+    for prefix, module in GENERATED.items():
+        if name == prefix or (prefix.endswith("/") and name.startswith(prefix)):
+            return module + "/(generated)/" + name
+    return None
+
+
+def files(repo):
+    for top in MODULES:
+        if top.endswith("*"):
+            continue  # inside a directory module's walk
+        base = os.path.join(repo, top)
+        if not os.path.isdir(base):
+            continue
+        for dirpath, dirnames, filenames in os.walk(base):
+            dirnames[:] = [d for d in dirnames if d not in ("corpus", "build")]
+            for f in filenames:
+                if f.endswith(SOURCE_EXTENSIONS):
+                    yield os.path.relpath(os.path.join(dirpath, f), repo)
+
+
+def check(repo):
+    problems = []
+    counted = 0
+    for path in sorted(files(repo)):
+        module = module_of(path)
+        allowed = closure(module) | {module}
+        with open(os.path.join(repo, path), encoding="utf-8", errors="replace") as f:
+            for number, line in enumerate(f, 1):
+                m = INCLUDE.match(line)
+                if not m:
+                    continue
+                counted += 1
+                name = m.group(1)
+                target = resolve(repo, path, name)
+                where = f"{path}:{number}"
+                if target is None:
+                    problems.append(f"{where}: \"{name}\" is not relative to this file or a module root "
+                                    "(write the path from the repository root)")
+                    continue
+                to = module_of(target)
+                if to is None:
+                    problems.append(f"{where}: \"{name}\" is outside every module")
+                    continue
+                if to not in allowed:
+                    problems.append(f"{where}: {module} includes {target} of {to}, which is not below it "
+                                    f"(it may include: {', '.join(sorted(allowed))})")
+                if "/internal/" in "/" + target and to != module and not (module == "tests" and to in INTERNAL_FOR_TESTS):
+                    problems.append(f"{where}: {target} is internal to {to}")
+    return problems, counted
+
+
+def self_test():
+    """The check must fail where it should: a small tree with one include of each kind it refuses
+    (and one it allows), each reported once."""
+    import tempfile
+    tree = {
+        "common/lptn/model.hpp": "",
+        "common/lptn/internal/lu.hpp": "",
+        "trainer/data/dataset.hpp": '#include "lptn/model.hpp"\n',            # allowed: down a layer
+        "trainer/data/internal/raw.hpp": "",
+        "trainer/calibrate/problem.cpp": '#include "trainer/calibrate/lm.hpp"\n',  # LM above the shared part
+        "trainer/calibrate/lm.hpp": '#include "trainer/calibrate/problem.hpp"\n',
+        "trainer/calibrate/problem.hpp": "",
+        "firmware/include/lptn/firmware/observer.hpp": '#include "trainer/data/dataset.hpp"\n',  # firmware into trainer
+        "firmware/linux/replay.hpp": "",
+        "tools/replay/run.cpp": '#include "replay.hpp"\n#include "tools/cli/commands.hpp"\n',  # bare; tool into cli
+        "tools/cli/commands.hpp": "",
+        "tools/canlog/convert.cpp": '#include "trainer/data/internal/raw.hpp"\n',  # another module's internal
+        "tests/data/t.cpp": '#include "trainer/data/internal/raw.hpp"\n',  # a module's tests: allowed
+    }
+    with tempfile.TemporaryDirectory() as d:
+        for path, text in tree.items():
+            os.makedirs(os.path.dirname(os.path.join(d, path)), exist_ok=True)
+            with open(os.path.join(d, path), "w") as f:
+                f.write(text)
+        problems, _ = check(d)
+    expected = ["trainer/calibrate/problem.cpp:1:", "firmware/include/lptn/firmware/observer.hpp:1:",
+                "tools/replay/run.cpp:1:", "tools/replay/run.cpp:2:", "tools/canlog/convert.cpp:1:"]
+    found = sorted(p.split(" ")[0] for p in problems)
+    if found != sorted(expected):
+        print("check-layers self-test: expected problems at", sorted(expected), "got:")
+        for p in problems:
+            print("  " + p)
+        return 1
+    print(f"check-layers self-test: the {len(expected)} wrong-way includes of the test tree are refused, the rest allowed")
+    return 0
+
+
+def main():
+    if sys.argv[1:2] == ["--self-test"]:
+        return self_test()
+    repo = os.path.abspath(sys.argv[1] if len(sys.argv) > 1 else os.path.join(os.path.dirname(__file__), ".."))
+    problems, counted = check(repo)
+    for p in problems:
+        print(p)
+    print(f"check-layers: {counted} includes in {len(MODULES)} modules, {len(problems)} crossing a layer the wrong way")
+    return 1 if problems else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,42 @@
+#include "trainer/calibrate/lm_result.hpp"
+
+#include <utility>
+
+namespace lptn {
+
+nlohmann::json to_json(const LmSettings& s) {
+  return {{"max_iterations", s.max_iterations}, {"function_tolerance", s.function_tolerance},
+          {"parameter_tolerance", s.parameter_tolerance}, {"threads", s.threads},
+          {"correlation_flag", s.correlation_flag}, {"initial_offsets", "estimated per cycle (stator core, rotor core)"}};
+}
+
+void record_lm_fit(CalibrationResult& r, const LmReport& fit, const FreeParameters& free,
+                   const std::vector<std::string>& fitted, nlohmann::json settings) {
+  for (int i = 0; i < kNumParams; ++i) {
+    r.parameters[static_cast<std::size_t>(i)].value = fit.values[i];
+    r.parameters[static_cast<std::size_t>(i)].std_error = fit.std_error[i];
+  }
+  r.correlated = fit.correlated;
+  r.method = "lm";
+  r.has_actor = false;  // a TD3 actor belongs to the model it was trained for
+  r.settings = std::move(settings);
+  nlohmann::json offsets = nlohmann::json::array();
+  for (std::size_t i = 0; i < fitted.size() && i < fit.offsets.size(); ++i)
+    offsets.push_back({{"cycle", fitted[i]},
+                       {"stator_core_k", fit.offsets[i].stator_core},
+                       {"rotor_core_k", fit.offsets[i].rotor_core}});
+  nlohmann::json at_bound = nlohmann::json::array();
+  for (std::size_t j = 0; j < free.size() && j < fit.at_bound.size(); ++j)
+    if (fit.at_bound[j]) at_bound.push_back(std::string(param_spec(free.index[j]).name));
+  nlohmann::json names = nlohmann::json::array();
+  for (int i : free.index) names.push_back(std::string(param_spec(i).name));
+  r.details = {{"iterations", fit.iterations},   {"converged", fit.converged},
+               {"termination", fit.termination}, {"initial_cost_k2", fit.initial_cost},
+               {"final_cost_k2", fit.final_cost}, {"residuals", fit.residuals},
+               {"rmse_k", fit.rmse_k},           {"correlation_time", fit.correlation_time},
+               {"at_bound", at_bound},           {"correlation", {{"parameters", names}, {"matrix", fit.correlation}}},
+               {"initial_offsets", offsets}};
+  r.seconds = fit.seconds;
+}
+
+}  // namespace lptn

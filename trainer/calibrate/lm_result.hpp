@@ -1,0 +1,25 @@
+// An LM fit as calibration.json records it, for `lptn calibrate --method lm` and for the refits
+// `lptn diagnose --auto` writes out: one builder, so that the two files say the same things.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "trainer/calibrate/calibration_file.hpp"
+#include "trainer/calibrate/lm.hpp"
+
+namespace lptn {
+
+// The settings as method.settings records them.
+nlohmann::json to_json(const LmSettings& settings);
+
+// Writes `fit` into `result`: every parameter's value and standard error, the correlated pairs,
+// method "lm" with `settings`, the fit's details (iterations, cost, correlation, parameters at a
+// bound, the initial offsets of the `fitted` cycles, named in the order fit_lm was given them) and
+// its wall time. The metrics are score_calibration's to set.
+void record_lm_fit(CalibrationResult& result, const LmReport& fit, const FreeParameters& free,
+                   const std::vector<std::string>& fitted, nlohmann::json settings);
+
+}  // namespace lptn

@@ -1,0 +1,88 @@
+#include "trainer/model/initial_offsets.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <vector>
+
+namespace lptn {
+namespace {
+
+// Model minus measurement at every measured grid point of the window, in a fixed order.
+std::vector<double> residuals(const Model<double>& model, const ParamVector<double>& params, const data::Cycle& cycle,
+                              const InitialOffsets<double>& offsets, std::size_t steps) {
+  std::vector<double> r;
+  run_cycle(model, params.data(), cycle, [&](std::ptrdiff_t k, const double* x) {
+    if (k < 0) return;  // grid step 0 starts at the measurement by construction
+    const auto grid = static_cast<std::size_t>(k + 1);
+    const float ys = cycle.at(data::Channel::stator_winding_c, grid);
+    const float yr = cycle.at(data::Channel::rotor_c, grid);
+    if (!std::isnan(ys)) r.push_back(model.stator_sensor(x) - ys);
+    if (!std::isnan(yr)) r.push_back(model.rotor_sensor(x) - yr);
+  }, offsets, steps);
+  return r;
+}
+
+// The cost |r0 + s a + t b|^2 of a candidate, from the normal equations' sums.
+struct Quadratic {
+  double aa = 0, ab = 0, bb = 0, ar = 0, br = 0, rr = 0;
+  double cost(double s, double t) const {
+    return rr + 2 * (s * ar + t * br) + s * s * aa + 2 * s * t * ab + t * t * bb;
+  }
+};
+
+// The minimizer along one offset with the other held at `other` (0 where that offset does not
+// change the outputs), clamped to the box.
+double along(double self_self, double self_other, double self_r, double other) {
+  if (self_self <= 0) return 0.0;
+  return std::clamp(-(self_r + self_other * other) / self_self, -kInitialOffsetBoundK, kInitialOffsetBoundK);
+}
+
+}  // namespace
+
+InitialOffsets<double> estimate_initial_offsets(const Model<double>& model, const ParamVector<double>& params,
+                                               const data::Cycle& cycle, double window_s) {
+  const auto steps = static_cast<std::size_t>(std::max(2.0, window_s / cycle.dt_s));
+  const std::vector<double> r0 = residuals(model, params, cycle, {}, steps);
+  if (r0.empty()) return {};
+  const std::vector<double> rs = residuals(model, params, cycle, {1.0, 0.0}, steps);
+  const std::vector<double> rt = residuals(model, params, cycle, {0.0, 1.0}, steps);
+  Quadratic q;
+  for (std::size_t i = 0; i < r0.size(); ++i) {
+    const double a = rs[i] - r0[i], b = rt[i] - r0[i];
+    q.aa += a * a;
+    q.ab += a * b;
+    q.bb += b * b;
+    q.ar += a * r0[i];
+    q.br += b * r0[i];
+    q.rr += r0[i] * r0[i];
+  }
+  // An offset that moves no output stays 0 (as a damped solver leaves a direction without
+  // information); so does the other's share of a pair that cannot be told apart.
+  const double det = q.aa * q.bb - q.ab * q.ab;
+  const bool both = q.aa > 0 && q.bb > 0 && det > 1e-12 * q.aa * q.bb;
+  if (both) {
+    const double s = (q.ab * q.br - q.bb * q.ar) / det, t = (q.ab * q.ar - q.aa * q.br) / det;
+    if (std::abs(s) <= kInitialOffsetBoundK && std::abs(t) <= kInitialOffsetBoundK) return {s, t};
+  }
+  // The unconstrained minimum lies outside the box (or one direction is empty): the bounded
+  // minimum lies on an edge, each edge's best point is a one-dimensional clamp, and the best of
+  // them is the answer (the cost is convex, so this is exact).
+  std::array<std::array<double, 2>, 6> candidates{};
+  std::size_t n = 0;
+  candidates[n++] = {along(q.aa, q.ab, q.ar, 0.0), 0.0};
+  candidates[n++] = {0.0, along(q.bb, q.ab, q.br, 0.0)};
+  if (both) {
+    for (const double edge : {-kInitialOffsetBoundK, kInitialOffsetBoundK}) {
+      candidates[n++] = {edge, along(q.bb, q.ab, q.br, edge)};
+      candidates[n++] = {along(q.aa, q.ab, q.ar, edge), edge};
+    }
+  }
+  std::array<double, 2> best = candidates[0];
+  for (std::size_t i = 1; i < n; ++i)
+    if (q.cost(candidates[i][0], candidates[i][1]) < q.cost(best[0], best[1])) best = candidates[i];
+  return {best[0], best[1]};
+}
+
+}  // namespace lptn
