@@ -18,9 +18,9 @@ lptn=$root/build/ci/tools/cli/lptn
 for arg in "$@"; do
   case $arg in
     --inputs) inputs=1 ;;
-    -h | --help) sed -n '2,14p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h | --help) sed -n '2,13p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     -*) echo "update-change-indication.sh: unknown option $arg (see --help)" >&2; exit 2 ;;
-    *) lptn=$(cd "$(dirname "$arg")" && pwd)/$(basename "$arg") ;;
+    *) lptn=$arg ;;
   esac
 done
 [[ -x $lptn ]] || { echo "update-change-indication.sh: $lptn is not an executable (build: cmake --build --preset ci --target lptn)" >&2; exit 2; }
