@@ -7,9 +7,11 @@
 
 namespace lptn::grace {
 
-// Speed, torque, current, frequency and voltage follow the driver's commands within seconds.
+// Speed, torque, current, frequency and voltage follow the driver's commands within seconds, and
+// the losses follow them at once.
 inline constexpr double kElectricalS = 2.0;
-// Airflow and the temperatures move with the thermal time constants, minutes.
+// Airflow and the temperatures act through the motor's thermal time constants (minutes): a value
+// some seconds old changes the estimate little.
 inline constexpr double kAirflowS = 10.0;
 // Stator winding and rotor sensors, in the trainer's loader only: the firmware fuses each reading
 // once, as it arrives, and holds none.

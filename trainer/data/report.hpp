@@ -21,6 +21,8 @@ std::string format_report(const Dataset& dataset);
 // hours, warnings.
 nlohmann::json report_json(const Dataset& dataset);
 
+// The motor's nameplate (lptn/nameplate.hpp); the checks below read its pole pairs, rated current
+// and rated voltage.
 using Nameplate = lptn::Nameplate<double>;
 
 // Warnings, one per cycle and check, when the data does not look like this motor: current above
