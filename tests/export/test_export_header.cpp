@@ -7,8 +7,11 @@
 #include <limits>
 #include <random>
 #include <string>
+#include <type_traits>
+#include <vector>
 
 #include "../calibrate/sample_result.hpp"
+#include "../common/distinct_motor_constants.hpp"
 #include "tools/export/cpp_literals.hpp"
 #include "tools/export/export_header.hpp"
 #include "trainer/model/motor_file.hpp"
@@ -85,6 +88,33 @@ TEST(ExportHeader, HasEverySection) {
   const std::string without = export_header(c, {"cal.json", false});
   EXPECT_EQ(without.find("actor"), std::string::npos);
   EXPECT_EQ(without.find("kActor"), std::string::npos);
+}
+
+// Every constant in the field list is in motor_constants(), with its value; a table's rows up to
+// its size (the tail stays zero).
+TEST(ExportHeader, WritesEveryMotorConstant) {
+  MotorFile motor = parse_motor_file(example_motor_text(), "motor.toml");
+  motor.constants = testing::distinct_motor_constants();
+  const std::string h = export_header(testing::sample_result(format_motor_file(motor)), {});
+  int rows = 0;
+  for_each_motor_constant(
+      [&](const MotorField& f, const auto& v) {
+        const std::string name(f.name);
+        using M = std::remove_cvref_t<decltype(v)>;
+        std::vector<std::string> lines;
+        if constexpr (std::is_same_v<M, int>) {
+          lines.push_back("  m." + name + " = " + std::to_string(v) + ";\n");
+          if (f.shape == FieldShape::table_size) rows = v;
+        } else if constexpr (std::is_same_v<M, double>) {
+          lines.push_back("  m." + name + " = " + exporter::double_literal(v, name) + ";\n");
+        } else {
+          const int n = f.shape == FieldShape::table_column ? rows : static_cast<int>(std::size(v));
+          for (int i = 0; i < n; ++i)
+            lines.push_back("  m." + name + "[" + std::to_string(i) + "] = " + exporter::double_literal(v[i], name) + ";");
+        }
+        for (const std::string& line : lines) EXPECT_NE(h.find(line), std::string::npos) << line;
+      },
+      motor.constants);
 }
 
 TEST(ExportHeader, NoEffectsIsZero) {

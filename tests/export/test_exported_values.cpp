@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <cstring>
 #include <iterator>
+#include <type_traits>
 
 #include "thermal_calibration.hpp"
 #include "trainer/calibrate/calibration_file.hpp"
@@ -48,29 +49,18 @@ TEST(ExportedHeader, EffectsAndParameters) {
 TEST(ExportedHeader, MotorConstantsEqualTheMotorFile) {
   const MotorConstants<double> a = parse_motor_file(fixture().motor_text, "motor.text").constants;
   constexpr MotorConstants<double> b = calibration::motor_constants();
-  EXPECT_EQ(b.pole_pairs, a.pole_pairs);
-  EXPECT_EQ(b.rated_frequency_hz, a.rated_frequency_hz);
-  EXPECT_EQ(b.rated_voltage_v, a.rated_voltage_v);
-  EXPECT_EQ(b.rated_current_a, a.rated_current_a);
-  EXPECT_EQ(b.rated_power_w, a.rated_power_w);
-  EXPECT_EQ(b.stator_resistance_20c_ohm, a.stator_resistance_20c_ohm);
-  EXPECT_EQ(b.stator_resistance_alpha_per_k, a.stator_resistance_alpha_per_k);
-  EXPECT_EQ(b.rotor_resistance_20c_ohm, a.rotor_resistance_20c_ohm);
-  EXPECT_EQ(b.rotor_resistance_alpha_per_k, a.rotor_resistance_alpha_per_k);
-  EXPECT_EQ(b.magnetizing_current_a, a.magnetizing_current_a);
-  EXPECT_EQ(b.stray_rated_w, a.stray_rated_w);
-  EXPECT_EQ(b.iron_rated_w, a.iron_rated_w);
-  EXPECT_EQ(b.iron_alpha, a.iron_alpha);
-  EXPECT_EQ(b.iron_beta, a.iron_beta);
-  EXPECT_EQ(b.harmonic_points, a.harmonic_points);
-  for (int i = 0; i < kMaxHarmonicPoints; ++i) {
-    EXPECT_EQ(b.harmonic_frequency_hz[i], a.harmonic_frequency_hz[i]) << i;
-    EXPECT_EQ(b.harmonic_loss_w[i], a.harmonic_loss_w[i]) << i;
-  }
-  for (int i = 0; i < 4; ++i) EXPECT_EQ(b.capacitance_j_per_k[i], a.capacitance_j_per_k[i]) << i;
-  EXPECT_EQ(b.nominal_airflow_m3s, a.nominal_airflow_m3s);
-  EXPECT_EQ(b.airflow_exponent, a.airflow_exponent);
-  EXPECT_EQ(b.min_airflow_fraction, a.min_airflow_fraction);
+  int compared = 0;
+  for_each_motor_constant(
+      [&](const MotorField& f, const auto& exported, const auto& read) {
+        if constexpr (std::is_array_v<std::remove_cvref_t<decltype(exported)>>) {
+          for (std::size_t i = 0; i < std::size(exported); ++i) EXPECT_EQ(exported[i], read[i]) << f.name << "[" << i << "]";
+        } else {
+          EXPECT_EQ(exported, read) << f.name;
+        }
+        ++compared;
+      },
+      b, a);
+  EXPECT_GT(compared, 20);
   EXPECT_EQ(b.min_airflow_fraction, 0.12);  // not the default: the optional key made it through
 }
 

@@ -15,16 +15,18 @@ namespace lptn::plant::test {
 
 // 4-pole, 65 Hz, 1900 V, 115 A, 310 kW (the example motor file).
 inline MotorSpec example_motor() {
-  return MotorSpec{.pole_pairs = 2,
-                   .rated_frequency_hz = 65.0,
-                   .rated_voltage_v = 1900.0,
-                   .rated_current_a = 115.0,
-                   .rated_power_w = 310e3,
-                   .stator_resistance_20c_ohm = 0.14,
-                   .stator_resistance_alpha_per_k = 0.00393,
-                   .rotor_resistance_20c_ohm = 0.10,
-                   .rotor_resistance_alpha_per_k = 0.0039,
-                   .magnetizing_current_a = 40.0};
+  MotorSpec m{};
+  m.pole_pairs = 2;
+  m.rated_frequency_hz = 65.0;
+  m.rated_voltage_v = 1900.0;
+  m.rated_current_a = 115.0;
+  m.rated_power_w = 310e3;
+  m.stator_resistance_20c_ohm = 0.14;
+  m.stator_resistance_alpha_per_k = 0.00393;
+  m.rotor_resistance_20c_ohm = 0.10;
+  m.rotor_resistance_alpha_per_k = 0.0039;
+  m.magnetizing_current_a = 40.0;
+  return m;
 }
 
 struct CycleStats {

@@ -2,9 +2,14 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <iterator>
 #include <sstream>
 #include <string>
+#include <string_view>
+#include <type_traits>
+#include <vector>
 
+#include "../common/distinct_motor_constants.hpp"
 #include "trainer/model/motor_file.hpp"
 
 namespace lptn {
@@ -81,6 +86,55 @@ TEST(MotorFile, WritesBackAnyNameAndEveryNumberExactly) {
   EXPECT_EQ(back.parameters[kLambda1s].min, 1.0 / 3.0);
   EXPECT_EQ(back.parameters[kLambda1s].max, 1e300);
   EXPECT_EQ(back.constants.iron_rated_w, m.constants.iron_rated_w);
+}
+
+// Every constant in the field list goes out and comes back; one the writer or the reader missed
+// would come back as its default (distinct_motor_constants() holds none).
+TEST(MotorFile, EveryConstantRoundTrips) {
+  MotorFile m = parse_motor_file(example_text(), "motor.toml");
+  m.constants = testing::distinct_motor_constants();
+  const MotorFile back = parse_motor_file(format_motor_file(m), "again.toml");
+  int compared = 0;
+  for_each_motor_constant(
+      [&](const MotorField& f, const auto& got, const auto& want) {
+        if constexpr (std::is_array_v<std::remove_cvref_t<decltype(got)>>) {
+          for (std::size_t i = 0; i < std::size(got); ++i) EXPECT_EQ(got[i], want[i]) << f.name << "[" << i << "]";
+        } else {
+          EXPECT_EQ(got, want) << f.name;
+        }
+        ++compared;
+      },
+      back.constants, m.constants);
+  EXPECT_GT(compared, 20);
+}
+
+// Every key of every constant is read: without a required one the reader names it; without an
+// optional one it keeps the default.
+TEST(MotorFile, EveryConstantsKeyIsRead) {
+  const std::string full = format_motor_file(parse_motor_file(example_text(), "motor.toml"));
+  const MotorConstants<double> defaults;
+  for_each_motor_constant(
+      [&](const MotorField& f, const auto&) {
+        std::vector<std::string_view> keys;
+        if (f.shape == FieldShape::per_node) keys.assign(std::begin(f.node_keys), std::end(f.node_keys));
+        else if (f.shape != FieldShape::table_size) keys.push_back(f.name);
+        for (const std::string_view key : keys) {
+          const std::string line = "\n" + std::string(key) + " = ";
+          const auto at = full.find(line);
+          ASSERT_NE(at, std::string::npos) << key << " not written";
+          std::string text = full;
+          text.erase(at, full.find('\n', at + 1) - at);
+          const std::string message = error_of(text);
+          if (f.required) {
+            EXPECT_NE(message.find("key '" + std::string(f.section) + "." + std::string(key) + "': missing (required)"),
+                      std::string::npos)
+                << message;
+          } else {
+            EXPECT_EQ(message, "no error") << key;
+          }
+        }
+      },
+      defaults);
 }
 
 struct BadCase {

@@ -6,6 +6,9 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <type_traits>
+#include <utility>
+#include <vector>
 
 #include "tools/export/cpp_literals.hpp"
 #include "trainer/model/motor_file.hpp"
@@ -17,11 +20,6 @@ using exporter::comment_text;
 using exporter::double_literal;
 using exporter::float_literal;
 using exporter::string_literal;
-
-// A tripwire for whoever adds a field to MotorConstants: motor_constants_source() below must write
-// it too (otherwise the firmware silently gets the default). Update the size once it does.
-static_assert(sizeof(MotorConstants<double>) == 432,
-              "MotorConstants changed: export the new field in motor_constants_source(), then update this size");
 
 // Concatenation by appending (GCC 12 warns falsely, -Wrestrict, on "literal" + std::string&&).
 template <class... Parts>
@@ -146,42 +144,48 @@ std::string parameters_source(const CalibrationResult& c, const ExportOptions& o
   return s;
 }
 
+// Every constant as an assignment, in the order of their list (lptn/motor_constant_fields.hpp); a
+// table's columns row by row.
 std::string motor_constants_source(const CalibrationResult& c, const ExportOptions& o) {
   const MotorConstants<double> m = parse_motor_file(c.motor_text, o.source_name + ": motor.text").constants;
   std::string s = cat("// The motor file's constants (", comment_text(c.motor_file), ", kept whole in the calibration).\n");
   s += "constexpr MotorConstants<double> motor_constants() {\n";
   s += "  MotorConstants<double> m{};\n";
-  auto put = [&](const std::string& field, double v, const char* note = "") {
+  auto put = [&](const std::string& field, double v, const std::string& note = "") {
     s += cat("  m.", field, " = ", double_literal(v, "motor." + field), ";", note, "\n");
   };
-  s += cat("  m.pole_pairs = ", str(m.pole_pairs), ";\n");
-  put("rated_frequency_hz", m.rated_frequency_hz);
-  put("rated_voltage_v", m.rated_voltage_v);
-  put("rated_current_a", m.rated_current_a);
-  put("rated_power_w", m.rated_power_w);
-  put("stator_resistance_20c_ohm", m.stator_resistance_20c_ohm);
-  put("stator_resistance_alpha_per_k", m.stator_resistance_alpha_per_k);
-  put("rotor_resistance_20c_ohm", m.rotor_resistance_20c_ohm);
-  put("rotor_resistance_alpha_per_k", m.rotor_resistance_alpha_per_k);
-  put("magnetizing_current_a", m.magnetizing_current_a);
-  put("stray_rated_w", m.stray_rated_w);
-  put("iron_rated_w", m.iron_rated_w);
-  put("iron_alpha", m.iron_alpha);
-  put("iron_beta", m.iron_beta);
-  s += cat("  m.harmonic_points = ", str(m.harmonic_points), ";\n");
-  // The table's unused tail is zero (value-initialized above) unless the constants say otherwise.
-  int used = m.harmonic_points;
-  for (int i = 0; i < kMaxHarmonicPoints; ++i)
-    if (m.harmonic_frequency_hz[i] != 0 || m.harmonic_loss_w[i] != 0) used = std::max(used, i + 1);
-  for (int i = 0; i < used; ++i) {
-    put(cat("harmonic_frequency_hz[", str(i), "]"), m.harmonic_frequency_hz[i]);
-    put(cat("harmonic_loss_w[", str(i), "]"), m.harmonic_loss_w[i]);
-  }
-  const char* node[4] = {"  // stator winding", "  // stator core", "  // rotor winding", "  // rotor core"};
-  for (int i = 0; i < 4; ++i) put(cat("capacitance_j_per_k[", str(i), "]"), m.capacitance_j_per_k[i], node[i]);
-  put("nominal_airflow_m3s", m.nominal_airflow_m3s);
-  put("airflow_exponent", m.airflow_exponent);
-  put("min_airflow_fraction", m.min_airflow_fraction);
+  MotorField table{};
+  int rows = 0;
+  std::vector<std::pair<std::string, const double*>> columns;
+  for_each_motor_constant(
+      [&](const MotorField& f, const auto& member) {
+        const std::string name(f.name);
+        using M = std::remove_cvref_t<decltype(member)>;
+        if constexpr (std::is_same_v<M, int>) {
+          s += cat("  m.", name, " = ", str(member), ";\n");
+          if (f.shape == FieldShape::table_size) {
+            table = f;
+            rows = member;
+            columns.clear();
+          }
+        } else if constexpr (std::is_same_v<M, double>) {
+          put(name, member);
+        } else if (f.shape == FieldShape::per_node) {
+          for (int i = 0; i < kNumNodes; ++i)
+            put(cat(name, "[", str(i), "]"), member[i], cat("  // ", std::string(f.node_names[i])));
+        } else {
+          columns.emplace_back(name, member);
+          if (static_cast<int>(columns.size()) < table.columns) return;
+          // The table's unused tail is zero (value-initialized above) unless the constants say otherwise.
+          int used = rows;
+          for (const auto& [column, values] : columns)
+            for (int i = 0; i < static_cast<int>(std::extent_v<M>); ++i)
+              if (values[i] != 0) used = std::max(used, i + 1);
+          for (int i = 0; i < used; ++i)
+            for (const auto& [column, values] : columns) put(cat(column, "[", str(i), "]"), values[i]);
+        }
+      },
+      m);
   s += "  return m;\n}\n";
   return s;
 }

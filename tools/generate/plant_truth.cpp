@@ -40,11 +40,7 @@ ParamVector<double> true_parameters() {
 
 plant::MotorSpec plant_motor_spec(const MotorConstants<double>& m) {
   plant::MotorSpec s{};
-  s.pole_pairs = m.pole_pairs;
-  s.rated_frequency_hz = m.rated_frequency_hz;
-  s.rated_voltage_v = m.rated_voltage_v;
-  s.rated_current_a = m.rated_current_a;
-  s.rated_power_w = m.rated_power_w;
+  static_cast<Nameplate<double>&>(s) = m;
   s.stator_resistance_20c_ohm = m.stator_resistance_20c_ohm;
   s.stator_resistance_alpha_per_k = m.stator_resistance_alpha_per_k;
   s.rotor_resistance_20c_ohm = m.rotor_resistance_20c_ohm;

@@ -5,16 +5,13 @@
 #include <cmath>
 #include <numbers>
 
+#include "lptn/nameplate.hpp"
+
 namespace lptn::plant {
 
-// A plain aggregate the caller fills from the motor file. Resistances are per phase, the rotor's
-// referred to the stator; voltage is line RMS, current phase RMS.
-struct MotorSpec {
-  int pole_pairs;
-  double rated_frequency_hz;
-  double rated_voltage_v;
-  double rated_current_a;
-  double rated_power_w;
+// A plain aggregate the caller fills from the motor file: its nameplate, then the electrical
+// constants. Resistances are per phase, the rotor's referred to the stator.
+struct MotorSpec : Nameplate<double> {
   double stator_resistance_20c_ohm;
   double stator_resistance_alpha_per_k;
   double rotor_resistance_20c_ohm;
@@ -30,9 +27,7 @@ inline constexpr double kConstantPowerEndFactor = 1.6;
 
 // Base speed: synchronous speed at rated frequency. The slip at rated load is < 1 % of it, so
 // using the synchronous speed keeps the helpers independent of temperature.
-inline double base_speed_rpm(const MotorSpec& m) {
-  return 60.0 * m.rated_frequency_hz / m.pole_pairs;
-}
+inline double base_speed_rpm(const MotorSpec& m) { return m.base_speed_rpm(); }
 
 inline double max_speed_rpm(const MotorSpec& m) { return m.max_speed_factor * base_speed_rpm(m); }
 

@@ -6,6 +6,8 @@
 #include <optional>
 #include <string_view>
 
+#include "lptn/grace_periods.hpp"
+
 namespace lptn::data {
 
 enum class Channel : int {
@@ -30,22 +32,22 @@ struct ChannelInfo {
   std::string_view unit;
   bool required;
   double min, max;  // physically impossible outside: a value there is a logging fault, not data
-  double max_gap_s;  // default longest span linear interpolation may bridge
+  double max_gap_s;  // default longest span linear interpolation may bridge (lptn/grace_periods.hpp)
   GapPolicy on_long_gap;
 };
 
 inline constexpr std::string_view kTimeColumn = "time_s";
 
 inline constexpr std::array<ChannelInfo, kNumChannels> kChannelTable{{
-    {"speed_rpm", "1/min", true, -20000.0, 20000.0, 2.0, GapPolicy::split},
-    {"torque_nm", "N·m", false, -1e5, 1e5, 2.0, GapPolicy::mask},
-    {"current_a", "A", true, 0.0, 20000.0, 2.0, GapPolicy::split},
-    {"frequency_hz", "Hz", true, -1000.0, 1000.0, 2.0, GapPolicy::split},
-    {"voltage_v", "V", false, 0.0, 20000.0, 2.0, GapPolicy::mask},
-    {"airflow_m3s", "m³/s", true, 0.0, 100.0, 10.0, GapPolicy::split},
-    {"ambient_c", "°C", true, -60.0, 70.0, 120.0, GapPolicy::split},
-    {"stator_winding_c", "°C", true, -60.0, 400.0, 10.0, GapPolicy::mask},
-    {"rotor_c", "°C", false, -60.0, 400.0, 10.0, GapPolicy::mask},
+    {"speed_rpm", "1/min", true, -20000.0, 20000.0, grace::kElectricalS, GapPolicy::split},
+    {"torque_nm", "N·m", false, -1e5, 1e5, grace::kElectricalS, GapPolicy::mask},
+    {"current_a", "A", true, 0.0, 20000.0, grace::kElectricalS, GapPolicy::split},
+    {"frequency_hz", "Hz", true, -1000.0, 1000.0, grace::kElectricalS, GapPolicy::split},
+    {"voltage_v", "V", false, 0.0, 20000.0, grace::kElectricalS, GapPolicy::mask},
+    {"airflow_m3s", "m³/s", true, 0.0, 100.0, grace::kAirflowS, GapPolicy::split},
+    {"ambient_c", "°C", true, -60.0, 70.0, grace::kAmbientS, GapPolicy::split},
+    {"stator_winding_c", "°C", true, -60.0, 400.0, grace::kTemperatureSensorS, GapPolicy::mask},
+    {"rotor_c", "°C", false, -60.0, 400.0, grace::kTemperatureSensorS, GapPolicy::mask},
 }};
 
 inline constexpr std::array<Channel, kNumChannels> kAllChannels{

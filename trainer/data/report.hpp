@@ -6,6 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "lptn/nameplate.hpp"
 #include "trainer/data/dataset.hpp"
 
 namespace lptn::data {
@@ -20,10 +21,9 @@ std::string format_report(const Dataset& dataset);
 // hours, warnings.
 nlohmann::json report_json(const Dataset& dataset);
 
-struct Nameplate {
-  int pole_pairs;
-  double rated_frequency_hz, rated_current_a, rated_voltage_v;
-};
+// The motor's nameplate (lptn/nameplate.hpp); the checks below read its pole pairs, rated current
+// and rated voltage.
+using Nameplate = lptn::Nameplate<double>;
 
 // Warnings, one per cycle and check, when the data does not look like this motor: current above
 // 4x rated, voltage above 1.3x rated, or stator frequency more than 10 Hz away from

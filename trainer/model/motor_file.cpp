@@ -9,6 +9,8 @@
 #include <sstream>
 #include <string_view>
 #include <toml++/toml.h>
+#include <type_traits>
+#include <vector>
 
 namespace lptn {
 namespace {
@@ -119,6 +121,143 @@ class TableReader {
   std::set<std::string> seen_;
 };
 
+// The motor file's sections that hold constants, in the order of their list.
+std::vector<std::string_view> constant_sections() {
+  std::vector<std::string_view> sections;
+  const MotorConstants<double> c;
+  for_each_motor_constant(
+      [&](const MotorField& f, const auto&) {
+        if (sections.empty() || sections.back() != f.section) sections.push_back(f.section);
+      },
+      c);
+  return sections;
+}
+
+// What `rule` says about v (the previous row's value given for a table column), or nullptr.
+const char* rule_broken(FieldRule rule, double v, const double* previous) {
+  switch (rule) {
+    case FieldRule::finite: return nullptr;
+    case FieldRule::positive: return v > 0 ? nullptr : "must be greater than zero";
+    case FieldRule::non_negative: return v < 0 ? "must not be negative" : nullptr;
+    case FieldRule::increasing: return previous && !(v > *previous) ? "must increase strictly" : nullptr;
+  }
+  return nullptr;
+}
+
+// The constant `full_key` ("section.key") as read so far.
+double constant_named(const MotorConstants<double>& c, std::string_view full_key) {
+  double value = 0.0;
+  for_each_motor_constant(
+      [&](const MotorField& f, const auto& member) {
+        if constexpr (std::is_same_v<std::remove_cvref_t<decltype(member)>, double>) {
+          if (std::string(f.section) + "." + std::string(f.name) == full_key) value = member;
+        }
+      },
+      c);
+  return value;
+}
+
+// Reads the constants of one section into c, each checked as its field says.
+class ConstantsReader {
+ public:
+  ConstantsReader(TableReader& t, const std::filesystem::path& file) : t_(t), file_(file) {}
+
+  void read(std::string_view section, MotorConstants<double>& c) {
+    for_each_motor_constant(
+        [&](const MotorField& f, auto& member) {
+          if (f.section != section) return;
+          using M = std::remove_reference_t<decltype(member)>;
+          if constexpr (std::is_same_v<M, int>) {
+            if (f.shape == FieldShape::table_size) {
+              table_ = f;
+              rows_ = &member;
+              columns_.clear();
+            } else {
+              member = whole(f);
+            }
+          } else if constexpr (std::is_same_v<M, double>) {
+            member = value(f, f.name, member);
+            if (!f.below.empty() && !(member < constant_named(c, f.below)))
+              fail(file_, t_.where(f.name), t_.full(f.name), "must be below " + std::string(f.below));
+          } else if (f.shape == FieldShape::per_node) {
+            for (int i = 0; i < kNumNodes; ++i) member[i] = value(f, f.node_keys[i], member[i]);
+          } else {
+            columns_.push_back({f, t_.numbers(f.name), member});
+            if (static_cast<int>(columns_.size()) == table_.columns) read_table();
+          }
+        },
+        c);
+  }
+
+ private:
+  struct Column {
+    MotorField field;
+    std::vector<double> values;
+    double* into;
+  };
+
+  double value(const MotorField& f, std::string_view key, double fallback) {
+    const double v = t_.number(key, f.required, fallback);
+    if (const char* why = rule_broken(f.rule, v, nullptr)) fail(file_, t_.where(key), t_.full(key), why);
+    return v;
+  }
+
+  int whole(const MotorField& f) {
+    const double v = value(f, f.name, 0.0);
+    if (v != std::floor(v) || v > f.max_count)
+      fail(file_, t_.where(f.name), t_.full(f.name), "must be a whole number from 1 to " + std::to_string(f.max_count));
+    return static_cast<int>(v);
+  }
+
+  // Once every column of the table is read: equal lengths, 1 to max_count rows, each row's values
+  // as their columns' rules say.
+  void read_table() {
+    const Column& first = columns_.front();
+    for (const Column& col : columns_) {
+      if (col.values.size() != first.values.size())
+        fail(file_, t_.where(col.field.name), t_.full(col.field.name),
+             "must have as many entries as " + t_.full(first.field.name));
+    }
+    const std::size_t rows = first.values.size();
+    if (rows == 0 || rows > static_cast<std::size_t>(table_.max_count))
+      fail(file_, t_.where(first.field.name), t_.full(first.field.name),
+           "must have 1 to " + std::to_string(table_.max_count) + " entries");
+    for (std::size_t i = 0; i < rows; ++i) {
+      for (const Column& col : columns_) {
+        if (const char* why = rule_broken(col.field.rule, col.values[i], i > 0 ? &col.values[i - 1] : nullptr))
+          fail(file_, t_.where(col.field.name), t_.full(col.field.name), why);
+        col.into[i] = col.values[i];
+      }
+    }
+    *rows_ = static_cast<int>(rows);
+  }
+
+  TableReader& t_;
+  const std::filesystem::path& file_;
+  MotorField table_{};
+  int* rows_ = nullptr;
+  std::vector<Column> columns_;
+};
+
+// The loss-split factors live in [losses] unless [parameters.NAME] takes them over for calibration.
+void read_loss_split(TableReader& t, const toml::table& losses, const toml::table& root,
+                     const std::filesystem::path& file, MotorFile& motor) {
+  const toml::table* params = root.get_as<toml::table>("parameters");
+  for (int i = kKStemp; i <= kKPfe; ++i) {
+    const std::string_view key = param_spec(i).name;
+    const bool calibrated_instead = params && params->get(key);
+    if (calibrated_instead) {
+      if (losses.get(key))
+        fail(file, t.where(key), "losses." + std::string(key),
+             "given both here and as [parameters." + std::string(key) + "]; keep one");
+      continue;
+    }
+    const double v = i <= kKRtemp ? t.positive(key) : t.fraction(key);
+    const ParamSpec& spec = param_spec(i);
+    motor.parameters[i] = {v, std::min(spec.min, v), std::max(spec.max, v), false, true};
+  }
+}
+
 }  // namespace
 
 std::array<ParameterSetting, kNumParams> default_parameter_settings() {
@@ -158,80 +297,11 @@ MotorFile parse_motor_file(const std::string& text, const std::filesystem::path&
     if (!n->is_string()) fail(shown_as, n->source(), "name", "must be a string");
     motor.name = n->value<std::string>().value_or("");
   }
-  MotorConstants<double>& c = motor.constants;
-
-  {
-    TableReader t(top.sub_table("nameplate"), "nameplate", shown_as);
-    const double pp = t.positive("pole_pairs");
-    if (pp != std::floor(pp) || pp > 16) fail(shown_as, t.where("pole_pairs"), "nameplate.pole_pairs", "must be a whole number from 1 to 16");
-    c.pole_pairs = static_cast<int>(pp);
-    c.rated_frequency_hz = t.positive("rated_frequency_hz");
-    c.rated_voltage_v = t.positive("rated_voltage_v");
-    c.rated_current_a = t.positive("rated_current_a");
-    c.rated_power_w = t.positive("rated_power_w");
-    t.refuse_unknown();
-  }
-  {
-    TableReader t(top.sub_table("electrical"), "electrical", shown_as);
-    c.stator_resistance_20c_ohm = t.positive("stator_resistance_20c_ohm");
-    c.stator_resistance_alpha_per_k = t.number("stator_resistance_alpha_per_k");
-    c.rotor_resistance_20c_ohm = t.positive("rotor_resistance_20c_ohm");
-    c.rotor_resistance_alpha_per_k = t.number("rotor_resistance_alpha_per_k");
-    c.magnetizing_current_a = t.positive("magnetizing_current_a");
-    if (c.magnetizing_current_a >= c.rated_current_a)
-      fail(shown_as, t.where("magnetizing_current_a"), "electrical.magnetizing_current_a", "must be below nameplate.rated_current_a");
-    t.refuse_unknown();
-  }
-  const toml::table& losses = top.sub_table("losses");
-  {
-    TableReader t(losses, "losses", shown_as);
-    c.stray_rated_w = t.number("stray_rated_w");
-    c.iron_rated_w = t.number("iron_rated_w");
-    if (c.stray_rated_w < 0) fail(shown_as, t.where("stray_rated_w"), "losses.stray_rated_w", "must not be negative");
-    if (c.iron_rated_w < 0) fail(shown_as, t.where("iron_rated_w"), "losses.iron_rated_w", "must not be negative");
-    c.iron_alpha = t.positive("iron_alpha");
-    c.iron_beta = t.positive("iron_beta");
-    const auto f = t.numbers("harmonic_frequency_hz");
-    const auto p = t.numbers("harmonic_loss_w");
-    if (f.size() != p.size())
-      fail(shown_as, t.where("harmonic_loss_w"), "losses.harmonic_loss_w", "must have as many entries as losses.harmonic_frequency_hz");
-    if (f.empty() || f.size() > static_cast<std::size_t>(kMaxHarmonicPoints))
-      fail(shown_as, t.where("harmonic_frequency_hz"), "losses.harmonic_frequency_hz",
-           "must have 1 to " + std::to_string(kMaxHarmonicPoints) + " entries");
-    for (std::size_t i = 0; i < f.size(); ++i) {
-      if (i > 0 && !(f[i] > f[i - 1]))
-        fail(shown_as, t.where("harmonic_frequency_hz"), "losses.harmonic_frequency_hz", "must increase strictly");
-      if (p[i] < 0) fail(shown_as, t.where("harmonic_loss_w"), "losses.harmonic_loss_w", "must not be negative");
-      c.harmonic_frequency_hz[i] = f[i];
-      c.harmonic_loss_w[i] = p[i];
-    }
-    c.harmonic_points = static_cast<int>(f.size());
-    // The loss-split factors live here unless [parameters.NAME] takes them over for calibration.
-    const toml::table* params = root.get_as<toml::table>("parameters");
-    for (int i = kKStemp; i <= kKPfe; ++i) {
-      const std::string_view key = param_spec(i).name;
-      const bool calibrated_instead = params && params->get(key);
-      if (calibrated_instead) {
-        if (losses.get(key))
-          fail(shown_as, t.where(key), "losses." + std::string(key),
-               "given both here and as [parameters." + std::string(key) + "]; keep one");
-        continue;
-      }
-      const double v = i <= kKRtemp ? t.positive(key) : t.fraction(key);
-      const ParamSpec& spec = param_spec(i);
-      motor.parameters[i] = {v, std::min(spec.min, v), std::max(spec.max, v), false, true};
-    }
-    t.refuse_unknown();
-  }
-  {
-    TableReader t(top.sub_table("thermal"), "thermal", shown_as);
-    c.capacitance_j_per_k[0] = t.positive("capacitance_stator_winding_j_per_k");
-    c.capacitance_j_per_k[1] = t.positive("capacitance_stator_core_j_per_k");
-    c.capacitance_j_per_k[2] = t.positive("capacitance_rotor_winding_j_per_k");
-    c.capacitance_j_per_k[3] = t.positive("capacitance_rotor_core_j_per_k");
-    c.nominal_airflow_m3s = t.positive("nominal_airflow_m3s");
-    c.airflow_exponent = t.positive("airflow_exponent");
-    c.min_airflow_fraction = t.positive("min_airflow_fraction", false, c.min_airflow_fraction);
+  for (const std::string_view section : constant_sections()) {
+    const toml::table& table = top.sub_table(section);
+    TableReader t(table, std::string(section), shown_as);
+    ConstantsReader(t, shown_as).read(section, motor.constants);
+    if (section == "losses") read_loss_split(t, table, root, shown_as, motor);
     t.refuse_unknown();
   }
   if (const toml::table* params = top.optional_table("parameters")) {
@@ -319,36 +389,48 @@ std::string toml_string(std::string_view text) {
   }
   return out + "\"";
 }
+
+// One section's constants as key = value lines, in the order of their list.
+void write_constants(std::ostream& o, std::string_view section, const MotorConstants<double>& c) {
+  int rows = 0;
+  for_each_motor_constant(
+      [&](const MotorField& f, const auto& member) {
+        if (f.section != section) return;
+        using M = std::remove_cvref_t<decltype(member)>;
+        if constexpr (std::is_same_v<M, int>) {
+          if (f.shape == FieldShape::table_size) {
+            rows = member;  // no key of its own: the length of the columns that follow
+          } else {
+            o << f.name << " = " << member << "\n";
+          }
+        } else if constexpr (std::is_same_v<M, double>) {
+          o << f.name << " = " << num(member);
+          if (!f.note.empty()) o << std::string(static_cast<std::size_t>(f.note_gap), ' ') << "# " << f.note;
+          o << "\n";
+        } else if (f.shape == FieldShape::per_node) {
+          for (int i = 0; i < kNumNodes; ++i) o << f.node_keys[i] << " = " << num(member[i]) << "\n";
+        } else {
+          o << f.name << " = [";
+          for (int i = 0; i < rows; ++i) o << (i ? ", " : "") << num(member[i]);
+          o << "]\n";
+        }
+      },
+      c);
+}
 }  // namespace
 
 std::string format_motor_file(const MotorFile& motor) {
-  const MotorConstants<double>& c = motor.constants;
   std::ostringstream o;
   o << "# Motor description for lptn (see README.md, 'The motor file'). Keys carry their units.\n";
-  o << "name = " << toml_string(motor.name) << "\n\n";
-  o << "[nameplate]\npole_pairs = " << c.pole_pairs << "\nrated_frequency_hz = " << num(c.rated_frequency_hz)
-    << "\nrated_voltage_v = " << num(c.rated_voltage_v) << "          # line, RMS\nrated_current_a = " << num(c.rated_current_a)
-    << "           # phase, RMS\nrated_power_w = " << num(c.rated_power_w) << "\n\n";
-  o << "[electrical]\nstator_resistance_20c_ohm = " << num(c.stator_resistance_20c_ohm)
-    << "  # per phase\nstator_resistance_alpha_per_k = " << num(c.stator_resistance_alpha_per_k)
-    << "\nrotor_resistance_20c_ohm = " << num(c.rotor_resistance_20c_ohm)
-    << "   # referred to the stator\nrotor_resistance_alpha_per_k = " << num(c.rotor_resistance_alpha_per_k)
-    << "\nmagnetizing_current_a = " << num(c.magnetizing_current_a) << "      # at rated flux\n\n";
-  o << "[losses]\nstray_rated_w = " << num(c.stray_rated_w) << "\niron_rated_w = " << num(c.iron_rated_w)
-    << "\niron_alpha = " << num(c.iron_alpha) << "\niron_beta = " << num(c.iron_beta) << "\nharmonic_frequency_hz = [";
-  for (int i = 0; i < c.harmonic_points; ++i) o << (i ? ", " : "") << num(c.harmonic_frequency_hz[i]);
-  o << "]\nharmonic_loss_w = [";
-  for (int i = 0; i < c.harmonic_points; ++i) o << (i ? ", " : "") << num(c.harmonic_loss_w[i]);
-  o << "]\n";
-  for (int i = kKStemp; i <= kKPfe; ++i) {
-    if (!motor.parameters[i].calibrate) o << param_spec(i).name << " = " << num(motor.parameters[i].initial) << "\n";
+  o << "name = " << toml_string(motor.name) << "\n";
+  for (const std::string_view section : constant_sections()) {
+    o << "\n[" << section << "]\n";
+    write_constants(o, section, motor.constants);
+    if (section != "losses") continue;
+    for (int i = kKStemp; i <= kKPfe; ++i) {
+      if (!motor.parameters[i].calibrate) o << param_spec(i).name << " = " << num(motor.parameters[i].initial) << "\n";
+    }
   }
-  o << "\n[thermal]\ncapacitance_stator_winding_j_per_k = " << num(c.capacitance_j_per_k[0])
-    << "\ncapacitance_stator_core_j_per_k = " << num(c.capacitance_j_per_k[1])
-    << "\ncapacitance_rotor_winding_j_per_k = " << num(c.capacitance_j_per_k[2])
-    << "\ncapacitance_rotor_core_j_per_k = " << num(c.capacitance_j_per_k[3])
-    << "\nnominal_airflow_m3s = " << num(c.nominal_airflow_m3s) << "\nairflow_exponent = " << num(c.airflow_exponent)
-    << "\nmin_airflow_fraction = " << num(c.min_airflow_fraction) << "\n";
   o << "\n# Calibrated parameters; `calibrate = false` pins one at `initial`.\n";
   for (int i = 0; i < kNumParams; ++i) {
     const ParameterSetting& s = motor.parameters[i];

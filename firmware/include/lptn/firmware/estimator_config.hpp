@@ -8,6 +8,7 @@
 #include "lptn/firmware/input_conditioner.hpp"
 #include "lptn/firmware/observer.hpp"
 #include "lptn/firmware/sensor_monitor.hpp"
+#include "lptn/grace_periods.hpp"
 #include "lptn/model.hpp"
 
 namespace lptn::fw {
@@ -70,8 +71,9 @@ T worst_frequency(const MotorConstants<T>& m, T current_a) {
 }  // namespace internal
 
 // The documented defaults. Ranges follow the nameplate; timeouts are 3 cycle times of the input's
-// frame (from the DBC); grace periods match what the trainer's loader bridges (2 s electrical,
-// 10 s airflow, 120 s ambient). Conservative values, each one that can only raise the estimate:
+// frame (from the DBC); grace periods are what the trainer's loader bridges (lptn/grace_periods.hpp;
+// the sensors' readings are fused as they come, none held). Conservative values, each one that can
+// only raise the estimate:
 //   speed       0 rpm: no speed-driven cooling (effects); the rotor loss is taken from the
 //               currents instead of the slip power (windage, if enabled, is then left out)
 //   current     2 x rated: the converter's current limit (set your converter's)
@@ -94,16 +96,16 @@ EstimatorConfig<T> default_config(const MotorConstants<T>& m, EffectSet effects,
   auto set = [&](Input i, T lo, T hi, TimeUs timeout, T grace_s, T conservative) {
     c.inputs[index_of(i)] = InputLimits<T>{lo, hi, timeout, static_cast<TimeUs>(grace_s * T(kUsPerS)), conservative};
   };
-  set(Input::speed, -T(3) * m.base_speed_rpm(), T(3) * m.base_speed_rpm(), electrical, T(2), T(0));
-  set(Input::current, T(0), T(4) * m.rated_current_a, electrical, T(2), current_limit);
-  set(Input::frequency, -T(3.2) * m.rated_frequency_hz, T(3.2) * m.rated_frequency_hz, electrical, T(2),
-      internal::worst_frequency(m, current_limit));
-  set(Input::airflow, T(0), T(5) * m.nominal_airflow_m3s, cooling, T(10), T(0));
-  set(Input::ambient, T(-50), T(60), cooling, T(120), T(45));
+  set(Input::speed, -T(3) * m.base_speed_rpm(), T(3) * m.base_speed_rpm(), electrical, T(grace::kElectricalS), T(0));
+  set(Input::current, T(0), T(4) * m.rated_current_a, electrical, T(grace::kElectricalS), current_limit);
+  set(Input::frequency, -T(3.2) * m.rated_frequency_hz, T(3.2) * m.rated_frequency_hz, electrical,
+      T(grace::kElectricalS), internal::worst_frequency(m, current_limit));
+  set(Input::airflow, T(0), T(5) * m.nominal_airflow_m3s, cooling, T(grace::kAirflowS), T(0));
+  set(Input::ambient, T(-50), T(60), cooling, T(grace::kAmbientS), T(45));
   set(Input::torque, -T(4) * rated_torque, T(4) * rated_torque, 3 * internal::cycle_us(can::TcTorque::kCycleTimeMs),
-      T(2), T(0));
-  set(Input::voltage, T(0), T(1.3) * m.rated_voltage_v, 3 * internal::cycle_us(can::TcVoltage::kCycleTimeMs), T(2),
-      T(0));
+      T(grace::kElectricalS), T(0));
+  set(Input::voltage, T(0), T(1.3) * m.rated_voltage_v, 3 * internal::cycle_us(can::TcVoltage::kCycleTimeMs),
+      T(grace::kElectricalS), T(0));
   set(Input::stator_sensor, T(-50), T(250), 3 * internal::cycle_us(can::TcStatorTemp::kCycleTimeMs), T(0), T(0));
   set(Input::rotor_sensor, T(-50), T(300), 3 * internal::cycle_us(can::BenchRotorTemp::kCycleTimeMs), T(0), T(0));
   return c;
