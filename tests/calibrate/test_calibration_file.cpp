@@ -34,10 +34,7 @@ void expect_split_eq(const SplitMetrics& a, const SplitMetrics& b) {
   }
 }
 
-std::string slurp(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
+using testing::slurp;
 
 // The message of the CalibrationFileError that `f` throws ("" if none).
 template <class F>

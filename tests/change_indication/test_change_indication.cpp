@@ -43,10 +43,7 @@ constexpr std::size_t kShown = 20;  // mismatches spelled out; the rest are coun
 const char* const kRegenerate =
     "if the change is intended, regenerate with tools/update-change-indication.sh and commit the diff";
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
+using testing::slurp;
 
 struct Outcome {
   int code;

@@ -37,10 +37,7 @@ namespace fs = std::filesystem;
 const fs::path kCalibration = fs::path(LPTN_SOURCE_DIR) / "firmware/calibration/default_calibration.json";
 const fs::path kHeader = fs::path(LPTN_SOURCE_DIR) / "firmware/calibration/default_calibration.hpp";
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
+using testing::slurp;
 
 struct Outcome {
   int code;

@@ -18,10 +18,7 @@ namespace fs = std::filesystem;
 using testing::run;
 using testing::TempDir;
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
+using testing::slurp;
 
 void write(const fs::path& p, const std::string& text) { std::ofstream(p) << text; }
 

@@ -29,10 +29,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
+using testing::slurp;
 
 // The lptn binary itself as a child (not through a shell, so that SIGKILL reaches it), its
 // output into `log`.

@@ -6,7 +6,7 @@
 
 #include "tools/cli/commands.hpp"
 #include "trainer/data/dataset.hpp"
-#include "trainer/data/report.hpp"
+#include "trainer/data/inspection.hpp"
 #include "trainer/model/motor_file.hpp"
 
 namespace lptn::cli {

@@ -7,7 +7,7 @@
 
 #include "../data/test_util.hpp"
 #include "trainer/data/dataset.hpp"
-#include "trainer/data/report.hpp"
+#include "trainer/data/inspection.hpp"
 
 namespace lptn::data {
 namespace {

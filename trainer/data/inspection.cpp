@@ -1,6 +1,6 @@
 // The `lptn inspect` report and the nameplate plausibility check.
 
-#include "trainer/data/report.hpp"
+#include "trainer/data/inspection.hpp"
 
 #include <algorithm>
 #include <cmath>
