@@ -37,7 +37,8 @@ void run_lm(const CalibrateArgs& a, const MotorFile& motor, const data::Dataset&
 
 // lptn holds no libtorch (it would cost every command, `lptn --help` included, half a second to
 // load): TD3 runs in lptn-td3, installed beside lptn, given this very command line.
-[[noreturn]] void hand_over_to_td3_program() {
+// [[maybe_unused]]: with LPTN_WITH_TD3=OFF nothing calls it, and -Werror would stop that build.
+[[noreturn, maybe_unused]] void hand_over_to_td3_program() {
   const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe");
   const std::filesystem::path program = self.parent_path() / "lptn-td3";
   std::vector<std::string> args = invocation();
