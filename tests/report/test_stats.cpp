@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 #include <random>
 
 #include "tools/report/stats.hpp"
@@ -60,6 +61,41 @@ TEST(ReportStats, UnrelatedSlowSeriesCrossTheCorrectedBandAboutOneTimeInTwenty) 
   }
   EXPECT_LE(outside, 6);
   EXPECT_GE(outside_uncorrected, 15);
+}
+
+// A 1 Hz sensor on the 10 Hz grid, linearly interpolated between its readings, as the loader
+// resamples it: readings at steps offset, offset + 10, ...; `drift` is added (the model's error).
+std::vector<float> interpolated_sensor(std::size_t readings, std::size_t offset, double sigma, double drift_k,
+                                       unsigned seed) {
+  const auto noise = white_noise(readings, seed);
+  std::vector<float> e(offset + 10 * (readings - 1) + 1, std::nanf(""));
+  for (std::size_t j = 0; j + 1 < readings; ++j) {
+    for (std::size_t f = 0; f <= 10; ++f) {
+      const double w = static_cast<double>(f) / 10;
+      e[offset + 10 * j + f] = static_cast<float>(sigma * ((1 - w) * noise[j] + w * noise[j + 1]));
+    }
+  }
+  for (std::size_t k = 0; k < e.size(); ++k)
+    e[k] += static_cast<float>(drift_k * std::sin(2 * std::numbers::pi * static_cast<double>(k) / 18000));
+  return e;
+}
+
+// The noise under a slow error twenty times its size (the rotor's case), whatever the phase of the
+// readings on the grid (the generator's stator reads at whole seconds, its rotor half a second
+// later), and the noise alone where there is nothing else (the stator's).
+TEST(ReportStats, SensorNoiseIsTheNoiseNotTheSlowErrorAtAnyPhase) {
+  for (std::size_t offset : {0u, 5u, 9u}) {
+    EXPECT_NEAR(sensor_noise(interpolated_sensor(6000, offset, 0.4, 0, 7), 10).sigma(), 0.4, 0.02) << offset;
+    EXPECT_NEAR(sensor_noise(interpolated_sensor(6000, offset, 0.4, 8, 7), 10).sigma(), 0.4, 0.02) << offset;
+  }
+  // Pooled over cycles; every 0.1 s step a reading (period 1) is plain white noise.
+  NoiseSum pooled = sensor_noise(interpolated_sensor(3000, 3, 0.5, 0, 8), 10);
+  pooled += sensor_noise(interpolated_sensor(3000, 6, 0.5, 0, 9), 10);
+  EXPECT_NEAR(pooled.sigma(), 0.5, 0.03);
+  std::vector<float> white;
+  for (double v : white_noise(6000, 10)) white.push_back(static_cast<float>(0.3 * v));
+  EXPECT_NEAR(sensor_noise(white, 1).sigma(), 0.3, 0.015);
+  EXPECT_TRUE(std::isnan(sensor_noise(std::vector<float>(5, std::nanf("")), 1).sigma()));
 }
 
 TEST(ReportStats, RegionBinsCountEveryValidSampleOnce) {
