@@ -44,7 +44,23 @@ struct CycleRun {
   CycleSimulation sim;
   CycleMetrics metrics;
   std::vector<float> stator_residual, rotor_residual;  // model - measured, per grid step
+  // Grid steps between a sensor's own readings (the loader interpolates between them).
+  std::size_t stator_period = 1, rotor_period = 1;
 };
+
+// The sensors a residual exists for. Every view of "where it fails" is made for each of them: the
+// paper's model can fit the stator winding to its noise while the rotor is 8 K off (a missing
+// windage), and a report of the stator alone would show nothing.
+struct SensorDef {
+  const char* key;    // the page's name for it
+  const char* label;  // for people
+  Channel measured;
+  std::vector<float> CycleRun::*residual;
+  std::size_t CycleRun::*period;
+};
+constexpr SensorDef kSensors[] = {
+    {"stator", "stator winding", Channel::stator_winding_c, &CycleRun::stator_residual, &CycleRun::stator_period},
+    {"rotor", "rotor", Channel::rotor_c, &CycleRun::rotor_residual, &CycleRun::rotor_period}};
 
 // The model a calibration describes: its motor text, effects and parameter values.
 struct CalibratedModel {
@@ -100,6 +116,17 @@ std::vector<float> residual(const std::vector<float>& model, const data::Cycle& 
   std::vector<float> r(cycle.steps);
   for (std::size_t k = 0; k < cycle.steps; ++k) r[k] = model[k] - cycle.at(measured, k);
   return r;
+}
+
+// Grid steps per reading of channel `c`, from the loader's report on the cycle's file (1 where
+// it has none: every step then counts as a reading).
+std::size_t reading_period(const data::Dataset& ds, const data::Cycle& cycle, Channel c) {
+  for (const data::CycleReport& r : ds.reports) {
+    if (r.file != cycle.file) continue;
+    const double rate = r.channels[data::index_of(c)].native_rate_hz;
+    if (rate > 0) return std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(1 / (rate * cycle.dt_s))));
+  }
+  return 1;
 }
 
 // As calibrate evaluates a cycle for its metrics (simulate_and_evaluate), with the residuals kept.
@@ -160,25 +187,38 @@ json compare_cycle(const CycleRun& run) {
 
 // --- Where it fails -----------------------------------------------------------------------------
 
+// One sensor's residual and measurement as 1 s means, one segment per cycle.
+struct SensorSeries {
+  const SensorDef* def = nullptr;
+  Segments residual, measured;
+  NoiseSum noise;  // from the grid residual, at the sensor's own readings
+};
+
 // The 1 s means the statistics run on, one segment per cycle.
 struct StatSeries {
-  Segments stator_residual, speed, torque, airflow, ambient, stator_measured;
+  Segments speed, torque, airflow, ambient;
+  std::vector<SensorSeries> sensors;  // those with at least one valid residual, in kSensors' order
   std::vector<double> t0_s;  // each segment's first time
 };
 
 StatSeries stat_series(const std::vector<CycleRun>& runs) {
   StatSeries s;
+  for (const SensorDef& def : kSensors) s.sensors.push_back({&def, {}, {}, {}});
   for (const CycleRun& run : runs) {
     const data::Cycle& c = *run.cycle;
     const std::size_t block = steps_per_stat(c);
-    s.stator_residual.push_back(block_means(run.stator_residual, block));
+    for (SensorSeries& sensor : s.sensors) {
+      sensor.residual.push_back(block_means(run.*(sensor.def->residual), block));
+      sensor.measured.push_back(block_means(channel(c, sensor.def->measured), block));
+      sensor.noise += sensor_noise(run.*(sensor.def->residual), run.*(sensor.def->period));
+    }
     s.speed.push_back(block_means(channel(c, Channel::speed_rpm), block));
     s.torque.push_back(block_means(channel(c, Channel::torque_nm), block));
     s.airflow.push_back(block_means(channel(c, Channel::airflow_m3s), block));
     s.ambient.push_back(block_means(channel(c, Channel::ambient_c), block));
-    s.stator_measured.push_back(block_means(channel(c, Channel::stator_winding_c), block));
     s.t0_s.push_back(c.t0_s);
   }
+  std::erase_if(s.sensors, [](const SensorSeries& x) { return valid_count(x.residual) == 0; });
   return s;
 }
 
@@ -195,9 +235,9 @@ json bins_json(const std::vector<Bin>& bins) {
   return a;
 }
 
-json region(const std::string& label, const std::string& unit, const std::vector<double>& x, const std::vector<double>& e,
+json region(const std::string& key, const std::string& label, const std::string& unit, const std::vector<double>& x, const std::vector<double>& e,
             const std::vector<double>& edges) {
-  return {{"label", label}, {"unit", unit}, {"bins", bins_json(bin_residuals(x, e, edges))}};
+  return {{"key", key}, {"label", label}, {"unit", unit}, {"bins", bins_json(bin_residuals(x, e, edges))}};
 }
 
 json speed_torque_map(const std::vector<double>& speed, const std::vector<double>& torque, const std::vector<double>& e) {
@@ -209,22 +249,23 @@ json speed_torque_map(const std::vector<double>& speed, const std::vector<double
   return {{"speed_edges", numbers(x_edges, 0)}, {"torque_edges", numbers(y_edges, 0)}, {"cells", cells}};
 }
 
-json regions_json(const StatSeries& s) {
-  const auto e = flat(s.stator_residual);
+json regions_json(const StatSeries& s, const SensorSeries& sensor) {
+  const auto e = flat(sensor.residual);
   const auto speed = flat(s.speed), torque = flat(s.torque), airflow = flat(s.airflow), ambient = flat(s.ambient),
-             temp = flat(s.stator_measured);
+             temp = flat(sensor.measured);
   const Range ar = valid_range(airflow), am = valid_range(ambient), tm = valid_range(temp);
   return {{"speed_torque", speed_torque_map(speed, torque, e)},
           {"bands",
-           {region("airflow", "m³/s", airflow, e, linear_edges(ar.lo, ar.hi, 6)),
-            region("ambient", "°C", ambient, e, aligned_edges(am.lo, am.hi, 5)),
-            region("stator winding (measured)", "°C", temp, e, aligned_edges(tm.lo, tm.hi, 20))}},
-          {"total", valid_count(s.stator_residual)}};
+           {region("airflow", "airflow", "m³/s", airflow, e, linear_edges(ar.lo, ar.hi, 6)),
+            region("ambient", "ambient", "°C", ambient, e, aligned_edges(am.lo, am.hi, 5)),
+            region("temperature", std::string(sensor.def->label) + " (measured)", "°C", temp, e,
+                   aligned_edges(tm.lo, tm.hi, 20))}},
+          {"total", valid_count(sensor.residual)}};
 }
 
-json worst_json(const StatSeries& s, const std::vector<CycleRun>& runs) {
+json worst_json(const StatSeries& s, const Segments& residual, const std::vector<CycleRun>& runs) {
   json a = json::array();
-  for (const Window& w : worst_windows(s.stator_residual, kWindowS, kWindowStrideS, kWorstWindows)) {
+  for (const Window& w : worst_windows(residual, kWindowS, kWindowStrideS, kWorstWindows)) {
     const double start = s.t0_s[w.segment] + static_cast<double>(w.start) * kStatStepS;
     a.push_back({{"cycle", runs[w.segment].cycle->name}, {"start_s", start},
                  {"end_s", start + static_cast<double>(w.length) * kStatStepS}, {"rmse_k", w.rmse}, {"n", w.n}});
@@ -232,25 +273,45 @@ json worst_json(const StatSeries& s, const std::vector<CycleRun>& runs) {
   return a;
 }
 
-json correlations_json(const StatSeries& s) {
-  const std::size_t n = valid_count(s.stator_residual);
-  const auto acf_e = autocorrelation(s.stator_residual, kMaxLagS);
+json correlations_json(const StatSeries& s, const Segments& residual) {
+  const std::size_t n = valid_count(residual);
+  const auto acf_e = autocorrelation(residual, kMaxLagS);
   json cross = json::array();
   const std::pair<const char*, const Segments*> inputs[] = {
       {"speed", &s.speed}, {"torque", &s.torque}, {"airflow", &s.airflow}, {"ambient", &s.ambient}};
   for (const auto& [name, x] : inputs) {
     if (valid_count(*x) == 0) continue;
-    cross.push_back({{"input", name}, {"r", numbers(cross_correlation(*x, s.stator_residual, kMaxLagS), 4)},
+    cross.push_back({{"input", name}, {"r", numbers(cross_correlation(*x, residual, kMaxLagS), 4)},
                      {"band", bartlett_band(n, autocorrelation(*x, kMaxLagS), acf_e)}});
   }
   return {{"lag_step_s", kStatStepS}, {"max_lag_s", kMaxLagS}, {"n", n},
           {"acf", {{"r", numbers(acf_e, 4)}, {"band", white_noise_band(n)}}}, {"cross", cross}};
 }
 
-json failures_json(const std::vector<CycleRun>& runs) {
-  const StatSeries s = stat_series(runs);
-  return {{"regions", regions_json(s)}, {"worst", worst_json(s, runs)}, {"correlations", correlations_json(s)},
-          {"window_s", kWindowS}};
+// RMSE (of the 1 s means) over the sensor's noise: 1 or below where the residual is the noise (1 s
+// means of an interpolated sensor average some of it away), large where the model misses
+// something. Sensors differ in noise, so the raw RMSE would not compare them.
+double error_over_noise(const SensorSeries& sensor) {
+  const double rmse = rms(sensor.residual), noise = sensor.noise.sigma();
+  return noise > 0 ? rmse / noise : rmse;
+}
+
+json sensor_failures_json(const StatSeries& s, const SensorSeries& sensor, const std::vector<CycleRun>& runs) {
+  return {{"sensor", sensor.def->key}, {"label", sensor.def->label}, {"rmse_k", number(rms(sensor.residual))},
+          {"noise_k", number(sensor.noise.sigma())},
+          {"error_over_noise", number(error_over_noise(sensor))}, {"regions", regions_json(s, sensor)},
+          {"worst", worst_json(s, sensor.residual, runs)}, {"correlations", correlations_json(s, sensor.residual)}};
+}
+
+json failures_json(const StatSeries& s, const std::vector<CycleRun>& runs) {
+  json sensors = json::array();
+  const SensorSeries* worst = nullptr;
+  for (const SensorSeries& sensor : s.sensors) {
+    sensors.push_back(sensor_failures_json(s, sensor, runs));
+    if (!worst || error_over_noise(sensor) > error_over_noise(*worst)) worst = &sensor;
+  }
+  // The page opens on the sensor the model fails most, so that a failure is seen without a click.
+  return {{"sensors", sensors}, {"default_sensor", worst ? json(worst->def->key) : json(nullptr)}, {"window_s", kWindowS}};
 }
 
 // --- What is missing ----------------------------------------------------------------------------
@@ -282,24 +343,57 @@ std::vector<SavedCandidate> leading(std::vector<SavedCandidate> c) {
   return c;
 }
 
-json evidence_json(const SavedCandidate& cand, const CalibratedModel& cm, const std::vector<CycleRun>& runs) {
-  std::vector<double> sig, e;
+// How far a residual's bin means move across the signature's bins (their spread about the pooled
+// mean, weighted by count), over the sensor's noise: the sensor the effect shows on most.
+double trend_over_noise(const std::vector<Bin>& bins, const SensorSeries& sensor) {
+  double sum = 0, sum2 = 0;
+  std::size_t n = 0;
+  for (const Bin& b : bins) {
+    if (b.n == 0) continue;
+    sum += static_cast<double>(b.n) * b.mean;
+    sum2 += static_cast<double>(b.n) * b.mean * b.mean;
+    n += b.n;
+  }
+  if (n == 0) return 0;
+  const double mean = sum / static_cast<double>(n);
+  const double spread = std::sqrt(std::max(0.0, sum2 / static_cast<double>(n) - mean * mean));
+  const double noise = sensor.noise.sigma();
+  return noise > 0 ? spread / noise : spread;
+}
+
+// The residual of every sensor against the effect's signature, in the same bins: an effect that
+// heats the rotor (windage) leaves the stator's residual flat and the rotor's rising.
+json evidence_json(const SavedCandidate& cand, const CalibratedModel& cm, const std::vector<CycleRun>& runs,
+                   const StatSeries& stats) {
+  std::vector<double> sig;
   std::string label, unit;
   for (const CycleRun& run : runs) {
     const auto s = effect_signature(cand.effect, cm.model, cm.params, *run.cycle, run.sim);
     if (!s) return nullptr;
     label = s->label;
     unit = s->unit;
-    const std::size_t block = steps_per_stat(*run.cycle);
-    const auto sm = block_means(s->values, block), em = block_means(run.stator_residual, block);
+    const auto sm = block_means(s->values, steps_per_stat(*run.cycle));
     sig.insert(sig.end(), sm.begin(), sm.end());
-    e.insert(e.end(), em.begin(), em.end());
   }
-  return {{"effect", cand.effect}, {"label", label}, {"unit", unit},
-          {"bins", bins_json(bin_residuals(sig, e, quantile_edges(sig, kSignatureBins)))}};
+  const auto edges = quantile_edges(sig, kSignatureBins);
+  json sensors = json::array();
+  std::string most;
+  double most_trend = -1;
+  for (const SensorSeries& sensor : stats.sensors) {
+    const auto bins = bin_residuals(sig, flat(sensor.residual), edges);
+    const double trend = trend_over_noise(bins, sensor);
+    sensors.push_back({{"sensor", sensor.def->key}, {"label", sensor.def->label}, {"trend_over_noise", trend},
+                       {"bins", bins_json(bins)}});
+    if (trend > most_trend) {
+      most_trend = trend;
+      most = sensor.def->key;
+    }
+  }
+  return {{"effect", cand.effect}, {"label", label}, {"unit", unit}, {"sensors", sensors}, {"most", most}};
 }
 
-json diagnosis_json(const std::optional<SavedDiagnosis>& d, const CalibratedModel& cm, const std::vector<CycleRun>& runs) {
+json diagnosis_json(const std::optional<SavedDiagnosis>& d, const CalibratedModel& cm, const std::vector<CycleRun>& runs,
+                    const StatSeries& stats) {
   if (!d) return nullptr;
   json candidates = json::array();
   for (const SavedCandidate& c : d->candidates)
@@ -308,7 +402,7 @@ json diagnosis_json(const std::optional<SavedDiagnosis>& d, const CalibratedMode
                           {"significant", c.significant}});
   json evidence = json::array();
   for (const SavedCandidate& c : leading(d->candidates)) {
-    json ev = evidence_json(c, cm, runs);
+    json ev = evidence_json(c, cm, runs, stats);
     if (!ev.is_null()) evidence.push_back(std::move(ev));
   }
   return {{"rmse_k", number(d->rmse_k)}, {"candidates", candidates}, {"evidence", evidence}};
@@ -316,11 +410,24 @@ json diagnosis_json(const std::optional<SavedDiagnosis>& d, const CalibratedMode
 
 // --- History ------------------------------------------------------------------------------------
 
+// Both sensors' residuals as one RMS, each sample counting once: sqrt((n_s e_s^2 + n_r e_r^2) /
+// (n_s + n_r)). The figure a calibration's fit improves, whichever sensor it improves on.
+json combined_rmse(const ErrorMetrics& stator, const ErrorMetrics& rotor) {
+  const double ns = static_cast<double>(stator.samples), nr = static_cast<double>(rotor.samples);
+  if (ns + nr == 0) return nullptr;
+  double sum = ns * stator.rmse_k * stator.rmse_k;
+  if (nr > 0) sum += nr * rotor.rmse_k * rotor.rmse_k;
+  return number(std::sqrt(sum / (ns + nr)));
+}
+
 json history_entry(const std::filesystem::path& file, const CalibrationResult& cal, bool current) {
+  const bool test = !cal.test.cycles.empty();
   json e = {{"file", file.filename().string()}, {"created_utc", cal.created_utc}, {"method", cal.method},
             {"effects", effect_names(cal.effects)}, {"motor", cal.motor_name}, {"current", current},
             {"train_rmse_stator_k", number(cal.train.stator.rmse_k)},
-            {"test_rmse_stator_k", cal.test.cycles.empty() ? json(nullptr) : number(cal.test.stator.rmse_k)}};
+            {"test_rmse_stator_k", test ? number(cal.test.stator.rmse_k) : json(nullptr)},
+            {"train_rmse_combined_k", combined_rmse(cal.train.stator, cal.train.rotor)},
+            {"test_rmse_combined_k", test ? combined_rmse(cal.test.stator, cal.test.rotor) : json(nullptr)}};
   if (cal.train.rotor.samples) e["train_rmse_rotor_k"] = cal.train.rotor.rmse_k;
   if (cal.test.rotor.samples) e["test_rmse_rotor_k"] = cal.test.rotor.rmse_k;
   return e;
@@ -355,7 +462,9 @@ json meta_json(const ReportOptions& o, const CalibrationResult& cal, const data:
           {"created_utc", cal.created_utc}, {"motor", cal.motor_name}, {"effects", effect_names(cal.effects)},
           {"cycles", ds.cycles.size()}, {"hours", hours}, {"generated_utc", utc_now()},
           {"train_rmse_stator_k", number(cal.train.stator.rmse_k)},
-          {"test_rmse_stator_k", cal.test.cycles.empty() ? json(nullptr) : number(cal.test.stator.rmse_k)}};
+          {"test_rmse_stator_k", cal.test.cycles.empty() ? json(nullptr) : number(cal.test.stator.rmse_k)},
+          {"train_rmse_rotor_k", cal.train.rotor.samples ? number(cal.train.rotor.rmse_k) : json(nullptr)},
+          {"test_rmse_rotor_k", cal.test.rotor.samples ? number(cal.test.rotor.rmse_k) : json(nullptr)}};
 }
 
 }  // namespace
@@ -388,12 +497,15 @@ nlohmann::json report_data(const ReportOptions& o, const std::function<void(cons
   for (const data::Cycle& cycle : ds.cycles) {
     progress("cycle " + std::to_string(runs.size() + 1) + "/" + std::to_string(ds.cycles.size()) + " " + cycle.name);
     runs.push_back(run_cycle_model(cm, cycle, role_of(cal, cycle.name)));
+    runs.back().stator_period = reading_period(ds, cycle, Channel::stator_winding_c);
+    runs.back().rotor_period = reading_period(ds, cycle, Channel::rotor_c);
     cycles.push_back(compare_cycle(runs.back()));
   }
   progress("statistics");
+  const StatSeries stats = stat_series(runs);
   const std::filesystem::path history = o.history.empty() ? std::filesystem::absolute(o.calibration).parent_path() : o.history;
-  return {{"meta", meta_json(o, cal, ds)}, {"cycles", cycles}, {"failures", failures_json(runs)},
-          {"diagnosis", diagnosis_json(diagnosis, cm, runs)}, {"history", history_json(history, o.calibration)}};
+  return {{"meta", meta_json(o, cal, ds)}, {"cycles", cycles}, {"failures", failures_json(stats, runs)},
+          {"diagnosis", diagnosis_json(diagnosis, cm, runs, stats)}, {"history", history_json(history, o.calibration)}};
 }
 
 }  // namespace lptn::report

@@ -4,6 +4,8 @@
   'use strict';
   var R = JSON.parse(document.getElementById('report-data').textContent);
   var cycleCharts = {};  // cycle name -> its synchronized charts, for the worst-window links
+  // One colour per sensor wherever a chart compares them (as on the Compare charts).
+  var SENSOR_COLOR = {stator: '#1f4e9c', rotor: '#a01010', combined: '#555'};
 
   // --- helpers -----------------------------------------------------------------------------------
 
@@ -33,17 +35,19 @@
     return el('table', attrs || {}, [head].concat(rows));
   }
 
-  // White (the best region) to red (the worst): scaled between the two, since a well fitted model
-  // has every region near the sensors' noise and the differences are what matters.
+  // White at or below the sensor's noise (estimated from its residual), full red at the worst region or
+  // at three times the noise, whichever is larger: a sensor fitted to its noise stays pale instead
+  // of showing its noise as structure, and a sensor the model misses shows where.
+  function heatRange(bins, noise) {
+    var v = bins.filter(function (b) { return b.n > 0; }).map(function (b) { return b.rmse; });
+    var lo = noise !== null && isFinite(noise) ? noise : Math.min.apply(null, v);
+    return {lo: lo, hi: Math.max(Math.max.apply(null, v), 3 * lo)};
+  }
+
   function heat(v, range) {
     if (v === null || !isFinite(v) || !(range.hi > range.lo)) return '#fff';
     var f = Math.min(1, Math.max(0, (v - range.lo) / (range.hi - range.lo))), g = Math.round(255 - 160 * f);
     return 'rgb(255,' + g + ',' + g + ')';
-  }
-
-  function rmseRange(bins) {
-    var v = bins.filter(function (b) { return b.n > 0; }).map(function (b) { return b.rmse; });
-    return {lo: Math.min.apply(null, v), hi: Math.max.apply(null, v)};
   }
 
   // A chart container the headless test can find: data-chart names it, data-points counts the
@@ -59,10 +63,17 @@
     return {box: box, legend: legend};
   }
 
+  // The container also records what the chart shows: data-series its series' labels, and on every
+  // draw data-x-range the visible x range, so a test reads what dygraphs drew, not what was asked.
   function graph(parent, name, rows, options, cls) {
     var c = chartBox(parent, name, rows, cls);
-    var base = {labelsDiv: c.legend, legend: 'always', labelsSeparateLines: false, animatedZooms: false};
-    return new Dygraph(c.box, rows, Object.assign(base, options));
+    var base = {labelsDiv: c.legend, legend: 'always', labelsSeparateLines: false, animatedZooms: false,
+                drawCallback: function (g) {
+                  c.box.setAttribute('data-x-range', g.xAxisRange().map(function (v) { return v.toFixed(1); }).join(','));
+                }};
+    var g = new Dygraph(c.box, rows, Object.assign(base, options));
+    c.box.setAttribute('data-series', g.getLabels().slice(1).join('|'));
+    return g;
   }
 
   // --- header --------------------------------------------------------------------------------------
@@ -95,8 +106,10 @@
                    'rotor RMSE K', 'mean |e| K', 'max |e| K', 'bias K'];
     var box = document.getElementById('compare-table');
     box.appendChild(table(headers, rows, {'data-table': 'metrics'}));
-    box.appendChild(el('p', {class: 'note'}, ['Calibration\'s pooled stator RMSE: train ' +
-      fixed(R.meta.train_rmse_stator_k, 3) + ' K, test ' + fixed(R.meta.test_rmse_stator_k, 3) + ' K.']));
+    var m = R.meta, rotor = m.train_rmse_rotor_k !== null || m.test_rmse_rotor_k !== null;
+    box.appendChild(el('p', {class: 'note'}, ['Calibration\'s pooled RMSE: stator train ' + fixed(m.train_rmse_stator_k, 3) +
+      ' K, test ' + fixed(m.test_rmse_stator_k, 3) + ' K' + (rotor ? '; rotor train ' + fixed(m.train_rmse_rotor_k, 3) +
+      ' K, test ' + fixed(m.test_rmse_rotor_k, 3) + ' K' : '') + '.']));
   }
 
   // dygraphs' custom bars: each value is [min, mean, max] of its bucket.
@@ -165,8 +178,9 @@
 
   // --- Where it fails ------------------------------------------------------------------------------
 
-  function renderSpeedTorque(parent, map) {
-    var range = rmseRange([].concat.apply([], map.cells));
+  function renderSpeedTorque(parent, sensor) {
+    var map = sensor.regions.speed_torque;
+    var range = heatRange([].concat.apply([], map.cells), sensor.noise_k);
     var se = map.speed_edges, te = map.torque_edges, rowsOut = [];
     for (var j = te.length - 2; j >= 0; --j) {  // torque upwards, as on a torque-speed plane
       var cells = [el('th', {}, [fixed(te[j], 0) + ' … ' + fixed(te[j + 1], 0)])];
@@ -181,38 +195,40 @@
     var headers = ['torque N·m \\ speed 1/min'].concat(se.slice(0, -1).map(function (lo, i) {
       return fixed(lo, 0) + ' … ' + fixed(se[i + 1], 0);
     }));
-    parent.appendChild(el('p', {class: 'note'}, ['Stator residual RMSE K (mean K, count of 1 s samples) by speed and torque; white the best cell, red the worst.']));
+    parent.appendChild(el('p', {class: 'note'}, [sensor.label + ' residual RMSE K (mean K, count of 1 s samples) by speed and ' +
+      'torque; white at or below the sensor\'s noise (' + fixed(sensor.noise_k, 2) + ' K), full red at the worst cell or ' +
+      'three times the noise, whichever is larger.']));
     parent.appendChild(table(headers, rowsOut, {class: 'heat', 'data-table': 'speed-torque'}));
   }
 
-  function renderBand(parent, band) {
-    var range = rmseRange(band.bins);
+  function renderBand(parent, band, noise) {
+    var range = heatRange(band.bins, noise);
     var rowsOut = band.bins.map(function (b) {
       return el('tr', {}, [el('td', {}, [fixed(b.lo, 2) + ' … ' + fixed(b.hi, 2)]), el('td', {}, [b.n]),
         el('td', {}, [fixed(b.mean, 3)]), el('td', {style: 'background:' + heat(b.rmse, range)}, [fixed(b.rmse, 3)])]);
     });
     parent.appendChild(el('div', {}, [el('strong', {}, [band.label + ' (' + band.unit + ')']),
-      table([band.unit, 'n', 'mean K', 'RMSE K'], rowsOut, {'data-table': 'band-' + band.label.split(' ')[0]})]));
+      table([band.unit, 'n', 'mean K', 'RMSE K'], rowsOut, {'data-table': 'band-' + band.key})]));
   }
 
-  function renderRegions() {
-    var parent = document.getElementById('regions'), regions = R.failures.regions;
-    renderSpeedTorque(parent, regions.speed_torque);
+  function renderRegions(parent, sensor) {
+    renderSpeedTorque(parent, sensor);
     var grid = el('div', {class: 'grid2'});
     parent.appendChild(grid);
-    regions.bands.forEach(function (band) { renderBand(grid, band); });
+    sensor.regions.bands.forEach(function (band) { renderBand(grid, band, sensor.noise_k); });
   }
 
-  function renderWorst() {
-    var rowsOut = R.failures.worst.map(function (w, i) {
-      var link = el('a', {class: 'zoom', href: '#cycle-' + w.cycle, 'data-zoom': w.cycle}, [w.cycle + ' ' + clock(w.start_s) + '–' + clock(w.end_s)]);
+  function renderWorst(parent, sensor) {
+    var rowsOut = sensor.worst.map(function (w, i) {
+      var link = el('a', {class: 'zoom', href: '#cycle-' + w.cycle, 'data-zoom': w.cycle, 'data-sensor': sensor.sensor,
+                          'data-start': w.start_s, 'data-end': w.end_s}, [w.cycle + ' ' + clock(w.start_s) + '–' + clock(w.end_s)]);
       link.addEventListener('click', function (ev) { ev.preventDefault(); zoomTo(w.cycle, w.start_s, w.end_s); });
       return el('tr', {}, [el('td', {}, [i + 1]), el('td', {class: 'text'}, [link]), el('td', {}, [fixed(w.rmse_k, 3)]), el('td', {}, [w.n])]);
     });
-    var parent = document.getElementById('worst');
     parent.appendChild(el('p', {class: 'note'}, ['The ' + rowsOut.length + ' worst non-overlapping ' + R.failures.window_s / 60 +
-      '-minute windows by stator RMSE; a link zooms that cycle\'s charts to the window.']));
-    parent.appendChild(table(['#', 'window', 'RMSE K', 'n (1 s)'], rowsOut, {'data-table': 'worst'}));
+      '-minute windows by ' + sensor.label + ' RMSE; a link zooms that cycle\'s charts to the window (its residual chart shows ' +
+      'every sensor\'s residual).']));
+    parent.appendChild(table(['#', 'window', sensor.label + ' RMSE K', 'n (1 s)'], rowsOut, {'data-table': 'worst'}));
   }
 
   function correlationRows(r, band, firstLag, step) {
@@ -226,27 +242,73 @@
       series: {'+95 %': {strokePattern: [4, 4]}, '−95 %': {strokePattern: [4, 4]}}, includeZero: true, xlabel: 'lag s'}, 'small');
   }
 
-  function renderCorrelations() {
-    var c = R.failures.correlations, parent = document.getElementById('correlations');
+  function renderCorrelations(parent, sensor) {
+    var c = sensor.correlations;
     parent.appendChild(el('p', {class: 'note'}, [
-      'On 1 s means (n = ' + c.n + '). Autocorrelation band: ±1.96/√n, uncorrected: the band of white residuals, which a ' +
-      'model that explains everything but the sensor noise would leave. Cross-correlation r(k) = corr(input(t), residual(t + k)), ' +
-      'positive k: the residual follows the input. Its band is corrected for both series\' autocorrelation (Bartlett: ' +
-      '±1.96 √(Σ r_input(k) r_residual(k) / n)); uncorrected, slow inputs against slow residuals would cross it at every lag.']));
+      'On 1 s means of the ' + sensor.label + ' residual (n = ' + c.n + '). Autocorrelation band: ±1.96/√n, uncorrected: the band ' +
+      'of white residuals, which a model that explains everything but the sensor noise would leave. Cross-correlation r(k) = ' +
+      'corr(input(t), residual(t + k)), positive k: the residual follows the input. Its band is corrected for both series\' ' +
+      'autocorrelation (Bartlett: ±1.96 √(Σ r_input(k) r_residual(k) / n)); uncorrected, slow inputs against slow residuals ' +
+      'would cross it at every lag.']));
     var grid = el('div', {class: 'grid2'});
     parent.appendChild(grid);
     var acfBox = el('div');
     grid.appendChild(acfBox);
-    guarded('autocorrelation', function () {
-      correlationChart(acfBox, 'acf', 'residual autocorrelation', c.acf.r, c.acf.band, 0, c.lag_step_s);
+    guarded(sensor.label + ' autocorrelation', function () {
+      correlationChart(acfBox, 'acf-' + sensor.sensor, sensor.label + ' residual autocorrelation', c.acf.r, c.acf.band, 0, c.lag_step_s);
     });
     c.cross.forEach(function (x) {
       var box = el('div');
       grid.appendChild(box);
-      guarded('cross-correlation ' + x.input, function () {
-        correlationChart(box, 'xcf-' + x.input, x.input + ' → residual', x.r, x.band, -c.max_lag_s / c.lag_step_s, c.lag_step_s);
+      guarded(sensor.label + ' cross-correlation ' + x.input, function () {
+        correlationChart(box, 'xcf-' + sensor.sensor + '-' + x.input, x.input + ' → ' + sensor.label + ' residual', x.r, x.band,
+                         -c.max_lag_s / c.lag_step_s, c.lag_step_s);
       });
     });
+  }
+
+  function sensorSummary(sensor) {
+    return sensor.label + ': RMSE ' + fixed(sensor.rmse_k, 2) + ' K = ' + fixed(sensor.error_over_noise, 1) +
+      '× its noise of ' + fixed(sensor.noise_k, 2) + ' K';
+  }
+
+  // One panel per sensor, drawn when first shown: dygraphs cannot size a chart inside a hidden
+  // element, and most readers look at one sensor.
+  function renderFailures() {
+    var f = R.failures, select = document.getElementById('sensor-select'), panels = document.getElementById('sensor-panels');
+    var buttons = {}, shown = {};
+    function show(key) {
+      f.sensors.forEach(function (sensor) {
+        var on = sensor.sensor === key;
+        buttons[sensor.sensor].setAttribute('aria-pressed', on ? 'true' : 'false');
+        shown[sensor.sensor].style.display = on ? '' : 'none';
+      });
+      var panel = shown[key];
+      if (panel.getAttribute('data-drawn')) return;
+      panel.setAttribute('data-drawn', 'true');
+      var sensor = f.sensors.filter(function (x) { return x.sensor === key; })[0];
+      var regions = el('div'), worst = el('div'), correlations = el('div');
+      panel.appendChild(el('h3', {}, ['Operating regions ', el('small', {}, ['(' + sensor.label + ')'])]));
+      panel.appendChild(regions);
+      panel.appendChild(el('h3', {}, ['Worst windows ', el('small', {}, ['(' + sensor.label + ')'])]));
+      panel.appendChild(worst);
+      panel.appendChild(el('h3', {}, ['Correlations ', el('small', {}, ['(' + sensor.label + ')'])]));
+      panel.appendChild(correlations);
+      guarded(sensor.label + ' operating regions', function () { renderRegions(regions, sensor); });
+      guarded(sensor.label + ' worst windows', function () { renderWorst(worst, sensor); });
+      guarded(sensor.label + ' correlations', function () { renderCorrelations(correlations, sensor); });
+    }
+    f.sensors.forEach(function (sensor) {
+      var b = el('button', {type: 'button', class: 'sensor', 'data-sensor-tab': sensor.sensor, 'aria-pressed': 'false'},
+                 [sensorSummary(sensor)]);
+      b.addEventListener('click', function () { show(sensor.sensor); });
+      select.appendChild(b);
+      buttons[sensor.sensor] = b;
+      var panel = el('div', {class: 'sensor-panel', 'data-sensor-panel': sensor.sensor, style: 'display:none'});
+      panels.appendChild(panel);
+      shown[sensor.sensor] = panel;
+    });
+    if (f.default_sensor) show(f.default_sensor);
   }
 
   // --- What is missing -----------------------------------------------------------------------------
@@ -267,52 +329,88 @@
     });
     parent.appendChild(table(['effect', 'statistic', 'predicted RMSE K', 'refit RMSE K', 'significant'], rowsOut,
                              {'data-table': 'diagnosis'}));
-    parent.appendChild(el('p', {class: 'note'}, ['Evidence for the leading candidates: the stator residual\'s mean over ' +
+    parent.appendChild(el('p', {class: 'note'}, ['Evidence for the leading candidates: each sensor\'s mean residual over ' +
       'quantile bins of the effect\'s signature (what the effect would add; from common/lptn/effects). A missing effect ' +
-      'shows as a trend; a flat line means the residual does not follow it.']));
+      'shows as a trend on the sensor it affects; a flat line means that residual does not follow it. The title names the ' +
+      'sensor whose bin means spread most, as a multiple of its noise.']));
     var grid = el('div', {class: 'grid2'});
     parent.appendChild(grid);
     d.evidence.forEach(function (ev) {
       var box = el('div');
       grid.appendChild(box);
       guarded('evidence ' + ev.effect, function () {
-        box.appendChild(el('div', {}, [el('strong', {}, [ev.effect + ': residual vs ' + ev.label])]));
-        var data = ev.bins.filter(function (b) { return b.n > 0; }).map(function (b) { return [(b.lo + b.hi) / 2, b.mean]; });
-        graph(box, 'evidence-' + ev.effect, data, {labels: [ev.label + ' ' + ev.unit, 'mean residual K'], drawPoints: true,
-          pointSize: 3, strokeWidth: 1, xlabel: ev.label + ' (' + ev.unit + ')', ylabel: 'K', colors: ['#a01010']}, 'small');
+        var most = ev.sensors.filter(function (x) { return x.sensor === ev.most; })[0];
+        box.appendChild(el('div', {}, [el('strong', {}, [ev.effect + ': residual vs ' + ev.label]),
+          most ? ' — shows most on the ' + most.label + ' (spread ' + fixed(most.trend_over_noise, 1) + '× its noise' +
+            ev.sensors.filter(function (x) { return x !== most; }).map(function (x) {
+              return '; ' + x.label + ' ' + fixed(x.trend_over_noise, 1) + '×';
+            }).join('') + ')' : '']));
+        var bins = ev.sensors.length ? ev.sensors[0].bins : [];
+        var data = [];
+        bins.forEach(function (b, i) {
+          var means = ev.sensors.map(function (x) { return x.bins[i].n > 0 ? x.bins[i].mean : null; });
+          if (means.some(function (v) { return v !== null; })) data.push([(b.lo + b.hi) / 2].concat(means));
+        });
+        graph(box, 'evidence-' + ev.effect, data, {labels: [ev.label + ' ' + ev.unit].concat(ev.sensors.map(function (x) {
+          return x.label + ' mean residual K'; })), drawPoints: true, pointSize: 3, strokeWidth: 1,
+          xlabel: ev.label + ' (' + ev.unit + ')', ylabel: 'K', colors: ev.sensors.map(function (x) { return SENSOR_COLOR[x.sensor]; })}, 'small');
       });
     });
   }
 
   // --- History -------------------------------------------------------------------------------------
 
+  // Each sensor's error, and both pooled, on train (solid) and test (dashed) cycles per revision.
+  var HISTORY_SERIES = [
+    {key: 'stator', label: 'stator'}, {key: 'rotor', label: 'rotor'}, {key: 'combined', label: 'combined'}];
+
   function renderHistory() {
     var h = R.history, parent = document.getElementById('history-body');
     parent.appendChild(el('p', {class: 'note'}, ['Calibrations in ' + h.dir + ' by creation time' +
-      (h.skipped ? ' (' + h.skipped + ' other JSON files skipped)' : '') + '.']));
-    var data = h.runs.map(function (r, i) { return [i + 1, r.train_rmse_stator_k, r.test_rmse_stator_k]; });
+      (h.skipped ? ' (' + h.skipped + ' other JSON files skipped)' : '') + ': the RMSE of each sensor on the train ' +
+      '(solid) and test (dashed) cycles, and the combined figure: the RMS over both sensors\' residuals, every 0.1 s sample ' +
+      'of either counting once, √((n_stator e_stator² + n_rotor e_rotor²) / (n_stator + n_rotor)). A sensor measured on ' +
+      'neither side of a calibration has no point.']));
+    function value(r, side, key) { var v = r[side + '_rmse_' + key + '_k']; return v === undefined ? null : v; }
+    var columns = [], labels = ['run'], colors = [], series = {};
+    var rotor = h.runs.some(function (r) { return value(r, 'train', 'rotor') !== null || value(r, 'test', 'rotor') !== null; });
+    HISTORY_SERIES.forEach(function (s) {
+      if (s.key === 'combined' && !rotor) return;  // the stator's own figure again
+      ['train', 'test'].forEach(function (side) {
+        if (!h.runs.some(function (r) { return value(r, side, s.key) !== null; })) return;
+        var label = side + ' RMSE ' + s.label + ' K';
+        columns.push({side: side, key: s.key});
+        labels.push(label);
+        colors.push(SENSOR_COLOR[s.key]);
+        series[label] = side === 'test' ? {strokePattern: [6, 4]} : {};
+      });
+    });
+    var data = h.runs.map(function (r, i) {
+      return [i + 1].concat(columns.map(function (c) { return value(r, c.side, c.key); }));
+    });
     guarded('history chart', function () {
-      graph(parent, 'history', data, {labels: ['run', 'train RMSE stator K', 'test RMSE stator K'], drawPoints: true,
-        pointSize: 4, colors: ['#3b7dd8', '#e39b1b'], xlabel: 'run', ylabel: 'K', includeZero: true,
+      graph(parent, 'history', data, {labels: labels, drawPoints: true, pointSize: 4, colors: colors, series: series,
+        xlabel: 'run', ylabel: 'RMSE K', includeZero: true, connectSeparatedPoints: true, strokeWidth: 2,
+        dateWindow: [0.5, h.runs.length + 0.5],  // room for the first and last run's points and labels
         axes: {x: {axisLabelFormatter: function (v) { return Number.isInteger(v) ? String(v) : ''; }}}}, 'small');
     });
     var rowsOut = h.runs.map(function (r, i) {
       return el('tr', {class: r.current ? 'significant' : ''}, [el('td', {}, [i + 1]), el('td', {class: 'text'}, [r.file]),
         el('td', {class: 'text'}, [r.created_utc]), el('td', {class: 'text'}, [r.method]),
-        el('td', {class: 'text'}, [r.effects.length ? r.effects.join(', ') : 'paper only']),
-        el('td', {}, [fixed(r.train_rmse_stator_k, 3)]), el('td', {}, [fixed(r.test_rmse_stator_k, 3)]),
-        el('td', {}, [fixed(r.train_rmse_rotor_k, 3)]), el('td', {}, [fixed(r.test_rmse_rotor_k, 3)])]);
+        el('td', {class: 'text'}, [r.effects.length ? r.effects.join(', ') : 'paper only'])].concat(
+        ['stator', 'rotor', 'combined'].reduce(function (cells, key) {
+          return cells.concat(['train', 'test'].map(function (side) { return el('td', {}, [fixed(value(r, side, key), 3)]); }));
+        }, [])));
     });
     parent.appendChild(table(['run', 'file', 'created', 'method', 'effects', 'train stator K', 'test stator K',
-                              'train rotor K', 'test rotor K'], rowsOut, {'data-table': 'history'}));
+                              'train rotor K', 'test rotor K', 'train combined K', 'test combined K'], rowsOut,
+                             {'data-table': 'history'}));
   }
 
   guarded('header', renderMeta);
   guarded('metrics table', renderCompareTable);
   guarded('compare charts', renderCycles);
-  guarded('operating regions', renderRegions);
-  guarded('worst windows', renderWorst);
-  guarded('correlations', renderCorrelations);
+  guarded('where it fails', renderFailures);
   guarded('diagnosis', renderDiagnosis);
   guarded('history', renderHistory);
   document.body.setAttribute('data-rendered', 'true');
