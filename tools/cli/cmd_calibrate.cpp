@@ -35,10 +35,10 @@ void run_lm(const CalibrateArgs& a, const MotorFile& motor, const data::Dataset&
   record_lm_fit(r, rep, FreeParameters::from_motor(motor), r.train_cycles, to_json(settings));
 }
 
+#if LPTN_WITH_TD3
 // lptn holds no libtorch (it would cost every command, `lptn --help` included, half a second to
 // load): TD3 runs in lptn-td3, installed beside lptn, given this very command line.
-// [[maybe_unused]]: with LPTN_WITH_TD3=OFF nothing calls it, and -Werror would stop that build.
-[[noreturn, maybe_unused]] void hand_over_to_td3_program() {
+[[noreturn]] void hand_over_to_td3_program() {
   const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe");
   const std::filesystem::path program = self.parent_path() / "lptn-td3";
   std::vector<std::string> args = invocation();
@@ -51,6 +51,7 @@ void run_lm(const CalibrateArgs& a, const MotorFile& motor, const data::Dataset&
   throw std::runtime_error(program.string() + ": cannot run it (" + std::strerror(errno) +
                            "); lptn-td3 is installed beside lptn where lptn is built with TD3");
 }
+#endif
 
 void print_metrics(const char* side, const SplitMetrics& m) {
   std::printf("%-6s stator rmse %.3f K  max %.3f K  bias %+.3f K", side, m.stator.rmse_k, m.stator.max_abs_k, m.stator.bias_k);
