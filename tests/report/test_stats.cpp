@@ -6,6 +6,7 @@
 #include <random>
 
 #include "tools/report/stats.hpp"
+#include "trainer/calibrate/sensor_noise.hpp"
 
 namespace lptn::report {
 namespace {

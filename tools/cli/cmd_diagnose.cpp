@@ -45,8 +45,11 @@ void print_table(const diagnose::Diagnosis& d, double level) {
   std::printf("training RMSE %.3f K (stator %s K), test stator %s K; %.0f effective residuals (correlation time %.1f steps)\n",
               d.rmse_k, kelvin(d.train_stator_rmse_k).c_str(), kelvin(d.test_stator_rmse_k).c_str(),
               d.effective_residuals, d.baseline.correlation_time);
+  std::printf("the model against its sensors' noise (adequate within %.1fx):\n", diagnose::kAdequateRatio);
+  for (const diagnose::SensorAdequacy& s : d.adequacy.sensors) std::printf("  %s\n", diagnose::describe(s).c_str());
   if (d.candidates.empty()) {
-    std::printf("every effect of the library is already in the model\n");
+    std::printf("every effect of the library is already in the model%s\n",
+                d.adequacy.adequate ? "" : ", and something is still missing: it is none of the library's");
     return;
   }
   std::printf("%-24s %10s %9s %21s %21s %21s  %s\n", "effect", "score", "pred. K", "LR / threshold",
@@ -67,9 +70,14 @@ void print_table(const diagnose::Diagnosis& d, double level) {
     std::printf("best: %s (training RMSE %.3f -> %.3f K); add it with [effects] enabled = [\"%s\"] in the motor file "
                 "or lptn calibrate --effect %s\n",
                 best->name.c_str(), d.rmse_k, best->refit_rmse_k, best->name.c_str(), best->name.c_str());
-  else
+  else if (d.adequacy.adequate)
     std::printf("No effect of the library improves the fit significantly (likelihood ratio at level %g): "
                 "this data gives no reason to add one.\n", level);
+  else
+    std::printf("No effect of the library improves the fit significantly (likelihood ratio at level %g), yet the "
+                "model is not adequate: something is missing that no effect of the library explains. "
+                "lptn report shows where the residual lies (cycles, operating regions, the inputs it follows).\n",
+                level);
 }
 
 void run(const Args& a) {

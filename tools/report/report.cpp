@@ -14,6 +14,7 @@
 #include "tools/report/stats.hpp"
 #include "trainer/calibrate/calibration_file.hpp"
 #include "trainer/calibrate/problem.hpp"
+#include "trainer/calibrate/sensor_noise.hpp"
 #include "trainer/data/dataset.hpp"
 #include "trainer/model/motor_file.hpp"
 #include "trainer/model/simulate.hpp"
@@ -116,17 +117,6 @@ std::vector<float> residual(const std::vector<float>& model, const data::Cycle& 
   std::vector<float> r(cycle.steps);
   for (std::size_t k = 0; k < cycle.steps; ++k) r[k] = model[k] - cycle.at(measured, k);
   return r;
-}
-
-// Grid steps per reading of channel `c`, from the loader's report on the cycle's file (1 where
-// it has none: every step then counts as a reading).
-std::size_t reading_period(const data::Dataset& ds, const data::Cycle& cycle, Channel c) {
-  for (const data::CycleReport& r : ds.reports) {
-    if (r.file != cycle.file) continue;
-    const double rate = r.channels[data::index_of(c)].native_rate_hz;
-    if (rate > 0) return std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(1 / (rate * cycle.dt_s))));
-  }
-  return 1;
 }
 
 // As calibrate evaluates a cycle for its metrics (simulate_and_evaluate), with the residuals kept.

@@ -158,24 +158,6 @@ double rms(const Segments& e) {
   return n ? std::sqrt(sum / static_cast<double>(n)) : kNaN;
 }
 
-double NoiseSum::sigma() const { return n ? std::sqrt(sum2 / static_cast<double>(n) / 1.5) : kNaN; }
-
-NoiseSum sensor_noise(const std::vector<float>& e, std::size_t period) {
-  const std::size_t p = std::max<std::size_t>(1, period);
-  std::vector<NoiseSum> phase(p);
-  for (std::size_t k = p; k + p < e.size(); ++k) {
-    const double d = static_cast<double>(e[k]) - 0.5 * (static_cast<double>(e[k - p]) + static_cast<double>(e[k + p]));
-    if (std::isnan(d)) continue;
-    phase[k % p].sum2 += d * d;
-    ++phase[k % p].n;
-  }
-  NoiseSum best;
-  for (const NoiseSum& s : phase) {
-    if (s.n && (!best.n || s.sum2 / static_cast<double>(s.n) > best.sum2 / static_cast<double>(best.n))) best = s;
-  }
-  return best;
-}
-
 double white_noise_band(std::size_t n) { return n ? 1.96 / std::sqrt(static_cast<double>(n)) : kNaN; }
 
 double bartlett_band(std::size_t n, const std::vector<double>& acf_x, const std::vector<double>& acf_e) {

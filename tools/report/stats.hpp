@@ -35,24 +35,6 @@ std::size_t valid_count(const Segments& e);
 // Root mean square of the valid samples over all segments (NaN when there is none).
 double rms(const Segments& e);
 
-// A sensor's noise from the residual on the model's grid, where a sensor that reports every
-// `period` steps is interpolated in between. At the steps where it reported, e_k - (e_{k-p} +
-// e_{k+p})/2 has variance 1.5 s^2 for white noise of standard deviation s, and a slow model error
-// (a missing effect) adds next to nothing to it; between those steps interpolation averages the
-// noise away. The sample steps' phase is not known, so the phase (k mod period) with the largest
-// mean square is taken. Sums, so that cycles pool: noise = sqrt(sum2 / n / 1.5).
-struct NoiseSum {
-  double sum2 = 0;
-  std::size_t n = 0;
-  NoiseSum& operator+=(const NoiseSum& o) {
-    sum2 += o.sum2;
-    n += o.n;
-    return *this;
-  }
-  double sigma() const;  // NaN without a valid triple
-};
-NoiseSum sensor_noise(const std::vector<float>& e, std::size_t period);
-
 // 95 % band of an autocorrelation under the hypothesis of white residuals: 1.96 / sqrt(n).
 double white_noise_band(std::size_t n);
 // 95 % band of a cross-correlation of two series that are each autocorrelated but independent of

@@ -125,6 +125,7 @@ Diagnosis diagnose(const MotorFile& motor, const ParamVector<double>& calibrated
   const Model<double> model = motor.model();
   d.train_stator_rmse_k = stator_rmse(model, d.baseline.values, dataset, split.train, settings.threads);
   d.test_stator_rmse_k = stator_rmse(model, d.baseline.values, dataset, split.test, settings.threads);
+  d.adequacy = assess_adequacy(model, d.baseline.values, dataset, split, settings.threads);
   for (int e = 0; e < kNumEffects; ++e)
     if (!(motor.effects & effect_bit(e))) d.candidates.push_back(examine(motor, e, d, dataset, split, settings, progress));
   std::stable_sort(d.candidates.begin(), d.candidates.end(),

@@ -24,6 +24,7 @@
 #include "trainer/calibrate/lm.hpp"
 #include "trainer/calibrate/problem.hpp"
 #include "trainer/calibrate/calibration_result.hpp"
+#include "trainer/diagnose/adequacy.hpp"
 #include "trainer/model/motor_effects.hpp"
 #include "trainer/data/dataset.hpp"
 #include "trainer/model/motor_file.hpp"
@@ -71,6 +72,7 @@ struct Candidate {
 
 struct Diagnosis {
   LmReport baseline;                 // the calibrated model refit on the training cycles (offsets, RSS)
+  Adequacy adequacy;                 // the model as it stands, against each sensor's noise
   double rmse_k = 0;                 // training RMSE before (fit_lm's pooled residuals)
   double train_stator_rmse_k = 0;    // before, stator sensor
   double test_stator_rmse_k = 0;     // before; NaN without test cycles

@@ -39,7 +39,10 @@ nlohmann::json to_json(const Candidate& c) {
 nlohmann::json to_json(const Diagnosis& d) {
   nlohmann::json candidates = nlohmann::json::array();
   for (const Candidate& c : d.candidates) candidates.push_back(to_json(c));
-  return {{"rmse_k", d.rmse_k}, {"candidates", candidates}};
+  nlohmann::json j = to_json(d.adequacy);  // "adequate" and "sensors" first: the verdict on the model itself
+  j["rmse_k"] = d.rmse_k;
+  j["candidates"] = candidates;
+  return j;
 }
 
 }  // namespace lptn::diagnose

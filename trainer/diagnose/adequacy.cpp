@@ -1,0 +1,135 @@
+#include "trainer/diagnose/adequacy.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <thread>
+#include <utility>
+
+#include "trainer/calibrate/sensor_noise.hpp"
+
+namespace lptn::diagnose {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+struct SensorDef {
+  const char* name;
+  data::Channel channel;
+  std::vector<float> CycleSimulation::*model;
+};
+constexpr SensorDef kSensors[] = {{"stator", data::Channel::stator_winding_c, &CycleSimulation::stator_sensor},
+                                  {"rotor", data::Channel::rotor_c, &CycleSimulation::rotor_sensor}};
+
+// One cycle's contribution per sensor: its metrics and the noise sums of its residual.
+struct CycleFinding {
+  CycleMetrics metrics;
+  NoiseSum noise[2];
+};
+
+CycleFinding examine(const Model<double>& model, const ParamVector<double>& params, const data::Dataset& dataset,
+                     const data::Cycle& cycle) {
+  CycleEvaluation e = simulate_and_evaluate(model, params, cycle);
+  CycleFinding f;
+  f.metrics = std::move(e.metrics);
+  for (int s = 0; s < 2; ++s) {
+    if (!cycle.has(kSensors[s].channel)) continue;
+    const std::vector<float>& m = e.simulation.*(kSensors[s].model);
+    std::vector<float> r(cycle.steps);
+    for (std::size_t k = 0; k < cycle.steps; ++k) r[k] = m[k] - cycle.at(kSensors[s].channel, k);
+    f.noise[s] = sensor_noise(r, reading_period(dataset, cycle, kSensors[s].channel));
+  }
+  return f;
+}
+
+std::vector<CycleFinding> examine_all(const Model<double>& model, const ParamVector<double>& params,
+                                      const data::Dataset& dataset, const std::vector<std::size_t>& cycles, int threads) {
+  std::vector<CycleFinding> out(cycles.size());
+  const auto workers = static_cast<std::size_t>(std::max(1, threads));
+  std::vector<std::thread> pool;
+  for (std::size_t w = 0; w < workers; ++w)
+    pool.emplace_back([&, w] {
+      for (std::size_t i = w; i < cycles.size(); i += workers)
+        out[i] = examine(model, params, dataset, dataset.cycles[cycles[i]]);
+    });
+  for (std::thread& t : pool) t.join();
+  return out;
+}
+
+const ErrorMetrics& metric(const CycleMetrics& m, int s) { return s == 0 ? m.stator : m.rotor; }
+
+}  // namespace
+
+Adequacy assess_adequacy(const Model<double>& model, const ParamVector<double>& params, const data::Dataset& dataset,
+                         const Split& split, int threads) {
+  const std::vector<CycleFinding> train = examine_all(model, params, dataset, split.train, threads);
+  const std::vector<CycleFinding> test = examine_all(model, params, dataset, split.test, threads);
+  Adequacy a;
+  for (int s = 0; s < 2; ++s) {
+    // The noise is the sensor's, not the split's: pooled over every cycle.
+    NoiseSum noise;
+    std::vector<ErrorMetrics> train_m, test_m;
+    for (const CycleFinding& f : train) {
+      noise += f.noise[s];
+      if (metric(f.metrics, s).samples) train_m.push_back(metric(f.metrics, s));
+    }
+    for (const CycleFinding& f : test) {
+      noise += f.noise[s];
+      if (metric(f.metrics, s).samples) test_m.push_back(metric(f.metrics, s));
+    }
+    if (train_m.empty() && test_m.empty()) continue;  // not measured
+    SensorAdequacy v;
+    v.sensor = kSensors[s].name;
+    v.noise_k = noise.sigma();
+    v.train_rmse_k = train_m.empty() ? kNaN : pool(train_m).rmse_k;
+    v.test_rmse_k = test_m.empty() ? kNaN : pool(test_m).rmse_k;
+    const double bound = kAdequateRatio * v.noise_k;
+    const double worst = std::max(std::isnan(v.train_rmse_k) ? 0.0 : v.train_rmse_k,
+                                  std::isnan(v.test_rmse_k) ? 0.0 : v.test_rmse_k);
+    v.unexplained = worst > 0 ? std::max(0.0, 1 - v.noise_k * v.noise_k / (worst * worst)) : 0.0;
+    v.adequate = !(worst > bound);  // a NaN noise (too few readings) judges nothing
+    std::vector<std::pair<double, std::string>> beyond;
+    for (const auto* side : {&train, &test})
+      for (const CycleFinding& f : *side)
+        if (metric(f.metrics, s).samples && metric(f.metrics, s).rmse_k > bound)
+          beyond.emplace_back(metric(f.metrics, s).rmse_k, f.metrics.name);
+    std::sort(beyond.begin(), beyond.end(), [](const auto& x, const auto& y) { return x.first > y.first; });
+    for (const auto& b : beyond) v.cycles.push_back(b.second);
+    a.adequate = a.adequate && v.adequate;
+    a.sensors.push_back(std::move(v));
+  }
+  return a;
+}
+
+nlohmann::json to_json(const Adequacy& adequacy) {
+  auto number = [](double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); };
+  nlohmann::json sensors = nlohmann::json::object();
+  for (const SensorAdequacy& s : adequacy.sensors) {
+    const double worst = std::max(std::isnan(s.train_rmse_k) ? 0.0 : s.train_rmse_k,
+                                  std::isnan(s.test_rmse_k) ? 0.0 : s.test_rmse_k);
+    sensors[s.sensor] = {{"rmse_k", number(worst)},          {"noise_k", number(s.noise_k)},
+                         {"adequate", s.adequate},           {"train_rmse_k", number(s.train_rmse_k)},
+                         {"test_rmse_k", number(s.test_rmse_k)}, {"unexplained", number(s.unexplained)},
+                         {"cycles", s.cycles}};
+  }
+  return {{"adequate", adequacy.adequate}, {"sensors", sensors}};
+}
+
+std::string describe(const SensorAdequacy& s) {
+  const bool test_worse = !std::isnan(s.test_rmse_k) && s.test_rmse_k >= s.train_rmse_k;
+  const double rmse = test_worse ? s.test_rmse_k : s.train_rmse_k;
+  char line[256];
+  std::snprintf(line, sizeof line, "%s: %s RMSE %.3f K = %.1fx its noise of %.3f K (estimated from its readings): %s",
+                s.sensor.c_str(), test_worse ? "test" : "train", rmse, rmse / s.noise_k, s.noise_k,
+                s.adequate ? "adequate" : "something is missing");
+  std::string out = line;
+  if (!s.adequate && !s.cycles.empty()) {
+    out += " (worst: ";
+    for (std::size_t i = 0; i < s.cycles.size() && i < 4; ++i) out += (i ? ", " : "") + s.cycles[i];
+    out += s.cycles.size() > 4 ? ", ...)" : ")";
+  }
+  return out;
+}
+
+}  // namespace lptn::diagnose

@@ -1,0 +1,50 @@
+// A verdict on the model itself, per sensor, before any candidate is tried: is what is left of
+// the residual the sensor's own noise, or structure the model does not explain? A diagnosis that
+// finds no candidate of the library significant must not then say "no reason to add one" while
+// the model is several times its sensors' noise off: something is missing that the library lacks.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "trainer/calibrate/problem.hpp"
+#include "trainer/data/dataset.hpp"
+
+namespace lptn::diagnose {
+
+// How far above its noise a sensor's RMSE may be before the model counts as missing something.
+// A model that is right leaves the noise alone: on the 10 Hz grid, between the 1 Hz readings it
+// interpolates, the RMSE is 0.8 to 1.0 times the noise (at most 0.97 over five seeds of clean data
+// in tests/diagnose). At 1.5 times, the model's own error is at least as large as the noise
+// (sqrt(1.5^2 - 1^2) = 1.1).
+inline constexpr double kAdequateRatio = 1.5;
+
+struct SensorAdequacy {
+  std::string sensor;            // "stator" (winding sensor) or "rotor"
+  double train_rmse_k = 0, test_rmse_k = 0;  // test: NaN without test cycles
+  double noise_k = 0;            // estimated from the residual at the sensor's readings
+  double unexplained = 0;        // share of the mean-square residual the noise does not explain, worst side
+  bool adequate = true;          // RMSE within kAdequateRatio x noise on train and test
+  std::vector<std::string> cycles;  // where it is not: the cycles beyond the ratio, worst first
+};
+
+struct Adequacy {
+  bool adequate = true;  // every measured sensor is
+  std::vector<SensorAdequacy> sensors;  // the measured ones
+};
+
+// Simulates every cycle of the split at `params` (offsets as the metrics estimate them).
+Adequacy assess_adequacy(const Model<double>& model, const ParamVector<double>& params, const data::Dataset& dataset,
+                         const Split& split, int threads);
+
+// {"adequate": bool, "sensors": {"stator": {"rmse_k", "noise_k", "adequate", "train_rmse_k",
+// "test_rmse_k", "unexplained", "cycles"}, "rotor": {...}}}; rmse_k is the worse of train and test.
+nlohmann::json to_json(const Adequacy& adequacy);
+
+// One line per sensor for the command line, e.g. "rotor: test RMSE 8.15 K = 16.3x its noise of
+// 0.50 K: something is missing (cycles a, b)".
+std::string describe(const SensorAdequacy& sensor);
+
+}  // namespace lptn::diagnose
