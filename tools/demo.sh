@@ -49,11 +49,11 @@ echo "-- 8b. diagnose: which effect of the library is missing?"
   --json-out "$loop/diagnosis-1.json" --force --quiet
 "$lptn" report --data "$loop/fleet" --calibration "$loop/calibrations/1-paper.json" \
   --diagnosis "$loop/diagnosis-1.json" --history "$loop/calibrations" --out "$loop/report-before.html" --force
-# The effect to add is the diagnosis' best significant candidate, whichever it is.
+# The effect to add is the one the diagnosis recommends, whichever it is.
 effect=$(python3 -c 'import json, sys
-c = [c["effect"] for c in json.load(open(sys.argv[1]))["candidates"] if c["significant"]]
+c = [c["effect"] for c in json.load(open(sys.argv[1]))["candidates"] if c["recommended"]]
 print(c[0] if c else "")' "$loop/diagnosis-1.json")
-if [ -z "$effect" ]; then echo "demo: the diagnosis found no significant effect" >&2; exit 1; fi
+if [ -z "$effect" ]; then echo "demo: the diagnosis recommends no effect" >&2; exit 1; fi
 echo "-- 8c. add $effect and recalibrate"
 "$lptn" calibrate --data "$loop/fleet" --motor "$loop/fleet/motor.toml" --method lm --seed 1 --effect "$effect" \
   --out "$loop/calibrations/2-$effect.json" --force

@@ -39,12 +39,20 @@ TEST(DiagnoseCli, CallsNothingSignificantWhereNothingIsHidden) {
   EXPECT_GT(j["rmse_k"].get<double>(), 0.0);
   ASSERT_EQ(j["candidates"].size(), 5u);
   for (const auto& c : j["candidates"]) {
-    for (const char* key : {"effect", "statistic", "predicted_rmse_k", "refit_rmse_k", "significant"})
+    for (const char* key : {"effect", "statistic", "predicted_rmse_k", "refit_rmse_k", "significant", "kind",
+                            "recommended", "test_rmse_k_before", "test_rmse_k_after"})
       EXPECT_TRUE(c.contains(key)) << key;
     EXPECT_FALSE(c["significant"].get<bool>()) << c.dump();
+    EXPECT_FALSE(c["recommended"].get<bool>()) << c.dump();
   }
+  // The model the data came from, calibrated: adequate on both sensors (docs/diagnosis.md).
+  EXPECT_TRUE(j["adequate"].get<bool>()) << j["sensors"].dump();
+  for (const char* sensor : {"stator", "rotor"})
+    for (const char* key : {"rmse_k", "noise_k", "adequate", "train_rmse_k", "test_rmse_k"})
+      EXPECT_TRUE(j["sensors"][sensor].contains(key)) << sensor << "." << key;
   const Result text = run("diagnose --quiet " + args, t.path());
   EXPECT_NE(text.out.find("No effect of the library improves the fit significantly"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("gives no reason to add one"), std::string::npos) << text.out;
 }
 
 TEST(DiagnoseCli, AutoFindsTwoHiddenEffectsAndWritesTheCalibration) {

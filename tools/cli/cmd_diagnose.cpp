@@ -66,10 +66,23 @@ void print_table(const diagnose::Diagnosis& d, double level) {
     if (c.verdict == diagnose::Verdict::not_distinguishable)
       std::printf("  %s: not distinguishable from this data: %s. To separate it: %s.\n",
                   c.name.c_str(), c.reason.c_str(), c.needs.c_str());
+  bool any_significant = false;
+  for (const diagnose::Candidate& c : d.candidates) {
+    if (c.verdict != diagnose::Verdict::significant) continue;
+    any_significant = true;
+    if (d.raises_held_out_error(c))
+      std::printf("  %s: significant on the training cycles, but it raises the held-out error (%s -> %s K, every "
+                  "sensor): not recommended\n", c.name.c_str(), kelvin(d.test_rmse_k).c_str(),
+                  kelvin(c.test_rmse_k_after).c_str());
+  }
   if (const diagnose::Candidate* best = d.best())
-    std::printf("best: %s (training RMSE %.3f -> %.3f K); add it with [effects] enabled = [\"%s\"] in the motor file "
-                "or lptn calibrate --effect %s\n",
-                best->name.c_str(), d.rmse_k, best->refit_rmse_k, best->name.c_str(), best->name.c_str());
+    std::printf("best: %s (training RMSE %.3f -> %.3f K, held-out %s -> %s K); add it with [effects] enabled = "
+                "[\"%s\"] in the motor file or lptn calibrate --effect %s\n",
+                best->name.c_str(), d.rmse_k, best->refit_rmse_k, kelvin(d.test_rmse_k).c_str(),
+                kelvin(best->test_rmse_k_after).c_str(), best->name.c_str(), best->name.c_str());
+  else if (any_significant)
+    std::printf("No effect of the library is recommended: the significant ones raise the held-out error.%s\n",
+                d.adequacy.adequate ? "" : " The model is not adequate: something is missing that they do not explain.");
   else if (d.adequacy.adequate)
     std::printf("No effect of the library improves the fit significantly (likelihood ratio at level %g): "
                 "this data gives no reason to add one.\n", level);

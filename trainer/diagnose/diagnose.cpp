@@ -39,6 +39,18 @@ double stator_rmse(const Model<double>& model, const ParamVector<double>& values
   return evaluate_split(model, values, dataset, cycles, threads).stator.rmse_k;
 }
 
+// The held-out cycles' error over every measured sensor: the RMS of the stator's and the rotor's
+// residuals, each sample once (NaN without test cycles). The stator alone would not see a
+// recommendation that makes the rotor worse.
+double combined_test_rmse(const Model<double>& model, const ParamVector<double>& values, const data::Dataset& dataset,
+                          const std::vector<std::size_t>& test, int threads) {
+  if (test.empty()) return kNoTest;
+  const SplitMetrics m = evaluate_split(model, values, dataset, test, threads);
+  const double ns = static_cast<double>(m.stator.samples), nr = static_cast<double>(m.rotor.samples);
+  if (ns + nr == 0) return kNoTest;
+  return std::sqrt((ns * m.stator.rmse_k * m.stator.rmse_k + nr * m.rotor.rmse_k * m.rotor.rmse_k) / (ns + nr));
+}
+
 // A parameter confounded with one the model has cannot be claimed whatever the fit gained (the
 // correlation is the data's, present or absent the effect); one that is merely imprecise only
 // matters once the gain is significant (an absent effect's parameter ends near zero, imprecise).
@@ -77,6 +89,7 @@ Candidate examine(const MotorFile& motor, int effect, const Diagnosis& before, c
     c.refit_rmse_k = before.rmse_k;
     c.train_stator_rmse_k = before.train_stator_rmse_k;
     c.test_stator_rmse_k = before.test_stator_rmse_k;
+    c.test_rmse_k_after = before.test_rmse_k;
     c.reason = "the data pull it below its neutral value (no refit)";
     return c;
   }
@@ -93,6 +106,7 @@ Candidate examine(const MotorFile& motor, int effect, const Diagnosis& before, c
   const Model<double> model = with.model();
   c.train_stator_rmse_k = stator_rmse(model, refit.fit.values, dataset, split.train, settings.threads);
   c.test_stator_rmse_k = stator_rmse(model, refit.fit.values, dataset, split.test, settings.threads);
+  c.test_rmse_k_after = combined_test_rmse(model, refit.fit.values, dataset, split.test, settings.threads);
   return c;
 }
 
@@ -107,9 +121,13 @@ const char* to_string(Verdict v) {
   return "?";
 }
 
+bool Diagnosis::raises_held_out_error(const Candidate& c) const {
+  return !std::isnan(test_rmse_k) && !std::isnan(c.test_rmse_k_after) && c.test_rmse_k_after > test_rmse_k;
+}
+
 const Candidate* Diagnosis::best() const {
   for (const Candidate& c : candidates)
-    if (c.verdict == Verdict::significant) return &c;
+    if (c.verdict == Verdict::significant && !raises_held_out_error(c)) return &c;
   return nullptr;
 }
 
@@ -125,6 +143,7 @@ Diagnosis diagnose(const MotorFile& motor, const ParamVector<double>& calibrated
   const Model<double> model = motor.model();
   d.train_stator_rmse_k = stator_rmse(model, d.baseline.values, dataset, split.train, settings.threads);
   d.test_stator_rmse_k = stator_rmse(model, d.baseline.values, dataset, split.test, settings.threads);
+  d.test_rmse_k = combined_test_rmse(model, d.baseline.values, dataset, split.test, settings.threads);
   d.adequacy = assess_adequacy(model, d.baseline.values, dataset, split, settings.threads);
   for (int e = 0; e < kNumEffects; ++e)
     if (!(motor.effects & effect_bit(e))) d.candidates.push_back(examine(motor, e, d, dataset, split, settings, progress));

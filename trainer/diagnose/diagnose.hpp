@@ -64,6 +64,7 @@ struct Candidate {
   double refit_rmse_k = 0;          // training RMSE after the refit (fit_lm's pooled residuals)
   double train_stator_rmse_k = 0;   // after the refit, stator sensor (offsets estimated per cycle)
   double test_stator_rmse_k = 0;    // after the refit; NaN without test cycles
+  double test_rmse_k_after = 0;     // after the refit, every measured sensor (NaN without test cycles)
   LmReport refit;                   // values, standard errors, correlated pairs
   Verdict verdict = Verdict::not_significant;
   std::string reason;               // why not distinguishable (empty otherwise)
@@ -76,10 +77,15 @@ struct Diagnosis {
   double rmse_k = 0;                 // training RMSE before (fit_lm's pooled residuals)
   double train_stator_rmse_k = 0;    // before, stator sensor
   double test_stator_rmse_k = 0;     // before; NaN without test cycles
+  double test_rmse_k = 0;            // before, every measured sensor (RMS over both, each sample once)
   double effective_residuals = 0;    // n_eff: residuals / correlation time
   std::vector<Candidate> candidates;  // by training RMSE after the refit, best first
 
-  // The first significant (and distinguishable) candidate, or nullptr.
+  // A refit that fits the training cycles better but the held-out cycles worse learned them, not
+  // the physics: such a candidate is never recommended, however significant.
+  bool raises_held_out_error(const Candidate& c) const;
+  // The recommendation: the first significant (and distinguishable) candidate that does not raise
+  // the held-out error, or nullptr. At most one per round.
   const Candidate* best() const;
 };
 

@@ -9,7 +9,7 @@ namespace {
 // NaN (no test cycles, no standard error) as null.
 nlohmann::json number(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
 
-nlohmann::json to_json(const Candidate& c) {
+nlohmann::json to_json(const Candidate& c, const Diagnosis& d) {
   nlohmann::json params = nlohmann::json::object();
   for (int i = 0; i < kNumParams; ++i)
     if (effect_of_param(i) == c.effect)
@@ -25,6 +25,10 @@ nlohmann::json to_json(const Candidate& c) {
           {"train_stator_rmse_k", number(c.train_stator_rmse_k)},
           {"test_stator_rmse_k", number(c.test_stator_rmse_k)},
           {"significant", c.verdict == Verdict::significant},
+          {"kind", "library"},
+          {"recommended", d.best() == &c},
+          {"test_rmse_k_before", number(d.test_rmse_k)},
+          {"test_rmse_k_after", number(c.test_rmse_k_after)},
           {"verdict", to_string(c.verdict)},
           {"reason", c.reason},
           {"needs", c.needs},
@@ -38,7 +42,7 @@ nlohmann::json to_json(const Candidate& c) {
 
 nlohmann::json to_json(const Diagnosis& d) {
   nlohmann::json candidates = nlohmann::json::array();
-  for (const Candidate& c : d.candidates) candidates.push_back(to_json(c));
+  for (const Candidate& c : d.candidates) candidates.push_back(to_json(c, d));
   nlohmann::json j = to_json(d.adequacy);  // "adequate" and "sensors" first: the verdict on the model itself
   j["rmse_k"] = d.rmse_k;
   j["candidates"] = candidates;
