@@ -53,12 +53,13 @@ void print_table(const diagnose::Diagnosis& d, double level) {
     return;
   }
   std::printf("%-24s %10s %9s %21s %21s %21s  %s\n", "effect", "score", "pred. K", "LR / threshold",
-              "train K before->after", "test K before->after", "verdict");
+              "train K before->after", "held-out K bef.->aft.", "verdict");
   for (const diagnose::Candidate& c : d.candidates) {
     char lr[32], train[40], test[40];
     std::snprintf(lr, sizeof lr, "%.1f / %.1f", c.statistic, c.threshold);
     std::snprintf(train, sizeof train, "%.3f -> %.3f", d.rmse_k, c.refit_rmse_k);
-    std::snprintf(test, sizeof test, "%s -> %s", kelvin(d.test_stator_rmse_k).c_str(), kelvin(c.test_stator_rmse_k).c_str());
+    // Held out: both sensors (a candidate that helps one sensor and hurts the other shows here).
+    std::snprintf(test, sizeof test, "%s -> %s", kelvin(d.test_rmse_k).c_str(), kelvin(c.test_rmse_k_after).c_str());
     std::printf("%-24s %10.1f %9.3f %21s %21s %21s  %s\n", c.name.c_str(), c.score, c.predicted_rmse_k, lr, train, test,
                 diagnose::to_string(c.verdict));
   }
