@@ -39,16 +39,22 @@ double stator_rmse(const Model<double>& model, const ParamVector<double>& values
   return evaluate_split(model, values, dataset, cycles, threads).stator.rmse_k;
 }
 
-// The held-out cycles' error over every measured sensor: the RMS of the stator's and the rotor's
-// residuals, each sample once (NaN without test cycles). The stator alone would not see a
-// recommendation that makes the rotor worse.
-double combined_test_rmse(const Model<double>& model, const ParamVector<double>& values, const data::Dataset& dataset,
-                          const std::vector<std::size_t>& test, int threads) {
-  if (test.empty()) return kNoTest;
+// The held-out cycles' errors from one simulation of each: the stator sensor's, and every measured
+// sensor's (the RMS of the stator's and the rotor's residuals, each sample once; the stator alone
+// would not see a recommendation that makes the rotor worse). NaN without test cycles.
+struct HeldOut {
+  double stator_k = kNoTest, combined_k = kNoTest;
+};
+HeldOut held_out(const Model<double>& model, const ParamVector<double>& values, const data::Dataset& dataset,
+                 const std::vector<std::size_t>& test, int threads) {
+  if (test.empty()) return {};
   const SplitMetrics m = evaluate_split(model, values, dataset, test, threads);
   const double ns = static_cast<double>(m.stator.samples), nr = static_cast<double>(m.rotor.samples);
-  if (ns + nr == 0) return kNoTest;
-  return std::sqrt((ns * m.stator.rmse_k * m.stator.rmse_k + nr * m.rotor.rmse_k * m.rotor.rmse_k) / (ns + nr));
+  HeldOut h;
+  h.stator_k = m.stator.rmse_k;
+  if (ns + nr > 0)
+    h.combined_k = std::sqrt((ns * m.stator.rmse_k * m.stator.rmse_k + nr * m.rotor.rmse_k * m.rotor.rmse_k) / (ns + nr));
+  return h;
 }
 
 // A parameter confounded with one the model has cannot be claimed whatever the fit gained (the
@@ -105,8 +111,9 @@ Candidate examine(const MotorFile& motor, int effect, const Diagnosis& before, c
   c.verdict = verdict(c, refit, c.reason);
   const Model<double> model = with.model();
   c.train_stator_rmse_k = stator_rmse(model, refit.fit.values, dataset, split.train, settings.threads);
-  c.test_stator_rmse_k = stator_rmse(model, refit.fit.values, dataset, split.test, settings.threads);
-  c.test_rmse_k_after = combined_test_rmse(model, refit.fit.values, dataset, split.test, settings.threads);
+  const HeldOut after = held_out(model, refit.fit.values, dataset, split.test, settings.threads);
+  c.test_stator_rmse_k = after.stator_k;
+  c.test_rmse_k_after = after.combined_k;
   return c;
 }
 
@@ -142,8 +149,9 @@ Diagnosis diagnose(const MotorFile& motor, const ParamVector<double>& calibrated
   d.effective_residuals = static_cast<double>(d.baseline.residuals) / d.baseline.correlation_time;
   const Model<double> model = motor.model();
   d.train_stator_rmse_k = stator_rmse(model, d.baseline.values, dataset, split.train, settings.threads);
-  d.test_stator_rmse_k = stator_rmse(model, d.baseline.values, dataset, split.test, settings.threads);
-  d.test_rmse_k = combined_test_rmse(model, d.baseline.values, dataset, split.test, settings.threads);
+  const HeldOut before = held_out(model, d.baseline.values, dataset, split.test, settings.threads);
+  d.test_stator_rmse_k = before.stator_k;
+  d.test_rmse_k = before.combined_k;
   d.adequacy = assess_adequacy(model, d.baseline.values, dataset, split, settings.threads);
   for (int e = 0; e < kNumEffects; ++e)
     if (!(motor.effects & effect_bit(e))) d.candidates.push_back(examine(motor, e, d, dataset, split, settings, progress));
