@@ -39,7 +39,7 @@ inline constexpr double kTestRmseRotorK = 0.41861341338046415;  // test cycles, 
 inline constexpr EffectSet kEffects = 0;  // the paper's model only
 
 // The parameter layout this header was exported for: a model with another one stops here.
-static_assert(kNumParams == 16, "this header holds 16 parameters, this lptn's model has another number: export the calibration again");
+static_assert(kNumParams == 57, "this header holds 57 parameters, this lptn's model has another number: export the calibration again");
 static_assert(param_index("lambda_1s") == 0, "parameter 0 is not 'lambda_1s' in this lptn: export the calibration again");
 static_assert(param_index("lambda_2s") == 1, "parameter 1 is not 'lambda_2s' in this lptn: export the calibration again");
 static_assert(param_index("lambda_12s") == 2, "parameter 2 is not 'lambda_12s' in this lptn: export the calibration again");
@@ -56,6 +56,47 @@ static_assert(param_index("windage_base_w") == 12, "parameter 12 is not 'windage
 static_assert(param_index("air_heating_fraction") == 13, "parameter 13 is not 'air_heating_fraction' in this lptn: export the calibration again");
 static_assert(param_index("rotor_convection_gain") == 14, "parameter 14 is not 'rotor_convection_gain' in this lptn: export the calibration again");
 static_assert(param_index("sensor_time_constant_s") == 15, "parameter 15 is not 'sensor_time_constant_s' in this lptn: export the calibration again");
+static_assert(param_index("heat_stator_winding_i2f_w") == 16, "parameter 16 is not 'heat_stator_winding_i2f_w' in this lptn: export the calibration again");
+static_assert(param_index("heat_stator_winding_i2f_k") == 17, "parameter 17 is not 'heat_stator_winding_i2f_k' in this lptn: export the calibration again");
+static_assert(param_index("heat_stator_winding_fluxf_w") == 18, "parameter 18 is not 'heat_stator_winding_fluxf_w' in this lptn: export the calibration again");
+static_assert(param_index("heat_stator_winding_fluxf_k") == 19, "parameter 19 is not 'heat_stator_winding_fluxf_k' in this lptn: export the calibration again");
+static_assert(param_index("heat_stator_winding_speed_w") == 20, "parameter 20 is not 'heat_stator_winding_speed_w' in this lptn: export the calibration again");
+static_assert(param_index("heat_stator_winding_speed_k") == 21, "parameter 21 is not 'heat_stator_winding_speed_k' in this lptn: export the calibration again");
+static_assert(param_index("heat_stator_winding_power_w") == 22, "parameter 22 is not 'heat_stator_winding_power_w' in this lptn: export the calibration again");
+static_assert(param_index("heat_stator_winding_power_k") == 23, "parameter 23 is not 'heat_stator_winding_power_k' in this lptn: export the calibration again");
+static_assert(param_index("heat_stator_core_i2f_w") == 24, "parameter 24 is not 'heat_stator_core_i2f_w' in this lptn: export the calibration again");
+static_assert(param_index("heat_stator_core_i2f_k") == 25, "parameter 25 is not 'heat_stator_core_i2f_k' in this lptn: export the calibration again");
+static_assert(param_index("heat_stator_core_fluxf_w") == 26, "parameter 26 is not 'heat_stator_core_fluxf_w' in this lptn: export the calibration again");
+static_assert(param_index("heat_stator_core_fluxf_k") == 27, "parameter 27 is not 'heat_stator_core_fluxf_k' in this lptn: export the calibration again");
+static_assert(param_index("heat_stator_core_speed_w") == 28, "parameter 28 is not 'heat_stator_core_speed_w' in this lptn: export the calibration again");
+static_assert(param_index("heat_stator_core_speed_k") == 29, "parameter 29 is not 'heat_stator_core_speed_k' in this lptn: export the calibration again");
+static_assert(param_index("heat_stator_core_power_w") == 30, "parameter 30 is not 'heat_stator_core_power_w' in this lptn: export the calibration again");
+static_assert(param_index("heat_stator_core_power_k") == 31, "parameter 31 is not 'heat_stator_core_power_k' in this lptn: export the calibration again");
+static_assert(param_index("heat_rotor_winding_i2f_w") == 32, "parameter 32 is not 'heat_rotor_winding_i2f_w' in this lptn: export the calibration again");
+static_assert(param_index("heat_rotor_winding_i2f_k") == 33, "parameter 33 is not 'heat_rotor_winding_i2f_k' in this lptn: export the calibration again");
+static_assert(param_index("heat_rotor_winding_fluxf_w") == 34, "parameter 34 is not 'heat_rotor_winding_fluxf_w' in this lptn: export the calibration again");
+static_assert(param_index("heat_rotor_winding_fluxf_k") == 35, "parameter 35 is not 'heat_rotor_winding_fluxf_k' in this lptn: export the calibration again");
+static_assert(param_index("heat_rotor_winding_speed_w") == 36, "parameter 36 is not 'heat_rotor_winding_speed_w' in this lptn: export the calibration again");
+static_assert(param_index("heat_rotor_winding_speed_k") == 37, "parameter 37 is not 'heat_rotor_winding_speed_k' in this lptn: export the calibration again");
+static_assert(param_index("heat_rotor_winding_power_w") == 38, "parameter 38 is not 'heat_rotor_winding_power_w' in this lptn: export the calibration again");
+static_assert(param_index("heat_rotor_winding_power_k") == 39, "parameter 39 is not 'heat_rotor_winding_power_k' in this lptn: export the calibration again");
+static_assert(param_index("heat_rotor_core_i2f_w") == 40, "parameter 40 is not 'heat_rotor_core_i2f_w' in this lptn: export the calibration again");
+static_assert(param_index("heat_rotor_core_i2f_k") == 41, "parameter 41 is not 'heat_rotor_core_i2f_k' in this lptn: export the calibration again");
+static_assert(param_index("heat_rotor_core_fluxf_w") == 42, "parameter 42 is not 'heat_rotor_core_fluxf_w' in this lptn: export the calibration again");
+static_assert(param_index("heat_rotor_core_fluxf_k") == 43, "parameter 43 is not 'heat_rotor_core_fluxf_k' in this lptn: export the calibration again");
+static_assert(param_index("heat_rotor_core_speed_w") == 44, "parameter 44 is not 'heat_rotor_core_speed_w' in this lptn: export the calibration again");
+static_assert(param_index("heat_rotor_core_speed_k") == 45, "parameter 45 is not 'heat_rotor_core_speed_k' in this lptn: export the calibration again");
+static_assert(param_index("heat_rotor_core_power_w") == 46, "parameter 46 is not 'heat_rotor_core_power_w' in this lptn: export the calibration again");
+static_assert(param_index("heat_rotor_core_power_k") == 47, "parameter 47 is not 'heat_rotor_core_power_k' in this lptn: export the calibration again");
+static_assert(param_index("cooling_stator_speed_gain") == 48, "parameter 48 is not 'cooling_stator_speed_gain' in this lptn: export the calibration again");
+static_assert(param_index("cooling_stator_speed_k") == 49, "parameter 49 is not 'cooling_stator_speed_k' in this lptn: export the calibration again");
+static_assert(param_index("cooling_rotor_speed_gain") == 50, "parameter 50 is not 'cooling_rotor_speed_gain' in this lptn: export the calibration again");
+static_assert(param_index("cooling_rotor_speed_k") == 51, "parameter 51 is not 'cooling_rotor_speed_k' in this lptn: export the calibration again");
+static_assert(param_index("airflow_stator_exponent_change") == 52, "parameter 52 is not 'airflow_stator_exponent_change' in this lptn: export the calibration again");
+static_assert(param_index("airflow_rotor_exponent_change") == 53, "parameter 53 is not 'airflow_rotor_exponent_change' in this lptn: export the calibration again");
+static_assert(param_index("path_stator_winding_rotor_winding_lambda") == 54, "parameter 54 is not 'path_stator_winding_rotor_winding_lambda' in this lptn: export the calibration again");
+static_assert(param_index("path_stator_winding_rotor_core_lambda") == 55, "parameter 55 is not 'path_stator_winding_rotor_core_lambda' in this lptn: export the calibration again");
+static_assert(param_index("path_stator_core_rotor_winding_lambda") == 56, "parameter 56 is not 'path_stator_core_rotor_winding_lambda' in this lptn: export the calibration again");
 
 // The parameters in model order (+- the fit's standard error, where the method gives one).
 inline constexpr ParamVector<double> kParams = {{
@@ -75,6 +116,47 @@ inline constexpr ParamVector<double> kParams = {{
     0.5,  // [13] air_heating_fraction [1] (fixed)
     0.5,  // [14] rotor_convection_gain [1] (fixed)
     30.0,  // [15] sensor_time_constant_s [s] (fixed)
+    500.0,  // [16] heat_stator_winding_i2f_w [W] (fixed)
+    1.0,  // [17] heat_stator_winding_i2f_k [1] (fixed)
+    500.0,  // [18] heat_stator_winding_fluxf_w [W] (fixed)
+    1.5,  // [19] heat_stator_winding_fluxf_k [1] (fixed)
+    500.0,  // [20] heat_stator_winding_speed_w [W] (fixed)
+    2.0,  // [21] heat_stator_winding_speed_k [1] (fixed)
+    500.0,  // [22] heat_stator_winding_power_w [W] (fixed)
+    1.0,  // [23] heat_stator_winding_power_k [1] (fixed)
+    500.0,  // [24] heat_stator_core_i2f_w [W] (fixed)
+    1.0,  // [25] heat_stator_core_i2f_k [1] (fixed)
+    500.0,  // [26] heat_stator_core_fluxf_w [W] (fixed)
+    1.5,  // [27] heat_stator_core_fluxf_k [1] (fixed)
+    500.0,  // [28] heat_stator_core_speed_w [W] (fixed)
+    2.0,  // [29] heat_stator_core_speed_k [1] (fixed)
+    500.0,  // [30] heat_stator_core_power_w [W] (fixed)
+    1.0,  // [31] heat_stator_core_power_k [1] (fixed)
+    500.0,  // [32] heat_rotor_winding_i2f_w [W] (fixed)
+    1.0,  // [33] heat_rotor_winding_i2f_k [1] (fixed)
+    500.0,  // [34] heat_rotor_winding_fluxf_w [W] (fixed)
+    1.5,  // [35] heat_rotor_winding_fluxf_k [1] (fixed)
+    500.0,  // [36] heat_rotor_winding_speed_w [W] (fixed)
+    2.0,  // [37] heat_rotor_winding_speed_k [1] (fixed)
+    500.0,  // [38] heat_rotor_winding_power_w [W] (fixed)
+    1.0,  // [39] heat_rotor_winding_power_k [1] (fixed)
+    500.0,  // [40] heat_rotor_core_i2f_w [W] (fixed)
+    1.0,  // [41] heat_rotor_core_i2f_k [1] (fixed)
+    500.0,  // [42] heat_rotor_core_fluxf_w [W] (fixed)
+    1.5,  // [43] heat_rotor_core_fluxf_k [1] (fixed)
+    500.0,  // [44] heat_rotor_core_speed_w [W] (fixed)
+    2.0,  // [45] heat_rotor_core_speed_k [1] (fixed)
+    500.0,  // [46] heat_rotor_core_power_w [W] (fixed)
+    1.0,  // [47] heat_rotor_core_power_k [1] (fixed)
+    0.3,  // [48] cooling_stator_speed_gain [1] (fixed)
+    1.0,  // [49] cooling_stator_speed_k [1] (fixed)
+    0.3,  // [50] cooling_rotor_speed_gain [1] (fixed)
+    1.0,  // [51] cooling_rotor_speed_k [1] (fixed)
+    -0.3,  // [52] airflow_stator_exponent_change [1] (fixed)
+    -0.3,  // [53] airflow_rotor_exponent_change [1] (fixed)
+    20.0,  // [54] path_stator_winding_rotor_winding_lambda [W/K] (fixed)
+    20.0,  // [55] path_stator_winding_rotor_core_lambda [W/K] (fixed)
+    20.0,  // [56] path_stator_core_rotor_winding_lambda [W/K] (fixed)
 }};
 static_assert(kParams.size() == kNumParams);
 

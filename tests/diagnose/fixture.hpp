@@ -24,10 +24,12 @@ struct Generated {
 
 // `cycles` cycles of `minutes_min`..`minutes_max`; the generator rotates blower modes
 // (load following, stepped, fixed 0.5, fixed 1.0), so four or more cycles have every mode.
-// `truth` sets true values the built-in truth lacks (an effect of one's own).
+// `truth` sets true values the built-in truth lacks (an effect of one's own); `plant` adds physics
+// the model cannot express (tools/generate/plant_physics.hpp).
 inline std::unique_ptr<Generated> generate(const std::vector<std::string>& hidden, int cycles, double minutes_min,
                                            double minutes_max, std::uint64_t seed,
-                                           const std::vector<std::pair<std::string, double>>& truth = {}) {
+                                           const std::vector<std::pair<std::string, double>>& truth = {},
+                                           gen::PlantPhysicsSet plant = 0) {
   auto g = std::make_unique<Generated>();
   gen::GenerateOptions o;
   o.cycles = cycles;
@@ -35,6 +37,7 @@ inline std::unique_ptr<Generated> generate(const std::vector<std::string>& hidde
   o.min_duration_s = minutes_min * 60;
   o.max_duration_s = minutes_max * 60;
   o.truth_overrides = truth;
+  o.plant = plant;
   for (const std::string& e : hidden) o.hidden |= effect_bit(effect_index(e));
   gen::generate(o, g->dir.path());
   g->dataset = data::load_fleet_dump({g->dir.path()});

@@ -1,5 +1,6 @@
 // lptn diagnose: which effect of the library the calibrated model lacks (trainer/diagnose/), and
 // with --auto forward selection over them.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -41,18 +42,34 @@ std::string kelvin(double v) {
   return buf;
 }
 
+// "0.981..1.012": the spread of the per-cycle factors.
+std::string factor_range(const diagnose::Drift& drift) {
+  if (drift.factors.empty()) return "-";
+  double lo = drift.factors.front().factor, hi = lo;
+  for (const diagnose::CycleFactor& f : drift.factors) lo = std::min(lo, f.factor), hi = std::max(hi, f.factor);
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.3f..%.3f", lo, hi);
+  return buf;
+}
+
 void print_table(const diagnose::Diagnosis& d, double level) {
   std::printf("training RMSE %.3f K (stator %s K), test stator %s K; %.0f effective residuals (correlation time %.1f steps)\n",
               d.rmse_k, kelvin(d.train_stator_rmse_k).c_str(), kelvin(d.test_stator_rmse_k).c_str(),
               d.effective_residuals, d.baseline.correlation_time);
   std::printf("the model against its sensors' noise (adequate within %.1fx):\n", diagnose::kAdequateRatio);
   for (const diagnose::SensorAdequacy& s : d.adequacy.sensors) std::printf("  %s\n", diagnose::describe(s).c_str());
+  if (d.drift.found)
+    std::printf("drift between cycles: %s.\n  Inspect %s. Nothing is recommended while the dump drifts: an effect "
+                "would absorb the change.\n", d.drift.finding.c_str(), d.drift.inspect.c_str());
+  else
+    std::printf("no drift between cycles (per-cycle %s factors %s, p = %.2f)\n", diagnose::to_string(d.drift.group),
+                factor_range(d.drift).c_str(), d.drift.p_value);
   if (d.candidates.empty()) {
-    std::printf("every effect of the library is already in the model%s\n",
-                d.adequacy.adequate ? "" : ", and something is still missing: it is none of the library's");
+    std::printf("every effect of the library and term of the dictionary is already in the model%s\n",
+                d.adequacy.adequate ? "" : ", and something is still missing: it is none of them");
     return;
   }
-  std::printf("%-24s %10s %9s %21s %21s %21s  %s\n", "effect", "score", "pred. K", "LR / threshold",
+  std::printf("%-34s %10s %9s %21s %21s %21s  %s\n", "effect or term", "score", "pred. K", "LR / threshold",
               "train K before->after", "held-out K bef.->aft.", "verdict");
   for (const diagnose::Candidate& c : d.candidates) {
     char lr[32], train[40], test[40];
@@ -60,8 +77,16 @@ void print_table(const diagnose::Diagnosis& d, double level) {
     std::snprintf(train, sizeof train, "%.3f -> %.3f", d.rmse_k, c.refit_rmse_k);
     // Held out: both sensors (a candidate that helps one sensor and hurts the other shows here).
     std::snprintf(test, sizeof test, "%s -> %s", kelvin(d.test_rmse_k).c_str(), kelvin(c.test_rmse_k_after).c_str());
-    std::printf("%-24s %10.1f %9.3f %21s %21s %21s  %s\n", c.name.c_str(), c.score, c.predicted_rmse_k, lr, train, test,
+    std::printf("%-34s %10.1f %9.3f %21s %21s %21s  %s\n", c.name.c_str(), c.score, c.predicted_rmse_k, lr, train, test,
                 diagnose::to_string(c.verdict));
+  }
+  for (const diagnose::Candidate& c : d.candidates)
+    if (c.kind == EffectKind::term) std::printf("  %s: %s\n", c.name.c_str(), c.words.c_str());
+  if (!d.term_scores.empty()) {
+    std::printf("  dictionary: %zu terms scored; best scores", d.term_scores.size());
+    for (std::size_t i = 0; i < d.term_scores.size() && i < 5; ++i)
+      std::printf("%s %s %.1f", i ? "," : "", d.term_scores[i].name.c_str(), d.term_scores[i].score);
+    std::printf("\n");
   }
   for (const diagnose::Candidate& c : d.candidates)
     if (c.verdict == diagnose::Verdict::not_distinguishable)
@@ -77,21 +102,26 @@ void print_table(const diagnose::Diagnosis& d, double level) {
                   kelvin(c.test_rmse_k_after).c_str());
   }
   if (const diagnose::Candidate* best = d.best())
-    std::printf("best: %s (training RMSE %.3f -> %.3f K, held-out %s -> %s K); add it with [effects] enabled = "
-                "[\"%s\"] in the motor file or lptn calibrate --effect %s\n",
-                best->name.c_str(), d.rmse_k, best->refit_rmse_k, kelvin(d.test_rmse_k).c_str(),
+    std::printf("best: %s, %s: %s (training RMSE %.3f -> %.3f K, held-out %s -> %s K); add it with [effects] "
+                "enabled = [\"%s\"] in the motor file or lptn calibrate --effect %s\n",
+                best->kind == EffectKind::term ? "a term of the dictionary" : "an effect of the library",
+                best->name.c_str(), best->words.c_str(), d.rmse_k, best->refit_rmse_k, kelvin(d.test_rmse_k).c_str(),
                 kelvin(best->test_rmse_k_after).c_str(), best->name.c_str(), best->name.c_str());
+  else if (d.drift.found)
+    std::printf("Nothing is recommended: the dump drifts (above). Calibrate on the cycles before the change, or "
+                "find its cause first.\n");
   else if (any_significant)
-    std::printf("No effect of the library is recommended: the significant ones raise the held-out error.%s\n",
+    std::printf("Nothing is recommended: the significant candidates raise the held-out error.%s\n",
                 d.adequacy.adequate ? "" : " The model is not adequate: something is missing that they do not explain.");
   else if (d.adequacy.adequate)
-    std::printf("No effect of the library improves the fit significantly (likelihood ratio at level %g): "
-                "this data gives no reason to add one.\n", level);
+    std::printf("No effect of the library and no term of the dictionary improves the fit significantly "
+                "(likelihood ratio and block test at level %g), and the model is adequate: this data gives no "
+                "reason to add one.\n", level);
   else
-    std::printf("No effect of the library improves the fit significantly (likelihood ratio at level %g), yet the "
-                "model is not adequate: something is missing that no effect of the library explains. "
-                "lptn report shows where the residual lies (cycles, operating regions, the inputs it follows).\n",
-                level);
+    std::printf("No effect of the library and no term of the dictionary improves the fit significantly (likelihood "
+                "ratio and block test at level %g), yet the model is not adequate: something is missing that none "
+                "of them explains. lptn report shows where the residual lies (cycles, operating regions, the "
+                "inputs it follows).\n", level);
 }
 
 void run(const Args& a) {
@@ -167,7 +197,8 @@ void run(const Args& a) {
 
 void add_diagnose(CLI::App& app) {
   auto* cmd = app.add_subcommand(
-      "diagnose", "Which effect of the library the calibrated model lacks: score test, refit, likelihood ratio, identifiability");
+      "diagnose", "Is the calibrated model adequate, did the motor drift between cycles, and which effect of the library or "
+                  "term of the dictionary does it lack (score test, refit, block test, held-out error)");
   auto a = std::make_shared<Args>();
   cmd->add_option("--data", a->data, "Directories of cycle CSVs, or CSV files (the data the calibration was made from)")
       ->required()

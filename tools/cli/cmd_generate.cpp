@@ -30,6 +30,23 @@ EffectSet parse_effects(const std::string& list) {
   return set;
 }
 
+gen::PlantPhysicsSet parse_plant(const std::string& list) {
+  gen::PlantPhysicsSet set = 0;
+  std::stringstream in(list);
+  std::string name;
+  while (std::getline(in, name, ',')) {
+    if (name.empty()) continue;
+    const gen::PlantPhysics p = gen::plant_physics_index(name);
+    if (p == gen::PlantPhysics::count) {
+      std::string known;
+      for (auto k : gen::kPlantPhysicsNames) known += (known.empty() ? "" : ", ") + std::string(k);
+      throw BadInput("--plant: unknown plant physics '" + name + "' (known: " + known + ")");
+    }
+    set |= gen::plant_bit(p);
+  }
+  return set;
+}
+
 // NAME=VALUE pairs: true values of parameters the built-in truth does not set (an effect of one's own).
 std::vector<std::pair<std::string, double>> parse_truth(const std::vector<std::string>& items) {
   std::vector<std::pair<std::string, double>> out;
@@ -58,7 +75,7 @@ std::vector<std::pair<std::string, double>> parse_truth(const std::vector<std::s
 void add_generate(CLI::App& app) {
   auto* cmd = app.add_subcommand("generate", "Generate a fleet dump with a known truth from the synthetic plant");
   struct Args {
-    std::string out, hidden;
+    std::string out, hidden, plant;
     std::vector<std::string> truth;
     gen::GenerateOptions options;
     double minutes_min = 60, minutes_max = 90;
@@ -69,6 +86,11 @@ void add_generate(CLI::App& app) {
   cmd->add_option("--cycles", args->options.cycles, "Number of driving cycles")->capture_default_str()->check(CLI::Range(1, 10000));
   cmd->add_option("--seed", args->options.seed, "Random seed: the same seed gives the same data")->capture_default_str();
   cmd->add_option("--hidden", args->hidden, "Effects the plant has and the paper's model lacks, comma-separated");
+  std::string plant_names;
+  for (auto k : gen::kPlantPhysicsNames) plant_names += (plant_names.empty() ? "" : ", ") + std::string(k);
+  cmd->add_option("--plant", args->plant,
+                  "Physics the model cannot express (" + plant_names +
+                      "), comma-separated: to test what diagnose says about a real motor");
   cmd->add_option("--truth", args->truth, "True value of a parameter, NAME=VALUE (repeatable; for effects of your own)");
   cmd->add_option("--minutes-min", args->minutes_min, "Shortest cycle, minutes")->capture_default_str()->check(CLI::Range(2.0, 1440.0));
   cmd->add_option("--minutes-max", args->minutes_max, "Longest cycle, minutes")->capture_default_str()->check(CLI::Range(2.0, 1440.0));
@@ -80,6 +102,7 @@ void add_generate(CLI::App& app) {
   cmd->callback([args] {
     if (args->minutes_max < args->minutes_min) throw BadInput("--minutes-max must not be below --minutes-min");
     args->options.hidden = parse_effects(args->hidden);
+    args->options.plant = parse_plant(args->plant);
     args->options.truth_overrides = parse_truth(args->truth);
     args->options.min_duration_s = 60 * args->minutes_min;
     args->options.max_duration_s = 60 * args->minutes_max;

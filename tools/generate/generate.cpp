@@ -116,6 +116,9 @@ std::vector<CycleSummary> generate(const GenerateOptions& options, const std::fi
     double x[kMaxStates];
     const double soak = drive.front().ambient_c + rng.uniform(0.0, 25.0);
     plant_model.initial_state(x, soak, soak);
+    PlantExtraState extra = initial_extra_state(soak);
+    const ParamVector<double> cycle_truth = cycle_parameters(options.plant, truth, i, options.cycles);
+    summary.cooling_factor = cooling_factor(options.plant, i, options.cycles);
 
     const std::vector<Span> lost_rows = dropouts(rng, duration, 1200.0, 1.0);
     const std::vector<Span> lost_stator = dropouts(rng, duration, 1800.0, 5.0);
@@ -193,7 +196,10 @@ std::vector<CycleSummary> generate(const GenerateOptions& options, const std::fi
         }
         csv += '\n';
       }
-      for (int sub = 0; sub < kTruthSubsteps; ++sub) plant_model.step(x, in, truth.data(), kLogStepS / kTruthSubsteps);
+      for (int sub = 0; sub < kTruthSubsteps; ++sub) {
+        plant_model.step(x, in, cycle_truth.data(), kLogStepS / kTruthSubsteps);
+        step_plant_physics(options.plant, motor.constants, in, x, extra, kLogStepS / kTruthSubsteps);
+      }
     }
     write_file(dir / (summary.name + ".csv"), csv);
     write_file(dir / "truth" / (summary.name + ".csv"), truth_csv);
@@ -207,6 +213,7 @@ std::vector<CycleSummary> generate(const GenerateOptions& options, const std::fi
   j["hidden_effects"] = nlohmann::json::array();
   for (int e = 0; e < kNumEffects; ++e)
     if (options.hidden & effect_bit(e)) j["hidden_effects"].push_back(std::string(EffectLibrary::kNames[e]));
+  j["plant_physics"] = plant_physics_names(options.plant);
   for (int p = 0; p < kNumParams; ++p) {
     const int e = effect_of_param(p);
     if (e >= 0 && !(options.hidden & effect_bit(e))) continue;
@@ -218,7 +225,8 @@ std::vector<CycleSummary> generate(const GenerateOptions& options, const std::fi
   for (const CycleSummary& s : summaries) {
     j["cycles"].push_back({{"name", s.name}, {"kind", s.kind}, {"blower", s.blower}, {"duration_s", s.duration_s},
                            {"max_stator_winding_c", s.max_stator_winding_c}, {"max_rotor_c", s.max_rotor_c},
-                           {"min_ambient_c", s.min_ambient_c}, {"max_ambient_c", s.max_ambient_c}});
+                           {"min_ambient_c", s.min_ambient_c}, {"max_ambient_c", s.max_ambient_c},
+                           {"cooling_factor", s.cooling_factor}});
   }
   write_file(dir / "truth.json", j.dump(2) + "\n");
   return summaries;

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "lptn/model.hpp"
+#include "tools/generate/plant_physics.hpp"
 
 namespace lptn::gen {
 
@@ -28,6 +29,7 @@ struct GenerateOptions {
   int cycles = 9;
   std::uint64_t seed = 1;
   EffectSet hidden = 0;
+  PlantPhysicsSet plant = 0;  // physics beyond the model (plant_physics.hpp)
   double min_duration_s = 3600;
   double max_duration_s = 5400;
   bool rotor_sensor = true;  // bench-style rotor telemetry (fleet data often lacks it)
@@ -47,6 +49,7 @@ struct CycleSummary {
   double max_rotor_c = 0;
   double min_ambient_c = 0;
   double max_ambient_c = 0;
+  double cooling_factor = 1;  // on every conductance to air (cooling_fouling)
 };
 
 // Writes DIR/<cycle>.csv (the data contract), DIR/motor.toml (what the user knows: the paper's

@@ -154,6 +154,10 @@ CycleBlock* make_residuals(const Model<double>& model, const data::Cycle& cycle,
   const std::size_t n = free.size() + kOffsets;
   if (n <= 4) return new CycleResiduals<4>(model, cycle, free, fixed, max_steps);
   if (n <= 10) return new CycleResiduals<10>(model, cycle, free, fixed, max_steps);
+  // The paper's parameters with an effect or a dictionary term or two (the usual calibration and
+  // every refit of diagnose): a Jet sized by the whole library would carry mostly zeros.
+  if (n <= 16) return new CycleResiduals<16>(model, cycle, free, fixed, max_steps);
+  if (n <= 24) return new CycleResiduals<24>(model, cycle, free, fixed, max_steps);
   // Every parameter of the library free: sized by the library, so that registering an effect
   // (docs/effects.md) needs nothing here.
   return new CycleResiduals<std::max(18, kNumParams + kOffsets)>(model, cycle, free, fixed, max_steps);

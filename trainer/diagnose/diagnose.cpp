@@ -7,6 +7,8 @@
 #include <cstdio>
 #include <limits>
 
+#include "trainer/diagnose/in_words.hpp"
+#include "trainer/diagnose/internal/block_test.hpp"
 #include "trainer/diagnose/internal/effect_notes.hpp"
 #include "trainer/diagnose/internal/refit.hpp"
 #include "trainer/diagnose/internal/score_test.hpp"
@@ -60,12 +62,19 @@ HeldOut held_out(const Model<double>& model, const ParamVector<double>& values, 
 // A parameter confounded with one the model has cannot be claimed whatever the fit gained (the
 // correlation is the data's, present or absent the effect); one that is merely imprecise only
 // matters once the gain is significant (an absent effect's parameter ends near zero, imprecise).
-Verdict verdict(const Candidate& c, const internal::Refit& refit, std::string& reason) {
+Verdict verdict(const Candidate& c, bool blocks_significant, const internal::Refit& refit, std::string& reason) {
   if (!refit.confounded.empty()) {
     reason = refit.confounded;
     return Verdict::not_distinguishable;
   }
   if (!(c.statistic > c.threshold)) return Verdict::not_significant;
+  if (!blocks_significant) {
+    char why[160];
+    std::snprintf(why, sizeof why, "the gain is not consistent across the training cycles' blocks (t %.1f / %.1f over %d blocks)",
+                  c.block_t, c.block_threshold, c.blocks);
+    reason = why;
+    return Verdict::not_significant;
+  }
   if (!refit.imprecise.empty()) {
     reason = refit.imprecise;
     return Verdict::not_distinguishable;
@@ -73,17 +82,34 @@ Verdict verdict(const Candidate& c, const internal::Refit& refit, std::string& r
   return Verdict::significant;
 }
 
-Candidate examine(const MotorFile& motor, int effect, const Diagnosis& before, const data::Dataset& dataset,
+struct Scored {
+  int effect = -1;
+  internal::Score score;
+};
+
+Scored score_effect(const MotorFile& motor, int effect, const Diagnosis& before, const data::Dataset& dataset,
+                    const Split& split, const Settings& settings, const Progress& progress) {
+  MotorFile with = motor;
+  enable_effect(with, effect);
+  if (progress) progress(std::string(EffectLibrary::kNames[static_cast<std::size_t>(effect)]) + ": score test");
+  return {effect, internal::score_test(with, effect, before.baseline, dataset, split.train, settings.threads)};
+}
+
+Candidate examine(const MotorFile& motor, const Scored& scored, const Diagnosis& before, const data::Dataset& dataset,
                   const Split& split, const Settings& settings, const Progress& progress) {
+  const int effect = scored.effect;
+  const auto e = static_cast<std::size_t>(effect);
   MotorFile with = motor;
   enable_effect(with, effect);
   Candidate c;
   c.effect = effect;
-  c.name = EffectLibrary::kNames[static_cast<std::size_t>(effect)];
-  c.df = EffectLibrary::kParamCounts[static_cast<std::size_t>(effect)];
+  c.name = EffectLibrary::kNames[e];
+  c.kind = EffectLibrary::kKinds[e];
+  c.node = node_id(effect);
+  c.formula = EffectLibrary::kFormulas[e];
+  c.df = EffectLibrary::kParamCounts[e];
   c.needs = internal::notes_for(effect).needs;
-  if (progress) progress(c.name + ": score test");
-  const internal::Score score = internal::score_test(with, effect, before.baseline, dataset, split.train, settings.threads);
+  const internal::Score& score = scored.score;
   c.score = score.statistic;
   c.predicted_rmse_k = std::sqrt(std::max(0.0, score.rss_k2 - score.reduction_k2) / static_cast<double>(score.residuals));
 
@@ -97,6 +123,7 @@ Candidate examine(const MotorFile& motor, int effect, const Diagnosis& before, c
     c.test_stator_rmse_k = before.test_stator_rmse_k;
     c.test_rmse_k_after = before.test_rmse_k;
     c.reason = "the data pull it below its neutral value (no refit)";
+    c.words = in_words(effect, score.predicted);
     return c;
   }
 
@@ -106,10 +133,19 @@ Candidate examine(const MotorFile& motor, int effect, const Diagnosis& before, c
       internal::refit_with(with, effect, score.predicted, dataset, split.train, lm, lm_progress(progress, c.name + ": refit"));
   c.refit = refit.fit;
   c.refit_rmse_k = refit.fit.rmse_k;
+  c.words = in_words(effect, refit.fit.values);
   // Both fits have the same residuals; a refit that ends worse (a local minimum) gains nothing.
   c.statistic = std::max(0.0, before.effective_residuals * std::log(before.baseline.final_cost / refit.fit.final_cost));
-  c.verdict = verdict(c, refit, c.reason);
   const Model<double> model = with.model();
+  const internal::BlockTest blocks = internal::block_test(
+      before.blocks_before,
+      internal::block_errors(model, refit.fit.values, dataset, split.train, before.block_steps, settings.threads),
+      settings.level);
+  c.blocks = blocks.blocks;
+  c.block_gain = blocks.mean_gain;
+  c.block_t = blocks.t;
+  c.block_threshold = blocks.threshold;
+  c.verdict = verdict(c, blocks.significant, refit, c.reason);
   c.train_stator_rmse_k = stator_rmse(model, refit.fit.values, dataset, split.train, settings.threads);
   const HeldOut after = held_out(model, refit.fit.values, dataset, split.test, settings.threads);
   c.test_stator_rmse_k = after.stator_k;
@@ -133,6 +169,7 @@ bool Diagnosis::raises_held_out_error(const Candidate& c) const {
 }
 
 const Candidate* Diagnosis::best() const {
+  if (drift.found) return nullptr;
   for (const Candidate& c : candidates)
     if (c.verdict == Verdict::significant && !raises_held_out_error(c)) return &c;
   return nullptr;
@@ -153,8 +190,29 @@ Diagnosis diagnose(const MotorFile& motor, const ParamVector<double>& calibrated
   d.test_stator_rmse_k = before.stator_k;
   d.test_rmse_k = before.combined_k;
   d.adequacy = assess_adequacy(model, d.baseline.values, dataset, split, settings.threads);
-  for (int e = 0; e < kNumEffects; ++e)
-    if (!(motor.effects & effect_bit(e))) d.candidates.push_back(examine(motor, e, d, dataset, split, settings, progress));
+  if (progress) progress("drift between cycles");
+  d.drift = find_drift(model, d.baseline.values, dataset, settings.threads);
+  d.block_steps = internal::block_steps(d.baseline.correlation_time, dataset.cycles.front().dt_s);
+  d.blocks_before = internal::block_errors(model, d.baseline.values, dataset, split.train, d.block_steps, settings.threads);
+
+  std::vector<Scored> terms;
+  for (int e = 0; e < kNumEffects; ++e) {
+    if (motor.effects & effect_bit(e)) continue;
+    const Scored scored = score_effect(motor, e, d, dataset, split, settings, progress);
+    if (EffectLibrary::kKinds[static_cast<std::size_t>(e)] == EffectKind::library)
+      d.candidates.push_back(examine(motor, scored, d, dataset, split, settings, progress));
+    else
+      terms.push_back(scored);
+  }
+  // The dictionary: every term scored, the best few refit and tested like library effects.
+  std::stable_sort(terms.begin(), terms.end(), [](const Scored& a, const Scored& b) {
+    return (a.score.feasible ? a.score.statistic : -1.0) > (b.score.feasible ? b.score.statistic : -1.0);
+  });
+  for (const Scored& t : terms)
+    d.term_scores.push_back({t.effect, std::string(EffectLibrary::kNames[static_cast<std::size_t>(t.effect)]),
+                             t.score.statistic, t.score.feasible});
+  for (std::size_t i = 0; i < terms.size() && static_cast<int>(i) < settings.term_refits; ++i)
+    if (terms[i].score.feasible) d.candidates.push_back(examine(motor, terms[i], d, dataset, split, settings, progress));
   std::stable_sort(d.candidates.begin(), d.candidates.end(),
                    [](const Candidate& a, const Candidate& b) { return a.refit_rmse_k < b.refit_rmse_k; });
   return d;

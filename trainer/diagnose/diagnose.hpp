@@ -1,12 +1,20 @@
-// lptn diagnose: which effect of the library (common/lptn/effects/) the calibrated model lacks.
+// lptn diagnose: whether the calibrated model is adequate (adequacy.hpp), whether the motor drifted
+// between cycles (drift.hpp), and which effect of the library or term of the dictionary
+// (common/lptn/effects/) it lacks.
 //
-// For every effect not yet in the model, three questions, cheapest first:
+// For every library effect not yet in the model, and for the best-scoring few of the dictionary's
+// terms (every term is scored), these questions, cheapest first:
 //   score test   how strongly the residuals point along the effect's parameters at their neutral
 //                value (the calibrated parameters held): one Jacobian, no fit. Ranks candidates.
 //   refit        fit_lm with the effect added, from the calibrated values: the error after adding,
 //                on the training cycles and on the test cycles; the likelihood-ratio statistic
 //                LR = n_eff ln(RSS_before / RSS_after) against the chi-square quantile at
 //                df = the parameters the effect adds.
+//   blocks       the block test (internal/block_test.hpp): training cycles cut into blocks longer
+//                than the residuals' correlation time, each block's gain ln(SSE before/after),
+//                their mean against Student's t. Significant = LR and block test both pass.
+//   held out     the test cycles' error over every sensor before and after: a candidate that
+//                raises it is never recommended.
 //   identifiable whether the refit can tell the effect's parameter from the ones already there
 //                (correlation beyond the flag, or a standard error larger than the value).
 // n_eff is the residual count divided by the residuals' correlation time, as fit_lm corrects its
@@ -25,6 +33,7 @@
 #include "trainer/calibrate/problem.hpp"
 #include "trainer/calibrate/calibration_result.hpp"
 #include "trainer/diagnose/adequacy.hpp"
+#include "trainer/diagnose/drift.hpp"
 #include "trainer/model/motor_effects.hpp"
 #include "trainer/data/dataset.hpp"
 #include "trainer/model/motor_file.hpp"
@@ -37,6 +46,8 @@ namespace lptn::diagnose {
 // Wilson-Hilferty's cube-root normal approximation above (within 2 % up to p = 0.999 for df >= 3,
 // and high there: a conservative threshold at diagnose's level).
 double chi_square_quantile(double p, int df);
+// The p-quantile (p > 0.5) of Student's t distribution with df degrees of freedom.
+double student_t_quantile(double p, int df);
 
 // --- the diagnosis -------------------------------------------------------------------------
 
@@ -47,6 +58,8 @@ struct Settings {
   // iterations is crawling along a direction the data barely supports (it is not the one to add),
   // and its verdict rests on where it got. The baseline and --auto's refits get fit_lm's default.
   int refit_iterations = 15;
+  // The dictionary's terms are all scored; this many of the best-scoring are refit and tested.
+  int term_refits = 3;
   int threads = worker_threads();
 };
 
@@ -56,11 +69,19 @@ const char* to_string(Verdict v);
 struct Candidate {
   int effect = -1;
   std::string name;
+  EffectKind kind = EffectKind::library;
+  std::string node;                 // terms: the node it acts on ("stator_winding", ...)
+  std::string formula;              // terms: its form
+  std::string words;                // in physical words with the refit's values (in_words.hpp)
   int df = 0;                       // parameters the effect adds
   double score = 0;                 // score statistic (chi-square scale, correlation-corrected)
   double predicted_rmse_k = 0;      // what the score predicts the training RMSE would fall to
   double statistic = 0;             // likelihood-ratio statistic of the refit
   double threshold = 0;             // chi-square quantile it must exceed
+  int blocks = 0;                   // the block test (internal/block_test.hpp): blocks compared,
+  double block_gain = 0;            //   their mean ln(SSE before / SSE after),
+  double block_t = 0;               //   its t statistic
+  double block_threshold = 0;       //   and the quantile it must exceed
   double refit_rmse_k = 0;          // training RMSE after the refit (fit_lm's pooled residuals)
   double train_stator_rmse_k = 0;   // after the refit, stator sensor (offsets estimated per cycle)
   double test_stator_rmse_k = 0;    // after the refit; NaN without test cycles
@@ -80,12 +101,23 @@ struct Diagnosis {
   double test_rmse_k = 0;            // before, every measured sensor (RMS over both, each sample once)
   double effective_residuals = 0;    // n_eff: residuals / correlation time
   std::vector<Candidate> candidates;  // by training RMSE after the refit, best first
+  struct TermScore {
+    int effect = -1;
+    std::string name;
+    double score = 0;
+    bool feasible = false;
+  };
+  std::vector<TermScore> term_scores;  // every dictionary term not in the model, best score first
+  Drift drift;                         // between the cycles; while one is found nothing is recommended
+  std::size_t block_steps = 0;         // grid steps per block of the block test
+  std::vector<double> blocks_before;   // the model as calibrated: each block's squared error
 
   // A refit that fits the training cycles better but the held-out cycles worse learned them, not
   // the physics: such a candidate is never recommended, however significant.
   bool raises_held_out_error(const Candidate& c) const;
   // The recommendation: the first significant (and distinguishable) candidate that does not raise
-  // the held-out error, or nullptr. At most one per round.
+  // the held-out error, or nullptr. At most one per round; none while a drift is found (it would
+  // absorb the drift).
   const Candidate* best() const;
 };
 

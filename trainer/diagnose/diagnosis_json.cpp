@@ -15,7 +15,7 @@ nlohmann::json to_json(const Candidate& c, const Diagnosis& d) {
     if (effect_of_param(i) == c.effect)
       params[std::string(param_spec(i).name)] = {{"value", c.refit.values[i]}, {"std_error", number(c.refit.std_error[i])},
                                                  {"unit", std::string(param_spec(i).unit)}};
-  return {{"effect", c.name},
+  nlohmann::json j = {{"effect", c.name},
           {"statistic", c.statistic},
           {"threshold", c.threshold},
           {"df", c.df},
@@ -25,7 +25,12 @@ nlohmann::json to_json(const Candidate& c, const Diagnosis& d) {
           {"train_stator_rmse_k", number(c.train_stator_rmse_k)},
           {"test_stator_rmse_k", number(c.test_stator_rmse_k)},
           {"significant", c.verdict == Verdict::significant},
-          {"kind", "library"},
+          {"kind", c.kind == EffectKind::term ? "term" : "library"},
+          {"words", c.words},
+          {"blocks", c.blocks},
+          {"block_gain", c.block_gain},
+          {"block_t", number(c.block_t)},
+          {"block_threshold", c.block_threshold},
           {"recommended", d.best() == &c},
           {"test_rmse_k_before", number(d.test_rmse_k)},
           {"test_rmse_k_after", number(c.test_rmse_k_after)},
@@ -36,6 +41,29 @@ nlohmann::json to_json(const Candidate& c, const Diagnosis& d) {
           {"refit_iterations", c.refit.iterations},
           {"refit_converged", c.refit.converged},
           {"refit_seconds", c.refit.seconds}};
+  if (c.kind == EffectKind::term) {
+    j["node"] = c.node;
+    j["formula"] = c.formula;
+  }
+  return j;
+}
+
+// A drift is listed among the candidates (kind "drift") so that a reader of the list sees it, but
+// it is a finding about the data, never an effect to add.
+nlohmann::json drift_candidate(const Diagnosis& d) {
+  return {{"effect", std::string("drift_") + to_string(d.drift.group)},
+          {"kind", "drift"},
+          {"significant", true},
+          {"recommended", false},
+          {"verdict", "drift"},
+          {"cycles", d.drift.cycles},
+          {"words", d.drift.finding},
+          {"reason", d.drift.finding},
+          {"needs", d.drift.inspect},
+          {"p_value", d.drift.p_value},
+          {"change", d.drift.change},
+          {"test_rmse_k_before", number(d.test_rmse_k)},
+          {"test_rmse_k_after", number(d.test_rmse_k)}};
 }
 
 }  // namespace
@@ -43,9 +71,17 @@ nlohmann::json to_json(const Candidate& c, const Diagnosis& d) {
 nlohmann::json to_json(const Diagnosis& d) {
   nlohmann::json candidates = nlohmann::json::array();
   for (const Candidate& c : d.candidates) candidates.push_back(to_json(c, d));
+  if (d.drift.found) candidates.push_back(drift_candidate(d));
   nlohmann::json j = to_json(d.adequacy);  // "adequate" and "sensors" first: the verdict on the model itself
   j["rmse_k"] = d.rmse_k;
+  j["test_rmse_k"] = number(d.test_rmse_k);
+  j["correlation_time_steps"] = d.baseline.correlation_time;
   j["candidates"] = candidates;
+  j["drift"] = to_json(d.drift);
+  nlohmann::json scores = nlohmann::json::array();
+  for (const Diagnosis::TermScore& t : d.term_scores)
+    scores.push_back({{"term", t.name}, {"score", t.score}, {"feasible", t.feasible}});
+  j["term_scores"] = scores;
   return j;
 }
 

@@ -18,6 +18,11 @@
 //       claim its extra states (and e.g. redirect which state a sensor reads);
 //   template <class T> static void initialize(T* x, int first_state);
 //       set its extra states at the start of a cycle, once the nodes are set.
+// A dictionary term (effects/dictionary.hpp) also declares
+//   static constexpr EffectKind kKind = EffectKind::term;
+//   static constexpr int kNode;                  // the node it acts on (the first, for a path)
+//   static constexpr std::string_view kFormula;  // its form, e.g. "P (I/I_r)^2 (f/f_r)^k"
+// An effect without kKind is a library effect: physics with a name and a reference.
 // `p` points at the effect's own parameters, in the order of kParams. Registering an effect is one
 // line in effects/library.hpp. Effects must keep the model linear in the state (the integrator's
 // premise) and, like all of common/, allocate nothing and throw nothing.
@@ -32,6 +37,10 @@
 #include "lptn/params.hpp"
 
 namespace lptn {
+
+// Library effects are named physics with a reference; dictionary terms are generic forms diagnose
+// tries when no library effect explains the data (PySINDy's dictionary of candidate terms).
+enum class EffectKind { library, term };
 
 // What every effect may read about the present step (all of type R: inputs and constants).
 template <class R>

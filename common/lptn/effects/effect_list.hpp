@@ -14,8 +14,48 @@ namespace lptn {
 // A set of enabled effects, one bit per position in the list.
 using EffectSet = std::uint32_t;
 
+namespace internal {
+template <class E>
+constexpr EffectKind kind_of() {
+  if constexpr (requires { E::kKind; }) return E::kKind; else return EffectKind::library;
+}
+template <class E>
+constexpr int node_of() {
+  if constexpr (requires { E::kNode; }) return E::kNode; else return -1;
+}
+template <class E>
+constexpr std::string_view formula_of() {
+  if constexpr (requires { E::kFormula; }) return E::kFormula; else return {};
+}
+}  // namespace internal
+
+// A group of effects registered as one entry of an EffectList (the dictionary's terms): the list
+// takes its members in order, as if each had been written there.
 template <class... E>
-struct EffectList {
+struct EffectGroup {};
+
+namespace internal {
+template <class... E>
+struct FlatEffectList;
+template <class Done, class... Rest>
+struct Flatten;
+template <class... D>
+struct Flatten<FlatEffectList<D...>> {
+  using type = FlatEffectList<D...>;
+};
+template <class... D, class... G, class... Rest>
+struct Flatten<FlatEffectList<D...>, EffectGroup<G...>, Rest...> : Flatten<FlatEffectList<D..., G...>, Rest...> {};
+template <class... D, class E, class... Rest>
+struct Flatten<FlatEffectList<D...>, E, Rest...> : Flatten<FlatEffectList<D..., E>, Rest...> {};
+}  // namespace internal
+
+// The list of effects E..., groups flattened in place.
+template <class... E>
+using EffectList = typename internal::Flatten<internal::FlatEffectList<>, E...>::type;
+
+namespace internal {
+template <class... E>
+struct FlatEffectList {
   static constexpr int kCount = sizeof...(E);
   static_assert(kCount <= 32, "EffectSet holds 32 effects");
 
@@ -23,6 +63,9 @@ struct EffectList {
   static constexpr std::array<std::string_view, kCount> kSummaries{E::kSummary...};
   static constexpr std::array<int, kCount> kParamCounts{static_cast<int>(std::size(E::kParams))...};
   static constexpr std::array<int, kCount> kExtraStates{E::kExtraStates...};
+  static constexpr std::array<EffectKind, kCount> kKinds{kind_of<E>()...};
+  static constexpr std::array<int, kCount> kNodes{node_of<E>()...};  // terms' node, -1 for library effects
+  static constexpr std::array<std::string_view, kCount> kFormulas{formula_of<E>()...};
   static constexpr int kNumParams = (0 + ... + static_cast<int>(std::size(E::kParams)));
 
   // Offsets of each effect's first parameter, counted from the first effect parameter.
@@ -67,5 +110,6 @@ struct EffectList {
      ...);
   }
 };
+}  // namespace internal
 
 }  // namespace lptn

@@ -6,11 +6,14 @@
 namespace lptn::diagnose::internal {
 namespace {
 
-// "P is +0.97 correlated with Q" for the first flagged pair with parameter `i`, or empty.
-std::string confounded(const LmReport& fit, int i) {
+// "P is +0.97 correlated with Q" for the first flagged pair of parameter `i` with one the model
+// already has, or empty. Two parameters of the effect itself (a term's size and its exponent)
+// trading off against each other make its form imprecise, not the effect indistinguishable.
+std::string confounded(const LmReport& fit, int i, int effect) {
   const std::string name(param_spec(i).name);
   for (const CorrelatedPair& c : fit.correlated) {
     if (c.a != name && c.b != name) continue;
+    if (effect_of_param(param_index(c.a == name ? c.b : c.a)) == effect) continue;
     char buf[256];
     std::snprintf(buf, sizeof buf, "%s is %+.3f correlated with %s", name.c_str(), c.correlation,
                   (c.a == name ? c.b : c.a).c_str());
@@ -37,10 +40,13 @@ Refit refit_with(const MotorFile& with_effect, int effect, const ParamVector<dou
                  const std::vector<std::size_t>& train, const LmSettings& settings, const LmProgress& progress) {
   Refit out;
   out.fit = fit_lm(with_effect, start, dataset, train, settings, progress);
+  // Whether the effect is there at all is its first parameter's question (a term's size; its
+  // exponent may well be near zero and imprecise while the term is plainly present).
+  const int first = kNumPaperParams + EffectLibrary::kParamOffsets[static_cast<std::size_t>(effect)];
   for (int i : FreeParameters::from_motor(with_effect).index) {
     if (effect_of_param(i) != effect) continue;
-    if (out.confounded.empty()) out.confounded = confounded(out.fit, i);
-    if (out.imprecise.empty()) out.imprecise = imprecise(out.fit, i);
+    if (out.confounded.empty()) out.confounded = confounded(out.fit, i, effect);
+    if (out.imprecise.empty() && i == first) out.imprecise = imprecise(out.fit, i);
   }
   return out;
 }

@@ -1,0 +1,240 @@
+// The dictionary: generic terms for physics nobody wrote into the library.
+//
+// A real motor's missing physics is rarely one of the library's named effects. Diagnose then tries
+// these (PySINDy's shape: a dictionary of candidate terms, sparse selection, each readable as
+// physics). Every term is an effect like any other: a calibration enables it by name, the exported
+// header and the firmware carry it, and it does nothing at its neutral value. Three families:
+//
+//   heat_<node>_<form>         extra heat into one node, P_r * shape(operating point), with P_r its
+//                              size at the rated point and the shape's exponent k free:
+//                                i2f    (I/I_r)^2 (f/f_r)^k   current-and-frequency losses (AC copper,
+//                                                             eddy currents in the conductors)
+//                                fluxf  psi^2 (f/f_r)^k       flux-and-frequency losses (iron-like)
+//                                speed  (n/n_b)^k             mechanical losses (bearings, windage)
+//                                power  (P/P_r)^k             losses following the shaft power
+//   cooling_<side>_speed       the side's conductances to air times 1 + a (n/n_b)^k (a fan or
+//                              rotor stirring the air, beyond eq. 14's airflow)
+//   airflow_<side>_exponent    the side's conductances to air times (V/V_n)^d: eq. 14's exponent
+//                              0.8 changed by d (another flow regime)
+//   path_<node>_<node>         a conductance between two nodes the paper leaves unconnected
+//
+// Terms are appended to the library's list (effects/library.hpp) as one group, after the named
+// effects, so that every existing parameter keeps its index.
+#pragma once
+
+#include <array>
+#include <cmath>
+#include <initializer_list>
+#include <string_view>
+
+#include "lptn/effects/effect.hpp"
+#include "lptn/effects/effect_list.hpp"
+
+namespace lptn::terms {
+
+inline constexpr std::string_view kNodeIds[kNumNodes] = {"stator_winding", "stator_core", "rotor_winding", "rotor_core"};
+inline constexpr std::string_view kNodeWords[kNumNodes] = {"stator winding", "stator core", "rotor winding",
+                                                          "rotor core"};
+
+// A name built at compile time from parts (the terms' names and their parameters' names).
+struct FixedText {
+  char text[96]{};
+  std::size_t size = 0;
+  constexpr std::string_view view() const { return {text, size}; }
+};
+constexpr FixedText join(std::initializer_list<std::string_view> parts) {
+  FixedText out;
+  for (std::string_view part : parts)
+    for (char c : part) out.text[out.size++] = c;
+  return out;
+}
+
+// Ratios below this are taken as this: x^k then stays finite in value and derivative (log x) for
+// every exponent the bounds allow, in float too.
+inline constexpr double kTinyRatio = 1e-6;
+
+template <class R>
+R at_least_tiny(R x) {
+  return x < R(kTinyRatio) ? R(kTinyRatio) : x;
+}
+
+namespace forms {
+
+struct CurrentFrequency {
+  static constexpr std::string_view kId = "i2f";
+  static constexpr std::string_view kFormula = "P_r (I/I_r)^2 (f/f_r)^k";
+  static constexpr std::string_view kWords = "growing as I^2 f^k";
+  static constexpr double kExponent[3] = {1.0, 0.0, 3.0};  // initial (and neutral), min, max
+  template <class T, class R>
+  static T shape(const EffectInputs<R>& e, const T& k) {
+    using std::abs;
+    using std::pow;
+    const R i = abs(e.in.current_a) / e.motor.rated_current_a;
+    return i * i * pow(at_least_tiny(abs(e.in.frequency_hz) / e.motor.rated_frequency_hz), k);
+  }
+};
+
+struct FluxFrequency {
+  static constexpr std::string_view kId = "fluxf";
+  static constexpr std::string_view kFormula = "P_r psi^2 (f/f_r)^k";
+  static constexpr std::string_view kWords = "growing as psi^2 f^k (while the pulses are on)";
+  static constexpr double kExponent[3] = {1.5, 0.5, 3.0};
+  template <class T, class R>
+  static T shape(const EffectInputs<R>& e, const T& k) {
+    using std::abs;
+    using std::pow;
+    if (!e.losses.pulses_on) return T(0);
+    const R psi = e.losses.flux_ratio;
+    return psi * psi * pow(at_least_tiny(abs(e.in.frequency_hz) / e.motor.rated_frequency_hz), k);
+  }
+};
+
+struct Speed {
+  static constexpr std::string_view kId = "speed";
+  static constexpr std::string_view kFormula = "P_r (n/n_b)^k";
+  static constexpr std::string_view kWords = "growing as speed^k";
+  static constexpr double kExponent[3] = {2.0, 0.5, 4.0};
+  template <class T, class R>
+  static T shape(const EffectInputs<R>& e, const T& k) {
+    using std::pow;
+    return pow(at_least_tiny(e.speed_ratio), k);
+  }
+};
+
+struct ShaftPower {
+  static constexpr std::string_view kId = "power";
+  static constexpr std::string_view kFormula = "P_r (|T w|/P_rated)^k";
+  static constexpr std::string_view kWords = "growing as shaft power^k (torque on the bus)";
+  static constexpr double kExponent[3] = {1.0, 0.5, 3.0};
+  template <class T, class R>
+  static T shape(const EffectInputs<R>& e, const T& k) {
+    using std::abs;
+    using std::pow;
+    if (!e.in.has_torque) return T(0);
+    constexpr double kRadPerSPerRpm = 6.283185307179586 / 60.0;
+    const R p = abs(e.in.torque_nm * e.in.speed_rpm) * R(kRadPerSPerRpm) / e.motor.rated_power_w;
+    return pow(at_least_tiny(p), k);
+  }
+};
+
+}  // namespace forms
+
+// Extra heat into node `Node`: p[0] W at the rated point, times the form's shape with exponent p[1].
+template <int Node, class Form>
+struct HeatTerm {
+  static constexpr EffectKind kKind = EffectKind::term;
+  static constexpr int kNode = Node;
+  static constexpr std::string_view kFormula = Form::kFormula;
+  static constexpr FixedText kNameText = join({"heat_", kNodeIds[Node], "_", Form::kId});
+  static constexpr FixedText kSummaryText = join({"extra heat in the ", kNodeWords[Node], " ", Form::kWords});
+  static constexpr FixedText kSizeName = join({kNameText.view(), "_w"});
+  static constexpr FixedText kExponentName = join({kNameText.view(), "_k"});
+  static constexpr std::string_view kName = kNameText.view();
+  static constexpr std::string_view kSummary = kSummaryText.view();
+  static constexpr int kExtraStates = 0;
+  static constexpr ParamSpec kParams[] = {
+      {kSizeName.view(), "W", 500.0, 1.0, 20000.0, 0.0, "the term's heat at the rated point"},
+      {kExponentName.view(), "1", Form::kExponent[0], Form::kExponent[1], Form::kExponent[2], Form::kExponent[0],
+       "the term's exponent k"},
+  };
+
+  template <class T, class R>
+  static void apply(const EffectInputs<R>& e, const T* p, const StepConductances<T>&, HeatBalance<T>& sys, int) {
+    sys.heat(Node, p[0] * Form::template shape<T, R>(e, p[1]));
+  }
+};
+
+// The conductances to air of one side: the stator's (nodes 1, 2) or the rotor's (nodes 3, 4).
+enum class Side { stator, rotor };
+constexpr int first_node(Side s) { return s == Side::stator ? kStatorWinding : kRotorWinding; }
+constexpr std::string_view side_id(Side s) { return s == Side::stator ? "stator" : "rotor"; }
+
+// The side's conductances to air times 1 + a (n/n_b)^k.
+template <Side S>
+struct SpeedCooling {
+  static constexpr EffectKind kKind = EffectKind::term;
+  static constexpr int kNode = first_node(S);
+  static constexpr std::string_view kFormula = "lambda_air (1 + a (n/n_b)^k)";
+  static constexpr FixedText kNameText = join({"cooling_", side_id(S), "_speed"});
+  static constexpr FixedText kSummaryText = join({"the ", side_id(S), "'s conductances to air grow with speed^k"});
+  static constexpr FixedText kGainName = join({kNameText.view(), "_gain"});
+  static constexpr FixedText kExponentName = join({kNameText.view(), "_k"});
+  static constexpr std::string_view kName = kNameText.view();
+  static constexpr std::string_view kSummary = kSummaryText.view();
+  static constexpr int kExtraStates = 0;
+  static constexpr ParamSpec kParams[] = {
+      {kGainName.view(), "1", 0.3, 0.0, 5.0, 0.0, "relative rise of the conductances to air at base speed"},
+      {kExponentName.view(), "1", 1.0, 0.3, 3.0, 1.0, "the rise's exponent k"},
+  };
+
+  template <class T, class R>
+  static void adjust(const EffectInputs<R>& e, const T* p, StepConductances<T>& g) {
+    using std::pow;
+    const T factor = T(1) + p[0] * pow(at_least_tiny(e.speed_ratio), p[1]);
+    g.to_air[first_node(S)] *= factor;
+    g.to_air[first_node(S) + 1] *= factor;
+  }
+};
+
+// The side's conductances to air times (V/V_n)^d: eq. 14's exponent changed by d.
+template <Side S>
+struct AirflowExponent {
+  static constexpr EffectKind kKind = EffectKind::term;
+  static constexpr int kNode = first_node(S);
+  static constexpr std::string_view kFormula = "lambda_air (V/V_n)^(0.8 + d)";
+  static constexpr FixedText kNameText = join({"airflow_", side_id(S), "_exponent"});
+  static constexpr FixedText kSummaryText =
+      join({"the ", side_id(S), "'s conductances to air follow the airflow with another exponent"});
+  static constexpr FixedText kChangeName = join({kNameText.view(), "_change"});
+  static constexpr std::string_view kName = kNameText.view();
+  static constexpr std::string_view kSummary = kSummaryText.view();
+  static constexpr int kExtraStates = 0;
+  static constexpr ParamSpec kParams[] = {
+      {kChangeName.view(), "1", -0.3, -0.7, 0.7, 0.0, "change d of the airflow exponent"},
+  };
+
+  template <class T, class R>
+  static void adjust(const EffectInputs<R>& e, const T* p, StepConductances<T>& g) {
+    using std::pow;
+    const T factor = pow(e.effective_airflow_m3s / e.motor.nominal_airflow_m3s, p[0]);
+    g.to_air[first_node(S)] *= factor;
+    g.to_air[first_node(S) + 1] *= factor;
+  }
+};
+
+// A conductance between nodes A and B, which the paper leaves unconnected.
+template <int A, int B>
+struct Path {
+  static constexpr EffectKind kKind = EffectKind::term;
+  static constexpr int kNode = A;
+  static constexpr std::string_view kFormula = "lambda (T_a - T_b)";
+  static constexpr FixedText kNameText = join({"path_", kNodeIds[A], "_", kNodeIds[B]});
+  static constexpr FixedText kSummaryText = join({"a heat path between the ", kNodeWords[A], " and the ", kNodeWords[B]});
+  static constexpr FixedText kConductanceName = join({kNameText.view(), "_lambda"});
+  static constexpr std::string_view kName = kNameText.view();
+  static constexpr std::string_view kSummary = kSummaryText.view();
+  static constexpr int kExtraStates = 0;
+  static constexpr ParamSpec kParams[] = {
+      {kConductanceName.view(), "W/K", 20.0, 0.1, 2000.0, 0.0, "the path's conductance"},
+  };
+
+  template <class T, class R>
+  static void apply(const EffectInputs<R>&, const T* p, const StepConductances<T>&, HeatBalance<T>& sys, int) {
+    sys.path(A, B, p[0]);
+  }
+};
+
+// Every term, as one entry of the library's list.
+using Dictionary = EffectGroup<
+    HeatTerm<kStatorWinding, forms::CurrentFrequency>, HeatTerm<kStatorWinding, forms::FluxFrequency>,
+    HeatTerm<kStatorWinding, forms::Speed>, HeatTerm<kStatorWinding, forms::ShaftPower>,
+    HeatTerm<kStatorCore, forms::CurrentFrequency>, HeatTerm<kStatorCore, forms::FluxFrequency>,
+    HeatTerm<kStatorCore, forms::Speed>, HeatTerm<kStatorCore, forms::ShaftPower>,
+    HeatTerm<kRotorWinding, forms::CurrentFrequency>, HeatTerm<kRotorWinding, forms::FluxFrequency>,
+    HeatTerm<kRotorWinding, forms::Speed>, HeatTerm<kRotorWinding, forms::ShaftPower>,
+    HeatTerm<kRotorCore, forms::CurrentFrequency>, HeatTerm<kRotorCore, forms::FluxFrequency>,
+    HeatTerm<kRotorCore, forms::Speed>, HeatTerm<kRotorCore, forms::ShaftPower>,
+    SpeedCooling<Side::stator>, SpeedCooling<Side::rotor>, AirflowExponent<Side::stator>, AirflowExponent<Side::rotor>,
+    Path<kStatorWinding, kRotorWinding>, Path<kStatorWinding, kRotorCore>, Path<kStatorCore, kRotorWinding>>;
+
+}  // namespace lptn::terms

@@ -1,0 +1,74 @@
+#include "tools/generate/plant_physics.hpp"
+
+#include <cmath>
+
+namespace lptn::gen {
+namespace {
+
+constexpr double kFoulingFactor = 0.7;
+
+constexpr double kEddyRatedW = 1200.0;
+constexpr double kWindageBaseW = 900.0;
+constexpr double kWindageRotorShare = 0.6;
+
+constexpr double kFrameCapacitanceJPerK = 600e3;
+constexpr double kCoreToFrameWPerK = 300.0;
+constexpr double kFrameToAirWPerK = 150.0;
+// With the frame, the stator core's direct path to the air is (almost) gone: the lower bound of
+// the paper's lambda_2s.
+constexpr double kDirectCoreToAirWPerK = 1.0;
+
+bool has(PlantPhysicsSet set, PlantPhysics p) { return (set & plant_bit(p)) != 0; }
+
+}  // namespace
+
+PlantPhysics plant_physics_index(std::string_view name) {
+  for (std::uint32_t i = 0; i < static_cast<std::uint32_t>(PlantPhysics::count); ++i)
+    if (kPlantPhysicsNames[i] == name) return static_cast<PlantPhysics>(i);
+  return PlantPhysics::count;
+}
+
+std::vector<std::string> plant_physics_names(PlantPhysicsSet set) {
+  std::vector<std::string> out;
+  for (std::uint32_t i = 0; i < static_cast<std::uint32_t>(PlantPhysics::count); ++i)
+    if (set & plant_bit(static_cast<PlantPhysics>(i))) out.emplace_back(kPlantPhysicsNames[i]);
+  return out;
+}
+
+double cooling_factor(PlantPhysicsSet set, int index, int cycles) {
+  return has(set, PlantPhysics::cooling_fouling) && index >= cycles / 2 ? kFoulingFactor : 1.0;
+}
+
+ParamVector<double> cycle_parameters(PlantPhysicsSet set, const ParamVector<double>& truth, int index, int cycles) {
+  ParamVector<double> p = truth;
+  const double k = cooling_factor(set, index, cycles);
+  for (int i : {kLambda1s, kLambda2s, kLambda1r, kLambda2r}) p[i] *= k;
+  if (has(set, PlantPhysics::frame_mass)) p[kLambda2s] = kDirectCoreToAirWPerK;
+  return p;
+}
+
+PlantExtraState initial_extra_state(double soak_c) { return PlantExtraState{soak_c}; }
+
+void step_plant_physics(PlantPhysicsSet set, const MotorConstants<double>& m, const Inputs<double>& in, double* x,
+                        PlantExtraState& extra, double dt) {
+  const double* c = m.capacitance_j_per_k;
+  if (has(set, PlantPhysics::eddy_loss)) {
+    const double i = std::abs(in.current_a) / m.rated_current_a, f = std::abs(in.frequency_hz) / m.rated_frequency_hz;
+    const double p = kEddyRatedW * i * i * (std::pow(f, 1.5) + 0.3 * f * f * f) / 1.3;
+    x[kStatorWinding] += p * dt / c[kStatorWinding];
+  }
+  if (has(set, PlantPhysics::windage_cubed)) {
+    const double n = std::abs(in.speed_rpm) / m.base_speed_rpm();
+    const double p = kWindageBaseW * n * n * n;
+    x[kRotorCore] += kWindageRotorShare * p * dt / c[kRotorCore];
+    x[kStatorWinding] += (1 - kWindageRotorShare) * p * dt / c[kStatorWinding];
+  }
+  if (has(set, PlantPhysics::frame_mass)) {
+    const double to_frame = kCoreToFrameWPerK * (x[kStatorCore] - extra.frame_c);
+    const double to_air = kFrameToAirWPerK * airflow_factor(m, in.airflow_m3s) * (extra.frame_c - in.ambient_c);
+    x[kStatorCore] -= to_frame * dt / c[kStatorCore];
+    extra.frame_c += (to_frame - to_air) * dt / kFrameCapacitanceJPerK;
+  }
+}
+
+}  // namespace lptn::gen

@@ -1,0 +1,203 @@
+#include "trainer/diagnose/drift.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <numeric>
+#include <random>
+#include <thread>
+
+#include "trainer/calibrate/problem.hpp"
+
+namespace lptn::diagnose {
+namespace {
+
+constexpr double kMinLogFactor = -1.0, kMaxLogFactor = 1.0;  // c in [0.37, 2.7]
+constexpr int kGoldenIterations = 22;                        // brackets log c to 1e-4
+constexpr int kOrderings = 4000;
+constexpr std::uint64_t kOrderingSeed = 20261123;
+// A cycle's factor is not more precise than this (log units) whatever its fit says: it keeps the
+// t statistics finite when cycles agree to the last digit.
+constexpr double kFactorResolution = 0.005;
+
+ParamVector<double> scaled(const ParamVector<double>& p, DriftGroup g, double c) {
+  ParamVector<double> out = p;
+  if (g == DriftGroup::cooling) {
+    for (int i : {kLambda1s, kLambda2s, kLambda1r, kLambda2r}) out[i] *= c;
+  } else {
+    for (int i : {kKStemp, kKRtemp}) out[i] *= c;
+  }
+  return out;
+}
+
+double squared_error(const Model<double>& model, const ParamVector<double>& p, const data::Cycle& cycle) {
+  const CycleMetrics m = evaluate_cycle(model, p, cycle);
+  double sse = 0;
+  for (const ErrorMetrics* e : {&m.stator, &m.rotor})
+    if (e->samples) sse += e->rmse_k * e->rmse_k * static_cast<double>(e->samples);
+  return sse;
+}
+
+double best_factor(const Model<double>& model, const ParamVector<double>& p, DriftGroup g, const data::Cycle& cycle) {
+  constexpr double kInvPhi = 0.6180339887498949;
+  double a = kMinLogFactor, b = kMaxLogFactor;
+  double x1 = b - kInvPhi * (b - a), x2 = a + kInvPhi * (b - a);
+  auto f = [&](double y) { return squared_error(model, scaled(p, g, std::exp(y)), cycle); };
+  double f1 = f(x1), f2 = f(x2);
+  for (int it = 0; it < kGoldenIterations; ++it) {
+    if (f1 <= f2) {
+      b = x2, x2 = x1, f2 = f1;
+      x1 = b - kInvPhi * (b - a), f1 = f(x1);
+    } else {
+      a = x1, x1 = x2, f1 = f2;
+      x2 = a + kInvPhi * (b - a), f2 = f(x2);
+    }
+  }
+  return std::exp(0.5 * (a + b));
+}
+
+struct Statistic {
+  double t = 0;
+  std::size_t split = 0;  // step: first changed cycle
+};
+
+double mean(const std::vector<double>& y, std::size_t from, std::size_t to) {
+  return std::accumulate(y.begin() + static_cast<std::ptrdiff_t>(from), y.begin() + static_cast<std::ptrdiff_t>(to), 0.0) /
+         static_cast<double>(to - from);
+}
+
+Statistic step_statistic(const std::vector<double>& y) {
+  const std::size_t n = y.size();
+  Statistic best;
+  for (std::size_t k = 2; k + 2 <= n; ++k) {
+    const double m1 = mean(y, 0, k), m2 = mean(y, k, n);
+    double ss = 0;
+    for (std::size_t i = 0; i < n; ++i) ss += (y[i] - (i < k ? m1 : m2)) * (y[i] - (i < k ? m1 : m2));
+    const double s2 = std::max(ss / static_cast<double>(n - 2), kFactorResolution * kFactorResolution);
+    const double t = std::abs(m2 - m1) / std::sqrt(s2 * (1.0 / static_cast<double>(k) + 1.0 / static_cast<double>(n - k)));
+    if (t > best.t) best = {t, k};
+  }
+  return best;
+}
+
+double trend_statistic(const std::vector<double>& y) {
+  const std::size_t n = y.size();
+  const double xm = 0.5 * static_cast<double>(n - 1), ym = mean(y, 0, n);
+  double sxx = 0, sxy = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    sxx += (static_cast<double>(i) - xm) * (static_cast<double>(i) - xm);
+    sxy += (static_cast<double>(i) - xm) * (y[i] - ym);
+  }
+  const double slope = sxy / sxx;
+  double ss = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double r = y[i] - ym - slope * (static_cast<double>(i) - xm);
+    ss += r * r;
+  }
+  const double s2 = std::max(ss / static_cast<double>(n - 2), kFactorResolution * kFactorResolution);
+  return std::abs(slope) / std::sqrt(s2 / sxx);
+}
+
+// The share of orderings of y whose statistic reaches `observed` (the observed ordering counts).
+template <class F>
+double p_value(std::vector<double> y, double observed, F&& statistic) {
+  std::mt19937_64 rng(kOrderingSeed);
+  int reached = 1;
+  for (int i = 0; i < kOrderings; ++i) {
+    std::shuffle(y.begin(), y.end(), rng);
+    reached += statistic(y) >= observed * (1 - 1e-12);
+  }
+  return static_cast<double>(reached) / (kOrderings + 1);
+}
+
+std::string span(const std::vector<std::string>& cycles) {
+  if (cycles.empty()) return "";
+  return cycles.size() == 1 ? cycles.front() : cycles.front() + " .. " + cycles.back();
+}
+
+}  // namespace
+
+const char* to_string(DriftGroup g) { return g == DriftGroup::cooling ? "cooling" : "losses"; }
+
+Drift find_drift(const Model<double>& model, const ParamVector<double>& params, const data::Dataset& dataset,
+                 int threads, DriftGroup group) {
+  Drift d;
+  d.group = group;
+  const std::size_t n = dataset.cycles.size();
+  d.factors.resize(n);
+  const auto workers = static_cast<std::size_t>(std::max(1, threads));
+  std::vector<std::thread> pool;
+  for (std::size_t w = 0; w < workers; ++w)
+    pool.emplace_back([&, w] {
+      for (std::size_t i = w; i < n; i += workers)
+        d.factors[i] = {dataset.cycles[i].name, best_factor(model, params, group, dataset.cycles[i])};
+    });
+  for (std::thread& t : pool) t.join();
+  if (n < 4) return d;
+
+  std::vector<double> y(n);
+  for (std::size_t i = 0; i < n; ++i) y[i] = std::log(d.factors[i].factor);
+  const Statistic step = step_statistic(y);
+  const double trend = trend_statistic(y);
+  const double p_step = p_value(y, step.t, [](const std::vector<double>& v) { return step_statistic(v).t; });
+  const double p_trend = p_value(y, trend, trend_statistic);
+
+  if (p_step <= p_trend) {
+    d.shape = "step";
+    d.p_value = p_step;
+    d.change = std::exp(mean(y, step.split, n) - mean(y, 0, step.split)) - 1;
+    for (std::size_t i = step.split; i < n; ++i) d.cycles.push_back(d.factors[i].cycle);
+  } else {
+    d.shape = "trend";
+    d.p_value = p_trend;
+    d.change = std::exp(y.back() - y.front()) - 1;  // first to last cycle, as the slope's fit has it
+    const double xm = 0.5 * static_cast<double>(n - 1), ym = mean(y, 0, n);
+    double sxx = 0, sxy = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      sxx += (static_cast<double>(i) - xm) * (static_cast<double>(i) - xm);
+      sxy += (static_cast<double>(i) - xm) * (y[i] - ym);
+    }
+    d.change = std::exp(sxy / sxx * static_cast<double>(n - 1)) - 1;
+    for (std::size_t i = n / 2; i < n; ++i) d.cycles.push_back(d.factors[i].cycle);
+  }
+  d.found = d.p_value <= kDriftLevel && std::abs(d.change) >= kMinDriftChange;
+  if (!d.found) {
+    d.cycles.clear();
+    return d;
+  }
+  char text[512];
+  const bool cooling = group == DriftGroup::cooling;
+  // A smaller cooling factor is weaker cooling; a larger loss factor is more heat.
+  const char* direction = cooling ? (d.change < 0 ? "weaker" : "stronger") : (d.change > 0 ? "higher" : "lower");
+  if (d.shape == "step")
+    std::snprintf(text, sizeof text, "the %s of cycles %s is %.0f %% %s than the earlier cycles' (p = %.3f over %d orderings)",
+                  cooling ? "cooling" : "copper loss", span(d.cycles).c_str(), 100 * std::abs(d.change), direction,
+                  d.p_value, kOrderings);
+  else
+    std::snprintf(text, sizeof text, "the %s grows %.0f %% %s from the first cycle to the last (p = %.3f over %d orderings)",
+                  cooling ? "cooling" : "copper loss", 100 * std::abs(d.change), direction, d.p_value, kOrderings);
+  d.finding = text;
+  d.inspect = cooling ? "the cooling air path of these cycles' motor: air filters, the blower and its supply, the "
+                        "airflow signal's calibration; then calibrate on the cycles before the change"
+                      : "the current and frequency signals of these cycles (scaling, a replaced sensor), the "
+                        "converter's settings, the winding's insulation and connections";
+  return d;
+}
+
+Drift find_drift(const Model<double>& model, const ParamVector<double>& params, const data::Dataset& dataset,
+                 int threads) {
+  Drift cooling = find_drift(model, params, dataset, threads, DriftGroup::cooling);
+  if (cooling.found) return cooling;
+  Drift losses = find_drift(model, params, dataset, threads, DriftGroup::losses);
+  return losses.found ? losses : cooling;
+}
+
+nlohmann::json to_json(const Drift& d) {
+  nlohmann::json factors = nlohmann::json::array();
+  for (const CycleFactor& f : d.factors) factors.push_back({{"cycle", f.cycle}, {"factor", f.factor}});
+  return {{"group", to_string(d.group)}, {"found", d.found},     {"shape", d.shape},
+          {"p_value", d.p_value},        {"change", d.change},   {"cycles", d.cycles},
+          {"finding", d.finding},        {"inspect", d.inspect}, {"factors", factors}};
+}
+
+}  // namespace lptn::diagnose

@@ -1,0 +1,77 @@
+#include "trainer/diagnose/internal/block_test.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <thread>
+
+#include "trainer/calibrate/problem.hpp"
+#include "trainer/diagnose/diagnose.hpp"
+
+namespace lptn::diagnose::internal {
+namespace {
+
+// The block errors of one cycle: its last block takes the remainder.
+std::vector<double> cycle_blocks(const Model<double>& model, const ParamVector<double>& params, const data::Cycle& cycle,
+                                 std::size_t steps_per_block) {
+  const CycleEvaluation e = simulate_and_evaluate(model, params, cycle);
+  const std::size_t blocks = std::max<std::size_t>(1, cycle.steps / steps_per_block);
+  std::vector<double> out(blocks, 0.0);
+  const struct {
+    data::Channel channel;
+    const std::vector<float>* model;
+  } sensors[] = {{data::Channel::stator_winding_c, &e.simulation.stator_sensor},
+                 {data::Channel::rotor_c, &e.simulation.rotor_sensor}};
+  for (const auto& s : sensors) {
+    if (!cycle.has(s.channel) || s.model->size() < cycle.steps) continue;
+    for (std::size_t k = 0; k < cycle.steps; ++k) {
+      const double r = double((*s.model)[k]) - double(cycle.at(s.channel, k));
+      if (std::isfinite(r)) out[std::min(blocks - 1, k / steps_per_block)] += r * r;
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+std::size_t block_steps(double correlation_time, double dt_s) {
+  const double steps = std::max(kMinBlockSeconds / dt_s, 3.0 * correlation_time);
+  return static_cast<std::size_t>(std::ceil(steps));
+}
+
+std::vector<double> block_errors(const Model<double>& model, const ParamVector<double>& params,
+                                 const data::Dataset& dataset, const std::vector<std::size_t>& cycles,
+                                 std::size_t steps_per_block, int threads) {
+  std::vector<std::vector<double>> per_cycle(cycles.size());
+  const auto workers = static_cast<std::size_t>(std::max(1, threads));
+  std::vector<std::thread> pool;
+  for (std::size_t w = 0; w < workers; ++w)
+    pool.emplace_back([&, w] {
+      for (std::size_t i = w; i < cycles.size(); i += workers)
+        per_cycle[i] = cycle_blocks(model, params, dataset.cycles[cycles[i]], steps_per_block);
+    });
+  for (std::thread& t : pool) t.join();
+  std::vector<double> out;
+  for (const auto& c : per_cycle) out.insert(out.end(), c.begin(), c.end());
+  return out;
+}
+
+BlockTest block_test(const std::vector<double>& before, const std::vector<double>& after, double level) {
+  BlockTest b;
+  std::vector<double> gains;
+  for (std::size_t i = 0; i < before.size() && i < after.size(); ++i)
+    if (before[i] > 0 && after[i] > 0) gains.push_back(std::log(before[i] / after[i]));
+  b.blocks = static_cast<int>(gains.size());
+  if (b.blocks < kMinBlocks) return b;
+  double mean = 0, var = 0;
+  for (double g : gains) mean += g;
+  mean /= b.blocks;
+  for (double g : gains) var += (g - mean) * (g - mean);
+  var /= b.blocks - 1;
+  b.mean_gain = mean;
+  b.t = var > 0 ? mean / std::sqrt(var / b.blocks) : (mean > 0 ? INFINITY : 0.0);
+  b.threshold = student_t_quantile(1 - level, b.blocks - 1);
+  b.significant = b.t > b.threshold;
+  return b;
+}
+
+}  // namespace lptn::diagnose::internal
