@@ -40,3 +40,20 @@ TEST(ChiSquareQuantile, RefusesWhatIsNotADistribution) {
 
 }  // namespace
 }  // namespace lptn::diagnose
+
+// The block test's threshold (internal/block_test.hpp), against tabulated Student t quantiles.
+namespace lptn::diagnose {
+namespace {
+
+TEST(StudentTQuantile, MatchesTablesWhereTheBlockTestUsesIt) {
+  EXPECT_NEAR(student_t_quantile(0.975, 1), 12.7062, 1e-3);
+  EXPECT_NEAR(student_t_quantile(0.975, 2), 4.3027, 1e-3);
+  EXPECT_NEAR(student_t_quantile(0.975, 10), 2.2281, 2e-3);
+  EXPECT_NEAR(student_t_quantile(0.999, 9), 4.2968, 0.02 * 4.2968);
+  EXPECT_NEAR(student_t_quantile(0.999, 23), 3.4850, 0.005 * 3.4850);
+  EXPECT_NEAR(student_t_quantile(0.999, 3), 10.2145, 0.03 * 10.2145);
+  EXPECT_THROW(student_t_quantile(0.4, 5), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace lptn::diagnose
