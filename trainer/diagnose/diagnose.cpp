@@ -137,9 +137,13 @@ Candidate examine(const MotorFile& motor, const Scored& scored, const Diagnosis&
   // Both fits have the same residuals; a refit that ends worse (a local minimum) gains nothing.
   c.statistic = std::max(0.0, before.effective_residuals * std::log(before.baseline.final_cost / refit.fit.final_cost));
   const Model<double> model = with.model();
+  // Blocks as long as the refit's residuals stay correlated: where the effect is absent the refit
+  // leaves the misfit's slow structure (long blocks, few, a high quantile); where it explains the
+  // structure, what is left is nearly white and the blocks can be short.
+  const std::size_t block_steps = internal::block_steps(refit.fit.correlation_time, dataset.cycles.front().dt_s);
   const internal::BlockTest blocks = internal::block_test(
-      before.blocks_before,
-      internal::block_errors(model, refit.fit.values, dataset, split.train, before.block_steps, settings.threads),
+      internal::block_errors(motor.model(), before.baseline.values, dataset, split.train, block_steps, settings.threads),
+      internal::block_errors(model, refit.fit.values, dataset, split.train, block_steps, settings.threads),
       settings.level);
   c.blocks = blocks.blocks;
   c.block_gain = blocks.mean_gain;
@@ -192,8 +196,6 @@ Diagnosis diagnose(const MotorFile& motor, const ParamVector<double>& calibrated
   d.adequacy = assess_adequacy(model, d.baseline.values, dataset, split, settings.threads);
   if (progress) progress("drift between cycles");
   d.drift = find_drift(model, d.baseline.values, dataset, settings.threads);
-  d.block_steps = internal::block_steps(d.baseline.correlation_time, dataset.cycles.front().dt_s);
-  d.blocks_before = internal::block_errors(model, d.baseline.values, dataset, split.train, d.block_steps, settings.threads);
 
   std::vector<Scored> terms;
   for (int e = 0; e < kNumEffects; ++e) {
@@ -213,8 +215,13 @@ Diagnosis diagnose(const MotorFile& motor, const ParamVector<double>& calibrated
                              t.score.statistic, t.score.feasible});
   for (std::size_t i = 0; i < terms.size() && static_cast<int>(i) < settings.term_refits; ++i)
     if (terms[i].score.feasible) d.candidates.push_back(examine(motor, terms[i], d, dataset, split, settings, progress));
-  std::stable_sort(d.candidates.begin(), d.candidates.end(),
-                   [](const Candidate& a, const Candidate& b) { return a.refit_rmse_k < b.refit_rmse_k; });
+  // The library first: a named effect with its physics and reference is preferred to a generic
+  // term that fits as well or a little better (a term with a free exponent contains windage's
+  // square law); the dictionary speaks where the library has nothing to say. Each group by refit.
+  std::stable_sort(d.candidates.begin(), d.candidates.end(), [](const Candidate& a, const Candidate& b) {
+    if (a.kind != b.kind) return a.kind == EffectKind::library;
+    return a.refit_rmse_k < b.refit_rmse_k;
+  });
   return d;
 }
 

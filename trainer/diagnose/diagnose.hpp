@@ -100,7 +100,7 @@ struct Diagnosis {
   double test_stator_rmse_k = 0;     // before; NaN without test cycles
   double test_rmse_k = 0;            // before, every measured sensor (RMS over both, each sample once)
   double effective_residuals = 0;    // n_eff: residuals / correlation time
-  std::vector<Candidate> candidates;  // by training RMSE after the refit, best first
+  std::vector<Candidate> candidates;  // the library's effects, then the dictionary's terms; each by training RMSE after the refit
   struct TermScore {
     int effect = -1;
     std::string name;
@@ -109,8 +109,6 @@ struct Diagnosis {
   };
   std::vector<TermScore> term_scores;  // every dictionary term not in the model, best score first
   Drift drift;                         // between the cycles; while one is found nothing is recommended
-  std::size_t block_steps = 0;         // grid steps per block of the block test
-  std::vector<double> blocks_before;   // the model as calibrated: each block's squared error
 
   // A refit that fits the training cycles better but the held-out cycles worse learned them, not
   // the physics: such a candidate is never recommended, however significant.

@@ -4,7 +4,8 @@
 // the model is badly wrong, the correlation time is the model error's, minutes long, and the count
 // says little either way. The block test does not lean on it: the training cycles are cut into
 // blocks of at least kMinBlockSeconds and three correlation times, so that blocks are close to
-// independent, and each block's gain is ln(SSE before / SSE after) over its measured sensors. The
+// independent (the refit's correlation time: see diagnose.cpp), and each block's gain is
+// ln(SSE before / SSE after) over its measured sensors. The
 // effect is significant when the mean gain is positive beyond the one-sided Student t quantile at
 // the diagnosis's level with blocks - 1 degrees of freedom. Fewer than kMinBlocks blocks decide
 // nothing (not significant).
