@@ -34,7 +34,18 @@ TEST(Params, EveryEffectParameterBelongsToItsEffect) {
   }
   EXPECT_EQ(count + kNumPaperParams, kNumParams);
   EXPECT_EQ(effect_index("airgap"), 0);
-  EXPECT_EQ(effect_index("sensor_lag"), kNumEffects - 1);
+  // The named effects first, then the dictionary's terms as one group (effects/library.hpp).
+  EXPECT_EQ(effect_index("sensor_lag"), 4);
+  EXPECT_EQ(EffectLibrary::kKinds[4], EffectKind::library);
+  EXPECT_EQ(EffectLibrary::kKinds[5], EffectKind::term);
+  EXPECT_EQ(EffectLibrary::kKinds[kNumEffects - 1], EffectKind::term);
+  EXPECT_EQ(effect_index("heat_stator_winding_i2f"), 5);
+  EXPECT_EQ(EffectLibrary::kNodes[5], kStatorWinding);
+  // Every name (built at compile time for the terms) is unique, so every lookup by name is unambiguous.
+  for (int i = 0; i < kNumParams; ++i)
+    for (int j = i + 1; j < kNumParams; ++j) EXPECT_NE(param_spec(i).name, param_spec(j).name);
+  for (int i = 0; i < kNumEffects; ++i)
+    for (int j = i + 1; j < kNumEffects; ++j) EXPECT_NE(EffectLibrary::kNames[i], EffectLibrary::kNames[j]);
   EXPECT_EQ(effect_index("flux_capacitor"), -1);
 }
 
