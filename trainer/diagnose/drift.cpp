@@ -80,7 +80,12 @@ Statistic step_statistic(const std::vector<double>& y) {
   return best;
 }
 
-double trend_statistic(const std::vector<double>& y) {
+// The least-squares line through y over the cycle index: its slope and that slope's t statistic.
+struct Trend {
+  double slope = 0, t = 0;
+};
+
+Trend trend_of(const std::vector<double>& y) {
   const std::size_t n = y.size();
   const double xm = 0.5 * static_cast<double>(n - 1), ym = mean(y, 0, n);
   double sxx = 0, sxy = 0;
@@ -95,8 +100,10 @@ double trend_statistic(const std::vector<double>& y) {
     ss += r * r;
   }
   const double s2 = std::max(ss / static_cast<double>(n - 2), kFactorResolution * kFactorResolution);
-  return std::abs(slope) / std::sqrt(s2 / sxx);
+  return {slope, std::abs(slope) / std::sqrt(s2 / sxx)};
 }
+
+double trend_statistic(const std::vector<double>& y) { return trend_of(y).t; }
 
 // The share of orderings of y whose statistic reaches `observed` (the observed ordering counts).
 template <class F>
@@ -138,9 +145,9 @@ Drift find_drift(const Model<double>& model, const ParamVector<double>& params, 
   std::vector<double> y(n);
   for (std::size_t i = 0; i < n; ++i) y[i] = std::log(d.factors[i].factor);
   const Statistic step = step_statistic(y);
-  const double trend = trend_statistic(y);
+  const Trend trend = trend_of(y);
   const double p_step = p_value(y, step.t, [](const std::vector<double>& v) { return step_statistic(v).t; });
-  const double p_trend = p_value(y, trend, trend_statistic);
+  const double p_trend = p_value(y, trend.t, trend_statistic);
 
   if (p_step <= p_trend) {
     d.shape = "step";
@@ -150,14 +157,7 @@ Drift find_drift(const Model<double>& model, const ParamVector<double>& params, 
   } else {
     d.shape = "trend";
     d.p_value = p_trend;
-    d.change = std::exp(y.back() - y.front()) - 1;  // first to last cycle, as the slope's fit has it
-    const double xm = 0.5 * static_cast<double>(n - 1), ym = mean(y, 0, n);
-    double sxx = 0, sxy = 0;
-    for (std::size_t i = 0; i < n; ++i) {
-      sxx += (static_cast<double>(i) - xm) * (static_cast<double>(i) - xm);
-      sxy += (static_cast<double>(i) - xm) * (y[i] - ym);
-    }
-    d.change = std::exp(sxy / sxx * static_cast<double>(n - 1)) - 1;
+    d.change = std::exp(trend.slope * static_cast<double>(n - 1)) - 1;  // first to last cycle, along the fit
     for (std::size_t i = n / 2; i < n; ++i) d.cycles.push_back(d.factors[i].cycle);
   }
   d.found = d.p_value <= kDriftLevel && std::abs(d.change) >= kMinDriftChange;
