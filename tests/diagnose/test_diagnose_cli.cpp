@@ -9,6 +9,7 @@
 
 #include "../cli/run_lptn.hpp"
 #include "../cli/temp_dir.hpp"
+#include "trainer/diagnose/diagnose.hpp"
 
 namespace lptn {
 namespace {
@@ -37,7 +38,13 @@ TEST(DiagnoseCli, CallsNothingSignificantWhereNothingIsHidden) {
   ASSERT_EQ(r.code, 0) << r.err;
   const auto j = nlohmann::json::parse(r.out);
   EXPECT_GT(j["rmse_k"].get<double>(), 0.0);
-  ASSERT_EQ(j["candidates"].size(), 5u);
+  // Every effect of the library, and the dictionary's best-scoring terms (Settings::term_refits).
+  const auto count = [&](const char* kind) {
+    return std::count_if(j["candidates"].begin(), j["candidates"].end(), [&](const auto& c) { return c["kind"] == kind; });
+  };
+  EXPECT_EQ(count("library"), 5);
+  EXPECT_EQ(count("term"), diagnose::Settings{}.term_refits);
+  EXPECT_EQ(j["candidates"].size(), 5u + diagnose::Settings{}.term_refits);
   for (const auto& c : j["candidates"]) {
     for (const char* key : {"effect", "statistic", "predicted_rmse_k", "refit_rmse_k", "significant", "kind",
                             "recommended", "test_rmse_k_before", "test_rmse_k_after"})
@@ -51,7 +58,8 @@ TEST(DiagnoseCli, CallsNothingSignificantWhereNothingIsHidden) {
     for (const char* key : {"rmse_k", "noise_k", "adequate", "train_rmse_k", "test_rmse_k"})
       EXPECT_TRUE(j["sensors"][sensor].contains(key)) << sensor << "." << key;
   const Result text = run("diagnose --quiet " + args, t.path());
-  EXPECT_NE(text.out.find("No effect of the library improves the fit significantly"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("No effect of the library and no term of the dictionary improves the fit significantly"),
+            std::string::npos) << text.out;
   EXPECT_NE(text.out.find("gives no reason to add one"), std::string::npos) << text.out;
 }
 

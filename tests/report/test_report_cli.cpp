@@ -16,6 +16,7 @@
 
 #include "../cli/run_lptn.hpp"
 #include "../cli/temp_dir.hpp"
+#include "page.hpp"
 
 namespace lptn {
 namespace {
@@ -67,47 +68,12 @@ const char* kDiagnosis = R"({"rmse_k": 0.52, "candidates": [
   {"effect": "airgap", "statistic": 41.3, "predicted_rmse_k": 0.45, "refit_rmse_k": 0.44, "significant": true, "p_value": 1e-9},
   {"effect": "windage", "statistic": 1.2, "predicted_rmse_k": 0.52, "refit_rmse_k": 0.52, "significant": false}]})";
 
-// chromium headless as root; a fresh profile, nothing fetched in the background.
-std::string chromium(const fs::path& profile) {
-  return "/usr/bin/chromium --headless --no-sandbox --disable-gpu --disable-quic --no-first-run "
-         "--disable-background-networking --disable-component-update --disable-sync --user-data-dir=" +
-         profile.string() + " ";
-}
-
-int shell(const std::string& cmd) { return std::system(cmd.c_str()); }
-
-// The JSON the generator embedded in the page (its "<\/" is JSON's own escape of '/').
-nlohmann::json page_data(const std::string& html) {
-  const std::string open = "<script id=\"report-data\" type=\"application/json\">";
-  const std::size_t from = html.find(open);
-  if (from == std::string::npos) return nullptr;
-  const std::size_t a = from + open.size();
-  return nlohmann::json::parse(html.substr(a, html.find("</script>", a) - a));
-}
-
-// The value of attribute `name` in the first tag of `chunk` that has it; "" if none.
-std::string attribute(const std::string& chunk, const std::string& name) {
-  std::smatch m;
-  return std::regex_search(chunk, m, std::regex(" " + name + "=\"([^\"]*)\"")) ? m[1].str() : "";
-}
-
-// The markup from the element with attr="value" (e.g. data-cycle="x") up to the next element
-// with that attribute: the element and what follows it, enough for the attributes inside.
-std::string element_chunk(const std::string& dom, const std::string& attr, const std::string& value) {
-  const std::size_t at = dom.find(attr + "=\"" + value + "\"");
-  if (at == std::string::npos) return "";
-  const std::size_t next = dom.find(attr + "=\"", at + 1);
-  return dom.substr(at, next == std::string::npos ? std::string::npos : next - at);
-}
-
-// Every value of `name` in `chunk`, in order.
-std::vector<std::string> attributes(const std::string& chunk, const std::string& name) {
-  std::vector<std::string> out;
-  const std::regex re(" " + name + "=\"([^\"]*)\"");
-  for (auto it = std::sregex_iterator(chunk.begin(), chunk.end(), re); it != std::sregex_iterator(); ++it)
-    out.push_back((*it)[1].str());
-  return out;
-}
+using testing::attribute;
+using testing::attributes;
+using testing::chromium;
+using testing::element_chunk;
+using testing::page_data;
+using testing::shell;
 
 TEST_F(ReportTest, PageRendersInChromiumWithEveryChartDrawnAndNoErrors) {
   write(path("cal/diagnosis.json"), kDiagnosis);

@@ -115,13 +115,13 @@ void print_table(const diagnose::Diagnosis& d, double level) {
                 d.adequacy.adequate ? "" : " The model is not adequate: something is missing that they do not explain.");
   else if (d.adequacy.adequate)
     std::printf("No effect of the library and no term of the dictionary improves the fit significantly "
-                "(likelihood ratio and block test at level %g), and the model is adequate: this data gives no "
-                "reason to add one.\n", level);
+                "(likelihood ratio at level %g, block test at %g), and the model is adequate: this data gives "
+                "no reason to add one.\n", level, diagnose::Settings{}.block_level);
   else
     std::printf("No effect of the library and no term of the dictionary improves the fit significantly (likelihood "
-                "ratio and block test at level %g), yet the model is not adequate: something is missing that none "
-                "of them explains. lptn report shows where the residual lies (cycles, operating regions, the "
-                "inputs it follows).\n", level);
+                "ratio at level %g, block test at %g), yet the model is not adequate: something is missing that "
+                "none of them explains. lptn report shows where the residual lies (cycles, operating regions, the "
+                "inputs it follows).\n", level, diagnose::Settings{}.block_level);
 }
 
 void run(const Args& a) {

@@ -311,21 +311,49 @@ double number_or_nan(const json& j, const char* key) {
   return it != j.end() && it->is_number() ? it->get<double>() : std::nan("");
 }
 
+std::string string_or(const json& j, const char* key, const char* fallback) {
+  const auto it = j.find(key);
+  return it != j.end() && it->is_string() ? it->get<std::string>() : fallback;
+}
+
 SavedCandidate parse_candidate(const json& j, const std::string& where) {
   if (!j.is_object() || !j.contains("effect") || !j["effect"].is_string())
     throw ReportInputError(where + ": expected an object with a string 'effect'");
   SavedCandidate c;
   c.effect = j["effect"].get<std::string>();
+  c.kind = string_or(j, "kind", "library");
+  c.words = string_or(j, "words", "");
+  c.verdict = string_or(j, "verdict", "");
   c.statistic = number_or_nan(j, "statistic");
+  c.threshold = number_or_nan(j, "threshold");
   c.predicted_rmse_k = number_or_nan(j, "predicted_rmse_k");
   c.refit_rmse_k = number_or_nan(j, "refit_rmse_k");
+  c.test_rmse_k_before = number_or_nan(j, "test_rmse_k_before");
+  c.test_rmse_k_after = number_or_nan(j, "test_rmse_k_after");
   c.significant = j.value("significant", false);
+  c.recommended = j.value("recommended", false);
+  const auto named_values = [&](const char* key, std::vector<std::pair<std::string, double>>& out, bool nested) {
+    const auto p = j.find(key);
+    if (p == j.end() || !p->is_object()) return;
+    for (const auto& [name, v] : p->items()) {
+      const double value = nested ? (v.is_object() ? number_or_nan(v, "value") : std::nan(""))
+                                  : (v.is_number() ? v.get<double>() : std::nan(""));
+      if (!std::isfinite(value))
+        throw ReportInputError(where + ": " + key + "." + name + (nested ? ": expected {\"value\": number}" : ": expected a number"));
+      out.emplace_back(name, value);
+    }
+  };
+  named_values("parameters", c.parameters, true);
+  named_values("refit_values", c.refit_values, false);
   return c;
 }
 
-// Which candidates get an evidence plot: the significant ones first, each group by statistic.
+// Which candidates get an evidence plot: the recommended one, then the significant ones, each
+// group by statistic; never a drift (a finding about the data, with its own chart).
 std::vector<SavedCandidate> leading(std::vector<SavedCandidate> c) {
+  std::erase_if(c, [](const SavedCandidate& x) { return x.kind == "drift"; });
   std::stable_sort(c.begin(), c.end(), [](const SavedCandidate& a, const SavedCandidate& b) {
+    if (a.recommended != b.recommended) return a.recommended;
     if (a.significant != b.significant) return a.significant;
     return a.statistic > b.statistic;
   });
@@ -357,8 +385,17 @@ json evidence_json(const SavedCandidate& cand, const CalibratedModel& cm, const 
                    const StatSeries& stats) {
   std::vector<double> sig;
   std::string label, unit;
+  // The whole refit where diagnose gave it (the paper's parameters readjust beside the term), else
+  // the candidate's own parameters on the calibration.
+  std::vector<RefitValue> values;
+  for (const auto& [name, value] : cand.refit_values.empty() ? cand.parameters : cand.refit_values)
+    values.push_back({param_index(name), value});
   for (const CycleRun& run : runs) {
-    const auto s = effect_signature(cand.effect, cm.model, cm.params, *run.cycle, run.sim);
+    // A library effect's own signature reads as physics; a term of the dictionary (or an effect
+    // this build has none for) is shown by what it would change at diagnose's refit.
+    auto s = cand.kind == "library" ? effect_signature(cand.effect, cm.model, cm.params, *run.cycle, run.sim)
+                                    : std::nullopt;
+    if (!s && !values.empty()) s = refit_signature(cand.effect, values, cm.model, cm.params, *run.cycle, run.sim);
     if (!s) return nullptr;
     label = s->label;
     unit = s->unit;
@@ -379,7 +416,8 @@ json evidence_json(const SavedCandidate& cand, const CalibratedModel& cm, const 
       most = sensor.def->key;
     }
   }
-  return {{"effect", cand.effect}, {"label", label}, {"unit", unit}, {"sensors", sensors}, {"most", most}};
+  return {{"effect", cand.effect}, {"kind", cand.kind}, {"words", cand.words}, {"label", label}, {"unit", unit},
+          {"sensors", sensors}, {"most", most}};
 }
 
 json diagnosis_json(const std::optional<SavedDiagnosis>& d, const CalibratedModel& cm, const std::vector<CycleRun>& runs,
@@ -387,15 +425,19 @@ json diagnosis_json(const std::optional<SavedDiagnosis>& d, const CalibratedMode
   if (!d) return nullptr;
   json candidates = json::array();
   for (const SavedCandidate& c : d->candidates)
-    candidates.push_back({{"effect", c.effect}, {"statistic", number(c.statistic)},
+    candidates.push_back({{"effect", c.effect}, {"kind", c.kind}, {"words", c.words}, {"verdict", c.verdict},
+                          {"statistic", number(c.statistic)}, {"threshold", number(c.threshold)},
                           {"predicted_rmse_k", number(c.predicted_rmse_k)}, {"refit_rmse_k", number(c.refit_rmse_k)},
-                          {"significant", c.significant}});
+                          {"test_rmse_k_before", number(c.test_rmse_k_before)},
+                          {"test_rmse_k_after", number(c.test_rmse_k_after)}, {"significant", c.significant},
+                          {"recommended", c.recommended}});
   json evidence = json::array();
   for (const SavedCandidate& c : leading(d->candidates)) {
     json ev = evidence_json(c, cm, runs, stats);
     if (!ev.is_null()) evidence.push_back(std::move(ev));
   }
-  return {{"rmse_k", number(d->rmse_k)}, {"candidates", candidates}, {"evidence", evidence}};
+  return {{"rmse_k", number(d->rmse_k)}, {"candidates", candidates}, {"evidence", evidence},
+          {"adequacy", d->adequacy}, {"drift", d->drift}};
 }
 
 // --- History ------------------------------------------------------------------------------------
@@ -470,6 +512,9 @@ SavedDiagnosis load_diagnosis(const std::filesystem::path& path) {
     throw ReportInputError(path.string() + ": no 'candidates' array (expected `lptn diagnose --json` output)");
   SavedDiagnosis d;
   d.rmse_k = number_or_nan(j, "rmse_k");
+  if (j.contains("adequate") && j["adequate"].is_boolean() && j.contains("sensors") && j["sensors"].is_object())
+    d.adequacy = {{"adequate", j["adequate"]}, {"sensors", j["sensors"]}};
+  if (j.contains("drift") && j["drift"].is_object()) d.drift = j["drift"];
   for (std::size_t i = 0; i < j["candidates"].size(); ++i)
     d.candidates.push_back(parse_candidate(j["candidates"][i], path.string() + ": candidates[" + std::to_string(i) + "]"));
   return d;

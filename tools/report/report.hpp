@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace lptn::report {
@@ -31,14 +32,27 @@ struct ReportOptions {
 // One candidate:
 struct SavedCandidate {
   std::string effect;
+  std::string kind = "library";  // "library", "term" or "drift"
+  std::string words;             // in physical words with the refit's values
+  std::string verdict;
   double statistic = std::numeric_limits<double>::quiet_NaN();
+  double threshold = std::numeric_limits<double>::quiet_NaN();
   double predicted_rmse_k = std::numeric_limits<double>::quiet_NaN();
   double refit_rmse_k = std::numeric_limits<double>::quiet_NaN();
+  double test_rmse_k_before = std::numeric_limits<double>::quiet_NaN();
+  double test_rmse_k_after = std::numeric_limits<double>::quiet_NaN();
   bool significant = false;
+  bool recommended = false;
+  std::vector<std::pair<std::string, double>> parameters;  // the refit's values by parameter name
+  std::vector<std::pair<std::string, double>> refit_values;  // every parameter after the refit, where given
 };
 struct SavedDiagnosis {
   double rmse_k = std::numeric_limits<double>::quiet_NaN();
   std::vector<SavedCandidate> candidates;
+  // The verdict on the model itself and the drift between cycles, as diagnose wrote them (null in
+  // a diagnosis from before they existed); the page reads them as they are.
+  nlohmann::json adequacy;  // {"adequate", "sensors"}
+  nlohmann::json drift;
 };
 // Throws ReportInputError naming the file when it is not JSON or lacks "candidates".
 SavedDiagnosis load_diagnosis(const std::filesystem::path& path);

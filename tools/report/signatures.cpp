@@ -3,6 +3,8 @@
 #include <cmath>
 #include <functional>
 
+#include "trainer/calibrate/problem.hpp"
+
 namespace lptn::report {
 namespace {
 
@@ -61,6 +63,25 @@ std::optional<Signature> effect_signature(std::string_view effect, const Model<d
                        return (t1[k + 1] - t1[k - 1]) / (2 * cycle.dt_s);
                      })};
   return std::nullopt;
+}
+
+std::optional<Signature> refit_signature(std::string_view effect, const std::vector<RefitValue>& values,
+                                         const Model<double>& model, const ParamVector<double>& params,
+                                         const data::Cycle& cycle, const CycleSimulation& sim) {
+  const int e = effect_index(effect);
+  if (e < 0) return std::nullopt;
+  ParamVector<double> with_params = params;
+  for (const RefitValue& v : values)
+    if (v.param >= 0 && v.param < kNumParams) with_params[v.param] = v.value;
+  const Model<double> with(model.motor(), model.effects() | effect_bit(e));
+  const CycleSimulation w = simulate_and_evaluate(with, with_params, cycle).simulation;
+  const bool rotor = EffectLibrary::kNodes[static_cast<std::size_t>(e)] >= kRotorWinding;
+  const std::vector<float>& a = rotor ? w.rotor_sensor : w.stator_sensor;
+  const std::vector<float>& b = rotor ? sim.rotor_sensor : sim.stator_sensor;
+  std::vector<float> out(cycle.steps, NAN);
+  for (std::size_t k = 0; k < cycle.steps && k < a.size() && k < b.size(); ++k) out[k] = a[k] - b[k];
+  return Signature{std::string(rotor ? "rotor" : "stator winding") + " reading, refit with it minus as calibrated", "K",
+                   std::move(out)};
 }
 
 }  // namespace lptn::report

@@ -26,4 +26,17 @@ std::optional<Signature> effect_signature(std::string_view effect, const Model<d
                                           const ParamVector<double>& params, const data::Cycle& cycle,
                                           const CycleSimulation& sim);
 
+// Any effect or term at the values diagnose's refit found (a name of EffectLibrary; values by
+// parameter index, the paper's as the refit readjusted them where given): how much the refit
+// changes the sensor reading on the effect's node's side (stator for a library effect) against the
+// calibration. The residual (model - measured) of a model that lacks it follows this with slope
+// -1 where the refit explains it, whatever the term's form; nullopt for an unknown name.
+struct RefitValue {
+  int param;
+  double value;
+};
+std::optional<Signature> refit_signature(std::string_view effect, const std::vector<RefitValue>& values,
+                                         const Model<double>& model, const ParamVector<double>& params,
+                                         const data::Cycle& cycle, const CycleSimulation& sim);
+
 }  // namespace lptn::report

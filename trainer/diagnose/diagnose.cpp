@@ -144,7 +144,7 @@ Candidate examine(const MotorFile& motor, const Scored& scored, const Diagnosis&
   const internal::BlockTest blocks = internal::block_test(
       internal::block_errors(motor.model(), before.baseline.values, dataset, split.train, block_steps, settings.threads),
       internal::block_errors(model, refit.fit.values, dataset, split.train, block_steps, settings.threads),
-      settings.level);
+      settings.block_level);
   c.blocks = blocks.blocks;
   c.block_gain = blocks.mean_gain;
   c.block_t = blocks.t;

@@ -53,6 +53,11 @@ double student_t_quantile(double p, int df);
 
 struct Settings {
   double level = 0.001;            // false-alarm probability of the likelihood-ratio test, per effect
+  // The block test's level. It is the second of three conditions (likelihood ratio, blocks, held-out
+  // error) and has few blocks to work with: a 3-degree-of-freedom t quantile at 0.001 (10.2) would
+  // refuse a sensor lag that cuts every block's error threefold. The false alarms of the whole
+  // decision are measured on clean data over seeds (docs/diagnosis.md).
+  double block_level = 0.05;
   double correlation_flag = 0.95;  // |correlation| with an existing parameter that makes an effect indistinguishable
   // A candidate's refit starts at the calibrated values; one that has not converged in this many
   // iterations is crawling along a direction the data barely supports (it is not the one to add),

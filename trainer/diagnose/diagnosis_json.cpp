@@ -15,6 +15,10 @@ nlohmann::json to_json(const Candidate& c, const Diagnosis& d) {
     if (effect_of_param(i) == c.effect)
       params[std::string(param_spec(i).name)] = {{"value", c.refit.values[i]}, {"std_error", number(c.refit.std_error[i])},
                                                  {"unit", std::string(param_spec(i).unit)}};
+  // Every parameter as the refit left it (the paper's readjust too): what lptn report simulates to
+  // show what the refit changes in each sensor's reading.
+  nlohmann::json values = nlohmann::json::object();
+  for (int i = 0; i < kNumParams; ++i) values[std::string(param_spec(i).name)] = c.refit.values[i];
   nlohmann::json j = {{"effect", c.name},
           {"statistic", c.statistic},
           {"threshold", c.threshold},
@@ -38,6 +42,7 @@ nlohmann::json to_json(const Candidate& c, const Diagnosis& d) {
           {"reason", c.reason},
           {"needs", c.needs},
           {"parameters", params},
+          {"refit_values", values},
           {"refit_iterations", c.refit.iterations},
           {"refit_converged", c.refit.converged},
           {"refit_seconds", c.refit.seconds}};

@@ -190,7 +190,7 @@ struct AirflowExponent {
   static constexpr std::string_view kSummary = kSummaryText.view();
   static constexpr int kExtraStates = 0;
   static constexpr ParamSpec kParams[] = {
-      {kChangeName.view(), "1", -0.3, -0.7, 0.7, 0.0, "change d of the airflow exponent"},
+      {kChangeName.view(), "1", -0.4, -0.7, 0.7, 0.0, "change d of the airflow exponent"},
   };
 
   template <class T, class R>

@@ -313,6 +313,65 @@
 
   // --- What is missing -----------------------------------------------------------------------------
 
+  // The verdict on the model itself, per sensor: its error against the noise its own readings show.
+  function adequacyLines(a) {
+    var order = ['stator', 'rotor'];
+    return Object.keys(a.sensors).sort(function (x, y) {
+      return (order.indexOf(x) + 1 || 99) - (order.indexOf(y) + 1 || 99);
+    }).map(function (key) {
+      var x = a.sensors[key], over = x.noise_k ? x.rmse_k / x.noise_k : null;
+      var where = x.test_rmse_k !== null && x.test_rmse_k !== undefined && x.test_rmse_k >= x.train_rmse_k ? 'test' : 'training';
+      return (key === 'stator' ? 'stator winding' : key) + ': ' + fixed(x.rmse_k, 3) + ' K on the ' + where + ' cycles = ' +
+        fixed(over, 1) + '× its noise of ' + fixed(x.noise_k, 3) + ' K, ' + (x.adequate ? 'adequate' : 'something is missing' +
+          (x.cycles && x.cycles.length ? ' (worst: ' + x.cycles.slice(0, 4).join(', ') + (x.cycles.length > 4 ? ', …' : '') + ')' : ''));
+    });
+  }
+
+  function recommendedOf(d) { return d.candidates.filter(function (c) { return c.recommended; })[0]; }
+
+  // At the top of the page: what diagnose concluded, so that it is read before any chart.
+  function renderVerdict() {
+    var d = R.diagnosis, parent = document.getElementById('verdict');
+    if (!d || !d.adequacy) return;
+    var rec = recommendedOf(d), drift = d.drift && d.drift.found ? d.drift : null;
+    var cls = drift ? 'drift' : d.adequacy.adequate ? 'adequate' : 'missing';
+    var box = el('div', {class: 'verdict ' + cls, 'data-verdict': cls});
+    box.appendChild(el('p', {}, [el('strong', {}, [d.adequacy.adequate ? 'The model is adequate' : 'Something is missing']),
+      d.adequacy.adequate ? ': every measured sensor is within its noise.' : ': the model is off by more than its sensors\' noise.']));
+    adequacyLines(d.adequacy).forEach(function (line) { box.appendChild(el('p', {}, [line])); });
+    if (drift) box.appendChild(el('p', {}, [el('strong', {}, ['Drift: ']), drift.finding + '. Inspect ' + drift.inspect + '.']));
+    if (rec) box.appendChild(el('p', {}, [el('strong', {}, ['Add: ']), rec.effect + ' — ' + rec.words +
+      ' (held-out ' + fixed(rec.test_rmse_k_before, 3) + ' → ' + fixed(rec.test_rmse_k_after, 3) + ' K): ',
+      el('code', {}, ['lptn calibrate --effect ' + rec.effect])]));
+    else if (!d.adequacy.adequate && !drift)
+      box.appendChild(el('p', {}, ['No effect of the library and no term of the dictionary explains it: see ',
+        el('a', {href: '#failures'}, ['where it fails']), ' (cycles, operating regions, the inputs the residual follows).']));
+    parent.appendChild(box);
+  }
+
+  // The per-cycle factor of the drifting group, with the cycles the drift names marked.
+  function renderDrift(parent, drift) {
+    if (!drift || !drift.factors || !drift.factors.length) return;
+    parent.appendChild(el('h3', {}, ['Drift between cycles: the ' + drift.group + ' per cycle']));
+    parent.appendChild(el('p', {class: drift.found ? '' : 'note'}, [drift.found ? drift.finding + '. Inspect ' + drift.inspect + '.' :
+      'No drift (p = ' + fixed(drift.p_value, 2) + '): each cycle\'s factor of the ' + drift.group +
+      ', the model refit with only that group scaled; 1 means as calibrated.']));
+    var changed = {};
+    (drift.cycles || []).forEach(function (c) { changed[c] = true; });
+    var data = drift.factors.map(function (f, i) {
+      return [i + 1, changed[f.cycle] ? null : f.factor, changed[f.cycle] ? f.factor : null];
+    });
+    var box = el('div');
+    parent.appendChild(box);
+    guarded('drift chart', function () {
+      graph(box, 'drift', data, {labels: ['cycle', drift.group + ' factor', drift.group + ' factor (drifted)'],
+        drawPoints: true, pointSize: 5, strokeWidth: 0, colors: ['#1f4e9c', '#e39b1b'], xlabel: 'cycle (in the dump\'s order)',
+        ylabel: 'factor', dateWindow: [0.5, data.length + 0.5],
+        axes: {x: {axisLabelFormatter: function (v) { return Number.isInteger(v) ? String(v) : ''; },
+                   valueFormatter: function (v) { var f = drift.factors[v - 1]; return f ? f.cycle : String(v); }}}}, 'small');
+    });
+  }
+
   function renderDiagnosis() {
     var parent = document.getElementById('diagnosis'), d = R.diagnosis;
     if (!d) {
@@ -322,21 +381,35 @@
       return;
     }
     parent.appendChild(el('p', {}, ['Residual RMSE as diagnosed: ' + fixed(d.rmse_k, 3) + ' K.']));
+    if (d.adequacy) {
+      parent.appendChild(el('h3', {}, ['The model against its sensors\' noise: ' +
+        (d.adequacy.adequate ? 'adequate' : 'something is missing')]));
+      var list = el('ul', {'data-list': 'adequacy'});
+      adequacyLines(d.adequacy).forEach(function (line) { list.appendChild(el('li', {}, [line])); });
+      parent.appendChild(list);
+    }
+    parent.appendChild(el('h3', {}, ['Candidates: the library\'s effects, the dictionary\'s best terms']));
     var rowsOut = d.candidates.map(function (c) {
-      return el('tr', {class: c.significant ? 'significant' : ''}, [el('td', {class: 'text'}, [c.effect]),
-        el('td', {}, [fixed(c.statistic, 2)]), el('td', {}, [fixed(c.predicted_rmse_k, 3)]),
-        el('td', {}, [fixed(c.refit_rmse_k, 3)]), el('td', {}, [c.significant ? 'yes' : 'no'])]);
+      var cls = c.recommended ? 'recommended' : c.significant ? 'significant' : '';
+      return el('tr', {class: cls}, [el('td', {class: 'text'}, [c.effect]), el('td', {class: 'text'}, [c.kind || 'library']),
+        el('td', {class: 'text'}, [c.words || '']),
+        el('td', {}, [fixed(c.statistic, 1) + (c.threshold !== null && c.threshold !== undefined ? ' / ' + fixed(c.threshold, 1) : '')]),
+        el('td', {}, [fixed(c.refit_rmse_k, 3)]),
+        el('td', {}, [c.kind === 'drift' ? '–' : fixed(c.test_rmse_k_before, 3) + ' → ' + fixed(c.test_rmse_k_after, 3)]),
+        el('td', {class: 'text'}, [c.recommended ? 'recommended' : (c.verdict || (c.significant ? 'significant' : 'not significant'))])]);
     });
-    parent.appendChild(table(['effect', 'statistic', 'predicted RMSE K', 'refit RMSE K', 'significant'], rowsOut,
-                             {'data-table': 'diagnosis'}));
+    parent.appendChild(table(['effect or term', 'kind', 'in words (refit)', 'LR / threshold', 'refit train RMSE K',
+                              'held-out K before → after', 'verdict'], rowsOut, {'data-table': 'diagnosis'}));
+    renderDrift(parent, d.drift);
     parent.appendChild(el('p', {class: 'note'}, ['Evidence for the leading candidates: each sensor\'s mean residual over ' +
-      'quantile bins of the effect\'s signature (what the effect would add; from common/lptn/effects). A missing effect ' +
-      'shows as a trend on the sensor it affects; a flat line means that residual does not follow it. The title names the ' +
-      'sensor whose bin means spread most, as a multiple of its noise.']));
+      'quantile bins of the candidate\'s signature. For an effect of the library, what it would add (from common/lptn/effects); ' +
+      'for a term of the dictionary, how much diagnose\'s refit with it changes the sensor reading against this calibration, which a residual (model − measured) ' +
+      'follows with slope −1 where the term is what is missing. A flat line means that residual does not follow it. The title ' +
+      'names the sensor whose bin means spread most, as a multiple of its noise.']));
     var grid = el('div', {class: 'grid2'});
     parent.appendChild(grid);
     d.evidence.forEach(function (ev) {
-      var box = el('div');
+      var box = el('div', {'data-evidence': ev.effect});
       grid.appendChild(box);
       guarded('evidence ' + ev.effect, function () {
         var most = ev.sensors.filter(function (x) { return x.sensor === ev.most; })[0];
@@ -345,6 +418,7 @@
             ev.sensors.filter(function (x) { return x !== most; }).map(function (x) {
               return '; ' + x.label + ' ' + fixed(x.trend_over_noise, 1) + '×';
             }).join('') + ')' : '']));
+        if (ev.words) box.appendChild(el('div', {class: 'note'}, [ev.words]));
         var bins = ev.sensors.length ? ev.sensors[0].bins : [];
         var data = [];
         bins.forEach(function (b, i) {
@@ -408,6 +482,7 @@
   }
 
   guarded('header', renderMeta);
+  guarded('verdict', renderVerdict);
   guarded('metrics table', renderCompareTable);
   guarded('compare charts', renderCycles);
   guarded('where it fails', renderFailures);
