@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <stdexcept>
 
+#include "trainer/calibrate/correlation_time.hpp"
 #include "trainer/model/initial_offsets.hpp"
 #include "trainer/model/simulate.hpp"
 
@@ -163,36 +164,6 @@ CycleBlock* make_residuals(const Model<double>& model, const data::Cycle& cycle,
   return new CycleResiduals<std::max(18, kNumParams + kOffsets)>(model, cycle, free, fixed, max_steps);
 }
 
-
-// How many grid residuals carry the information of one independent one: 1 + 2 sum rho_k over the
-// residuals' autocorrelation, summed while it stays positive (Geyer's initial positive sequence).
-// Sensors read at 1 Hz are interpolated onto the 10 Hz grid, and a model that is not quite right
-// leaves slow residual structure; both make J^T J count the same information many times.
-double correlation_time(const std::vector<std::vector<double>>& series) {
-  constexpr std::size_t kMaxLag = 6000;  // ten minutes at 10 Hz
-  double var = 0, count = 0;
-  for (const auto& r : series)
-    for (double e : r) {
-      var += e * e;
-      count += 1;
-    }
-  if (count < 2 || var <= 0) return 1.0;
-  var /= count;
-  double tau = 1.0;
-  for (std::size_t lag = 1; lag < kMaxLag; ++lag) {
-    double c = 0, n = 0;
-    for (const auto& r : series)
-      for (std::size_t k = lag; k < r.size(); ++k) {
-        c += r[k] * r[k - lag];
-        n += 1;
-      }
-    if (n < 100) break;
-    const double rho = c / n / var;
-    if (rho <= 0) break;
-    tau += 2 * rho;
-  }
-  return tau;
-}
 
 // Residual series (model - measured, demeaned per cycle) over the fitted cycles, per sensor:
 // [0] the stator winding, [1] the rotor. One simulation per cycle serves both.

@@ -3,6 +3,7 @@
 #include "trainer/diagnose/diagnose.hpp"
 
 #include <algorithm>
+#include <map>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -95,8 +96,12 @@ Scored score_effect(const MotorFile& motor, int effect, const Diagnosis& before,
   return {effect, internal::score_test(with, effect, before.baseline, dataset, split.train, settings.threads)};
 }
 
+// The baseline's block errors by block length: refits whose residuals are short-correlated all get
+// the shortest blocks, and share one simulation of the training cycles.
+using BaselineBlocks = std::map<std::size_t, std::vector<double>>;
+
 Candidate examine(const MotorFile& motor, const Scored& scored, const Diagnosis& before, const data::Dataset& dataset,
-                  const Split& split, const Settings& settings, const Progress& progress) {
+                  const Split& split, const Settings& settings, const Progress& progress, BaselineBlocks& baseline_blocks) {
   const int effect = scored.effect;
   const auto e = static_cast<std::size_t>(effect);
   MotorFile with = motor;
@@ -141,9 +146,12 @@ Candidate examine(const MotorFile& motor, const Scored& scored, const Diagnosis&
   // leaves the misfit's slow structure (long blocks, few, a high quantile); where it explains the
   // structure, what is left is nearly white and the blocks can be short.
   const std::size_t block_steps = internal::block_steps(refit.fit.correlation_time, dataset.cycles.front().dt_s);
+  auto [baseline, fresh] = baseline_blocks.try_emplace(block_steps);
+  if (fresh)
+    baseline->second =
+        internal::block_errors(motor.model(), before.baseline.values, dataset, split.train, block_steps, settings.threads);
   const internal::BlockTest blocks = internal::block_test(
-      internal::block_errors(motor.model(), before.baseline.values, dataset, split.train, block_steps, settings.threads),
-      internal::block_errors(model, refit.fit.values, dataset, split.train, block_steps, settings.threads),
+      baseline->second, internal::block_errors(model, refit.fit.values, dataset, split.train, block_steps, settings.threads),
       settings.block_level);
   c.blocks = blocks.blocks;
   c.block_gain = blocks.mean_gain;
@@ -198,11 +206,12 @@ Diagnosis diagnose(const MotorFile& motor, const ParamVector<double>& calibrated
   d.drift = find_drift(model, d.baseline.values, dataset, settings.threads);
 
   std::vector<Scored> terms;
+  BaselineBlocks baseline_blocks;
   for (int e = 0; e < kNumEffects; ++e) {
     if (motor.effects & effect_bit(e)) continue;
     const Scored scored = score_effect(motor, e, d, dataset, split, settings, progress);
     if (EffectLibrary::kKinds[static_cast<std::size_t>(e)] == EffectKind::library)
-      d.candidates.push_back(examine(motor, scored, d, dataset, split, settings, progress));
+      d.candidates.push_back(examine(motor, scored, d, dataset, split, settings, progress, baseline_blocks));
     else
       terms.push_back(scored);
   }
@@ -214,7 +223,7 @@ Diagnosis diagnose(const MotorFile& motor, const ParamVector<double>& calibrated
     d.term_scores.push_back({t.effect, std::string(EffectLibrary::kNames[static_cast<std::size_t>(t.effect)]),
                              t.score.statistic, t.score.feasible});
   for (std::size_t i = 0; i < terms.size() && static_cast<int>(i) < settings.term_refits; ++i)
-    if (terms[i].score.feasible) d.candidates.push_back(examine(motor, terms[i], d, dataset, split, settings, progress));
+    if (terms[i].score.feasible) d.candidates.push_back(examine(motor, terms[i], d, dataset, split, settings, progress, baseline_blocks));
   // The library first: a named effect with its physics and reference is preferred to a generic
   // term that fits as well or a little better (a term with a free exponent contains windage's
   // square law); the dictionary speaks where the library has nothing to say. Each group by refit.
