@@ -6,12 +6,18 @@
 # twice the wall time (work split over cycles on both cores).
 #
 #   tools/bench-scale.sh [HOURS...]    default: 50 200; work in build/bench-scale (about 1 GB per 100 h)
+#   LPTN=build/ci/tools/cli/lptn tools/bench-scale.sh   an lptn already built (the ci preset has
+#                                                       the host preset's Release flags)
 set -euo pipefail
 cd "$(dirname "$0")/.."
-tools/setup.sh >/dev/null
-cmake --preset host >/dev/null
-cmake --build --preset host -j"$(nproc)" --target lptn >/dev/null
-lptn=$PWD/build/host/tools/cli/lptn
+if [[ -n ${LPTN:-} ]]; then
+  lptn=$(realpath "$LPTN")
+else
+  tools/setup.sh >/dev/null
+  cmake --preset host >/dev/null
+  cmake --build --preset host -j"$(nproc)" --target lptn >/dev/null
+  lptn=$PWD/build/host/tools/cli/lptn
+fi
 work=build/bench-scale
 mkdir -p "$work"
 (($# > 0)) || set -- 50 200

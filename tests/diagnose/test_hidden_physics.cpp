@@ -90,8 +90,11 @@ TEST(HiddenPhysics, CoolingThatWeakensOverTheDumpIsADriftNamingItsCycles) {
   EXPECT_TRUE(listed);
 }
 
+// The frame's time constant is about 67 minutes (600 kJ/K over 150 W/K): cycles of an hour and
+// more show it. On half-hour cycles it hardly shows, and another airflow exponent absorbs it to
+// 1.2x the stator's noise (held-out 0.769 -> 0.425 K): adequate for that data, honestly so.
 TEST(HiddenPhysics, AFifthThermalMassStaysMissingWhateverIsAdded) {
-  const auto g = testing::generate({}, 6, 25, 30, 3, {}, gen::plant_bit(gen::PlantPhysics::frame_mass));
+  const auto g = testing::generate({}, 6, 60, 90, 3, {}, gen::plant_bit(gen::PlantPhysics::frame_mass));
   const diagnose::Diagnosis d = diagnose::diagnose(g->motor, g->calibrated.values, g->dataset, g->split, settings());
   print("frame_mass", d);
   EXPECT_FALSE(d.adequacy.adequate);
@@ -143,6 +146,9 @@ TEST(HiddenPhysics, CleanDataIsAdequateAndNothingIsRecommendedOverSeeds) {
   // The false alarms of each stage: significant (likelihood ratio and block test) and recommended.
   std::printf("clean data, 5 seeds: %d of %d candidates significant, %d recommendations, %d inadequate verdicts, "
               "%d drifts\n", significant, tested, recommended, inadequate, drifts);
+  // Each candidate must pass the likelihood ratio (0.001) and the block test (0.05): at most the
+  // looser level's share of them may be false alarms (measured: 0 of 40).
+  EXPECT_LE(significant, tested / 20);
   EXPECT_EQ(recommended, 0);
   EXPECT_EQ(inadequate, 0);
   EXPECT_EQ(drifts, 0);
