@@ -49,4 +49,4 @@ for hours in "$@"; do
     --out "$work/calibration-$hours.json" --force
   measure diagnose "$hours" "$lptn" diagnose --data "$fleet" --calibration "$work/calibration-$hours.json" --quiet
 done
-echo "signals in memory: 14.4 MB per hour of data (10 channels, float, 10 Hz); lptn's own baseline (libtorch loaded): about 150 MB"
+echo "signals in memory: 14.4 MB per hour of data (10 channels, float, 10 Hz); lptn's own baseline: about 80 MB (libtorch is lptn-td3's alone)"
