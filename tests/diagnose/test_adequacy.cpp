@@ -63,6 +63,13 @@ TEST(Adequacy, NamesTheSensorThatMissesPhysicsAndTurnsOnceTheModelHasIt) {
   EXPECT_TRUE(stator->adequate);
   EXPECT_GT(rotor->unexplained, 0.5);
   ASSERT_FALSE(rotor->cycles.empty());
+  // Where: windage heats the rotor with speed squared, so the model runs too cold at speed.
+  EXPECT_EQ(rotor->where.region.rfind("high speed", 0), 0u) << rotor->where.region;
+  EXPECT_GT(rotor->where.region_rmse_k, rotor->train_rmse_k);
+  bool follows_speed = false;
+  for (const diagnose::Follows& f : rotor->where.follows)
+    follows_speed = follows_speed || (f.input == "speed" && f.correlation < -0.3);
+  EXPECT_TRUE(follows_speed) << diagnose::describe(*rotor);
   EXPECT_NE(diagnose::to_json(before).dump().find("\"adequate\":false"), std::string::npos);
 
   MotorFile with = g->motor;

@@ -103,6 +103,7 @@ TEST(ReportDiagnosis, AMissingTermOpensThePageAndItsEvidenceFollowsIt) {
   ASSERT_NE(verdict, "") << "no verdict box at the top";
   EXPECT_LT(r.dom.find("data-verdict="), r.dom.find("id=\"compare\"")) << "the verdict is not above the charts";
   EXPECT_NE(verdict.find("Something is missing"), std::string::npos);
+  EXPECT_NE(verdict.find("largest at"), std::string::npos) << "the verdict does not say where";
   EXPECT_NE(verdict.find("lptn calibrate --effect " + name), std::string::npos) << verdict.substr(0, 2000);
 
   const nlohmann::json* ev = nullptr;

@@ -513,7 +513,8 @@ SavedDiagnosis load_diagnosis(const std::filesystem::path& path) {
   SavedDiagnosis d;
   d.rmse_k = number_or_nan(j, "rmse_k");
   if (j.contains("adequate") && j["adequate"].is_boolean() && j.contains("sensors") && j["sensors"].is_object())
-    d.adequacy = {{"adequate", j["adequate"]}, {"sensors", j["sensors"]}};
+    d.adequacy = {{"adequate", j["adequate"]}, {"adequate_within", number(number_or_nan(j, "adequate_within"))},
+                  {"sensors", j["sensors"]}};
   if (j.contains("drift") && j["drift"].is_object()) d.drift = j["drift"];
   for (std::size_t i = 0; i < j["candidates"].size(); ++i)
     d.candidates.push_back(parse_candidate(j["candidates"][i], path.string() + ": candidates[" + std::to_string(i) + "]"));

@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "trainer/calibrate/sensor_noise.hpp"
+#include "trainer/diagnose/internal/where.hpp"
 
 namespace lptn::diagnose {
 namespace {
@@ -26,10 +27,11 @@ constexpr SensorDef kSensors[] = {{"stator", data::Channel::stator_winding_c, &C
 struct CycleFinding {
   CycleMetrics metrics;
   NoiseSum noise[2];
+  internal::WhereSums where[2];
 };
 
 CycleFinding examine(const Model<double>& model, const ParamVector<double>& params, const data::Dataset& dataset,
-                     const data::Cycle& cycle) {
+                     const data::Cycle& cycle, const internal::RegionEdges& edges) {
   CycleEvaluation e = simulate_and_evaluate(model, params, cycle);
   CycleFinding f;
   f.metrics = std::move(e.metrics);
@@ -39,19 +41,21 @@ CycleFinding examine(const Model<double>& model, const ParamVector<double>& para
     std::vector<float> r(cycle.steps);
     for (std::size_t k = 0; k < cycle.steps; ++k) r[k] = m[k] - cycle.at(kSensors[s].channel, k);
     f.noise[s] = sensor_noise(r, reading_period(dataset, cycle, kSensors[s].channel));
+    f.where[s] = internal::where_sums(cycle, r, edges);
   }
   return f;
 }
 
 std::vector<CycleFinding> examine_all(const Model<double>& model, const ParamVector<double>& params,
-                                      const data::Dataset& dataset, const std::vector<std::size_t>& cycles, int threads) {
+                                      const data::Dataset& dataset, const std::vector<std::size_t>& cycles,
+                                      const internal::RegionEdges& edges, int threads) {
   std::vector<CycleFinding> out(cycles.size());
   const auto workers = static_cast<std::size_t>(std::max(1, threads));
   std::vector<std::thread> pool;
   for (std::size_t w = 0; w < workers; ++w)
     pool.emplace_back([&, w] {
       for (std::size_t i = w; i < cycles.size(); i += workers)
-        out[i] = examine(model, params, dataset, dataset.cycles[cycles[i]]);
+        out[i] = examine(model, params, dataset, dataset.cycles[cycles[i]], edges);
     });
   for (std::thread& t : pool) t.join();
   return out;
@@ -63,19 +67,25 @@ const ErrorMetrics& metric(const CycleMetrics& m, int s) { return s == 0 ? m.sta
 
 Adequacy assess_adequacy(const Model<double>& model, const ParamVector<double>& params, const data::Dataset& dataset,
                          const Split& split, int threads) {
-  const std::vector<CycleFinding> train = examine_all(model, params, dataset, split.train, threads);
-  const std::vector<CycleFinding> test = examine_all(model, params, dataset, split.test, threads);
+  std::vector<std::size_t> every = split.train;
+  every.insert(every.end(), split.test.begin(), split.test.end());
+  const internal::RegionEdges edges = internal::region_edges(dataset, every);
+  const std::vector<CycleFinding> train = examine_all(model, params, dataset, split.train, edges, threads);
+  const std::vector<CycleFinding> test = examine_all(model, params, dataset, split.test, edges, threads);
   Adequacy a;
   for (int s = 0; s < 2; ++s) {
     // The noise is the sensor's, not the split's: pooled over every cycle.
     NoiseSum noise;
+    internal::WhereSums where;
     std::vector<ErrorMetrics> train_m, test_m;
     for (const CycleFinding& f : train) {
       noise += f.noise[s];
+      where += f.where[s];
       if (metric(f.metrics, s).samples) train_m.push_back(metric(f.metrics, s));
     }
     for (const CycleFinding& f : test) {
       noise += f.noise[s];
+      where += f.where[s];
       if (metric(f.metrics, s).samples) test_m.push_back(metric(f.metrics, s));
     }
     if (train_m.empty() && test_m.empty()) continue;  // not measured
@@ -89,6 +99,7 @@ Adequacy assess_adequacy(const Model<double>& model, const ParamVector<double>& 
                                   std::isnan(v.test_rmse_k) ? 0.0 : v.test_rmse_k);
     v.unexplained = worst > 0 ? std::max(0.0, 1 - v.noise_k * v.noise_k / (worst * worst)) : 0.0;
     v.adequate = !(worst > bound);  // a NaN noise (too few readings) judges nothing
+    v.where = internal::where(where, edges);
     std::vector<std::pair<double, std::string>> beyond;
     for (const auto* side : {&train, &test})
       for (const CycleFinding& f : *side)
@@ -112,9 +123,36 @@ nlohmann::json to_json(const Adequacy& adequacy) {
                          {"adequate", s.adequate},           {"train_rmse_k", number(s.train_rmse_k)},
                          {"test_rmse_k", number(s.test_rmse_k)}, {"unexplained", number(s.unexplained)},
                          {"cycles", s.cycles}};
+    nlohmann::json follows = nlohmann::json::array();
+    for (const Follows& f : s.where.follows) follows.push_back({{"input", f.input}, {"correlation", f.correlation}});
+    sensors[s.sensor]["follows"] = follows;
+    sensors[s.sensor]["region"] =
+        s.where.region.empty() ? nlohmann::json(nullptr)
+                               : nlohmann::json{{"name", s.where.region}, {"rmse_k", s.where.region_rmse_k},
+                                                {"share", s.where.region_share}};
   }
-  return {{"adequate", adequacy.adequate}, {"sensors", sensors}};
+  return {{"adequate", adequacy.adequate}, {"adequate_within", kAdequateRatio}, {"sensors", sensors}};
 }
+
+namespace {
+
+// "; largest at high speed (..), low current (..): 3.10 K; follows speed (r = -0.81), airflow (r = +0.42)"
+std::string where_words(const Where& w) {
+  std::string out;
+  char part[160];
+  if (!w.region.empty()) {
+    std::snprintf(part, sizeof part, "; largest at %s: %.2f K", w.region.c_str(), w.region_rmse_k);
+    out += part;
+  }
+  for (std::size_t i = 0; i < w.follows.size(); ++i) {
+    std::snprintf(part, sizeof part, "%s%s (r = %+.2f)", i ? ", " : "; follows ", w.follows[i].input.c_str(),
+                  w.follows[i].correlation);
+    out += part;
+  }
+  return out;
+}
+
+}  // namespace
 
 std::string describe(const SensorAdequacy& s) {
   const bool test_worse = !std::isnan(s.test_rmse_k) && s.test_rmse_k >= s.train_rmse_k;
@@ -129,6 +167,7 @@ std::string describe(const SensorAdequacy& s) {
     for (std::size_t i = 0; i < s.cycles.size() && i < 4; ++i) out += (i ? ", " : "") + s.cycles[i];
     out += s.cycles.size() > 4 ? ", ...)" : ")";
   }
+  if (!s.adequate) out += where_words(s.where);
   return out;
 }
 

@@ -21,6 +21,20 @@ namespace lptn::diagnose {
 // (sqrt(1.5^2 - 1^2) = 1.1).
 inline constexpr double kAdequateRatio = 1.5;
 
+// Where a sensor's residual lies (internal/where.hpp): the inputs it follows, each through a
+// 10-minute first-order lag (a thermal residual answers an input's recent history), and the speed x
+// current tertile where it is largest.
+struct Follows {
+  std::string input;       // "speed", "current", "torque", "frequency", "airflow", "ambient"
+  double correlation = 0;  // of the residual (model - measured) with the lagged input; > 0: model too hot as it rises
+};
+struct Where {
+  std::vector<Follows> follows;  // |correlation| >= 0.3, strongest first, at most 3
+  std::string region;            // e.g. "high speed (1700..2500 1/min), low current (0..180 A)"; "" if none
+  double region_rmse_k = 0;      // the residual's RMS there
+  double region_share = 0;       // the share of the sensor's readings there
+};
+
 struct SensorAdequacy {
   std::string sensor;            // "stator" (winding sensor) or "rotor"
   double train_rmse_k = 0, test_rmse_k = 0;  // test: NaN without test cycles
@@ -28,6 +42,7 @@ struct SensorAdequacy {
   double unexplained = 0;        // share of the mean-square residual the noise does not explain, worst side
   bool adequate = true;          // RMSE within kAdequateRatio x noise on train and test
   std::vector<std::string> cycles;  // where it is not: the cycles beyond the ratio, worst first
+  Where where;                      // over every cycle, train and test
 };
 
 struct Adequacy {
@@ -39,8 +54,9 @@ struct Adequacy {
 Adequacy assess_adequacy(const Model<double>& model, const ParamVector<double>& params, const data::Dataset& dataset,
                          const Split& split, int threads);
 
-// {"adequate": bool, "sensors": {"stator": {"rmse_k", "noise_k", "adequate", "train_rmse_k",
-// "test_rmse_k", "unexplained", "cycles"}, "rotor": {...}}}; rmse_k is the worse of train and test.
+// {"adequate": bool, "adequate_within": 1.5, "sensors": {"stator": {"rmse_k", "noise_k", "adequate",
+// "train_rmse_k", "test_rmse_k", "unexplained", "cycles", "follows": [{"input", "correlation"}],
+// "region": {"name", "rmse_k", "share"} or null}, "rotor": {...}}}; rmse_k is the worse of train and test.
 nlohmann::json to_json(const Adequacy& adequacy);
 
 // One line per sensor for the command line, e.g. "rotor: test RMSE 8.15 K = 16.3x its noise of

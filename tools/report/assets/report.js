@@ -323,7 +323,10 @@
       var where = x.test_rmse_k !== null && x.test_rmse_k !== undefined && x.test_rmse_k >= x.train_rmse_k ? 'test' : 'training';
       return (key === 'stator' ? 'stator winding' : key) + ': ' + fixed(x.rmse_k, 3) + ' K on the ' + where + ' cycles = ' +
         fixed(over, 1) + '× its noise of ' + fixed(x.noise_k, 3) + ' K, ' + (x.adequate ? 'adequate' : 'something is missing' +
-          (x.cycles && x.cycles.length ? ' (worst: ' + x.cycles.slice(0, 4).join(', ') + (x.cycles.length > 4 ? ', …' : '') + ')' : ''));
+          (x.cycles && x.cycles.length ? ' (worst: ' + x.cycles.slice(0, 4).join(', ') + (x.cycles.length > 4 ? ', …' : '') + ')' : '') +
+          (x.region ? '; largest at ' + x.region.name + ': ' + fixed(x.region.rmse_k, 2) + ' K' : '') +
+          (x.follows && x.follows.length ? '; follows ' + x.follows.map(function (f) {
+            return f.input + ' (r = ' + (f.correlation > 0 ? '+' : '') + fixed(f.correlation, 2) + ')'; }).join(', ') : ''));
     });
   }
 
@@ -337,7 +340,7 @@
     var cls = drift ? 'drift' : d.adequacy.adequate ? 'adequate' : 'missing';
     var box = el('div', {class: 'verdict ' + cls, 'data-verdict': cls});
     box.appendChild(el('p', {}, [el('strong', {}, [d.adequacy.adequate ? 'The model is adequate' : 'Something is missing']),
-      d.adequacy.adequate ? ': every measured sensor is within its noise.' : ': the model is off by more than its sensors\' noise.']));
+      d.adequacy.adequate ? ': every measured sensor is within ' + (d.adequacy.adequate_within ? fixed(d.adequacy.adequate_within, 1) + ' times ' : '') + 'its noise.' : ': the model is off by more than its sensors\' noise.']));
     adequacyLines(d.adequacy).forEach(function (line) { box.appendChild(el('p', {}, [line])); });
     if (drift) box.appendChild(el('p', {}, [el('strong', {}, ['Drift: ']), drift.finding + '. Inspect ' + drift.inspect + '.']));
     if (rec) box.appendChild(el('p', {}, [el('strong', {}, ['Add: ']), rec.effect + ' — ' + rec.words +
