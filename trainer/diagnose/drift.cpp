@@ -174,8 +174,11 @@ Drift find_drift(const Model<double>& model, const ParamVector<double>& params, 
                   cooling ? "cooling" : "copper loss", span(d.cycles).c_str(), 100 * std::abs(d.change), direction,
                   d.p_value, kOrderings);
   else
-    std::snprintf(text, sizeof text, "the %s grows %.0f %% %s from the first cycle to the last (p = %.3f over %d orderings)",
-                  cooling ? "cooling" : "copper loss", 100 * std::abs(d.change), direction, d.p_value, kOrderings);
+    std::snprintf(text, sizeof text,
+                  "the %s grows %.0f %% %s from the first cycle to the last, most in cycles %s (p = %.3f over %d "
+                  "orderings)",
+                  cooling ? "cooling" : "copper loss", 100 * std::abs(d.change), direction, span(d.cycles).c_str(),
+                  d.p_value, kOrderings);
   d.finding = text;
   d.inspect = cooling ? "the cooling air path of these cycles' motor: air filters, the blower and its supply, the "
                         "airflow signal's calibration; then calibrate on the cycles before the change"
