@@ -104,7 +104,7 @@ WhereSums where_sums(const data::Cycle& cycle, const std::vector<float>& residua
     if (k % every != 0 || !std::isfinite(r)) continue;
     s.n += 1, s.sr += r, s.srr += r * r;
     for (std::size_t i = 0; i < kFollowInputs; ++i) {
-      if (!started[i] || !cycle.has(kInputs[i].channel)) continue;
+      if (!started[i]) continue;  // no reading of this input yet (or none at all)
       const double x = lagged[i];
       s.n_in[i] += 1, s.sx[i] += x, s.sxx[i] += x * x, s.sxr[i] += x * r, s.sr_in[i] += r, s.srr_in[i] += r * r;
     }
