@@ -37,18 +37,31 @@ TARGETS=(fuzz_can_codecs fuzz_candump_line fuzz_cycle_csv fuzz_motor_toml fuzz_e
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 export ASAN_OPTIONS=detect_leaks=1
 
-failed=()
-summary=()
-for target in "${TARGETS[@]}"; do
-  work=build/fuzz/run/$target
+# One target: its log, corpus and status under build/fuzz/run/TARGET.
+run_target() {
+  local target=$1 work=build/fuzz/run/$1 status=0
   rm -rf "$work"
   mkdir -p "$work/corpus"
   cp tests/fuzz/corpus/"$target"/* "$work/corpus/"
-  status=0
   # -timeout: one input taking this long is a hang (the slowest seeds take well under a second).
   build/fuzz/tests/fuzz/"$target" -max_total_time="$seconds" -rss_limit_mb=2048 -timeout=30 \
     -max_len="${MAX_LEN[$target]}" -detect_leaks=1 -print_final_stats=1 -artifact_prefix="$work/" \
     "$work/corpus" >"$work/log" 2>&1 || status=$?
+  echo "$status" >"$work/status"
+}
+
+# As many targets at once as there are cores: each still runs for its own $seconds.
+for target in "${TARGETS[@]}"; do
+  while (($(jobs -rp | wc -l) >= $(nproc))); do wait -n || true; done
+  run_target "$target" &
+done
+wait
+
+failed=()
+summary=()
+for target in "${TARGETS[@]}"; do
+  work=build/fuzz/run/$target
+  status=$(cat "$work/status" 2>/dev/null || echo 1)
   runs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$work/log" | tail -n 1)
   inputs=$(find "$work/corpus" -type f | wc -l)
   # Belt and braces: a sanitizer report is a failure even if the exit status missed it.

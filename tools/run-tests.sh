@@ -8,7 +8,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 jobs=$(nproc)
-step() { printf '\n==== %s ====\n' "$*"; }
+# Each step says when it starts, so a slow CI shows where its time went.
+step() { printf '\n==== %s (at %d s) ====\n' "$*" "$SECONDS"; }
 
 step "host build (preset ci) and tests"
 tools/setup.sh
@@ -50,3 +51,4 @@ tools/setup.sh bench
 # within a share of the filter's own uncertainty (lptn-vcan-bench --help says why).
 build/ci/tools/vcan-bench/lptn-vcan-bench --out build/ci/vcan-bench/open-loop --open-loop --tolerance-k 0.05 --tolerance-sigma 0
 build/ci/tools/vcan-bench/lptn-vcan-bench --out build/ci/vcan-bench/closed-loop
+printf '\nevery step passed in %d s\n' "$SECONDS"

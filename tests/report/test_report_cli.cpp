@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -16,6 +17,7 @@
 
 #include "../cli/run_lptn.hpp"
 #include "../cli/temp_dir.hpp"
+#include "dump.hpp"
 #include "page.hpp"
 
 namespace lptn {
@@ -31,37 +33,39 @@ void write(const fs::path& p, const std::string& text) { std::ofstream(p) << tex
 
 std::size_t count_lines(const std::string& s) { return static_cast<std::size_t>(std::count(s.begin(), s.end(), '\n')); }
 
-// One generated dump and its calibrations for every test of the suite (calibrating takes
-// seconds). Windage is hidden in the data, so that the paper's model (1-paper.json, the report's
-// calibration) fits the stator to its noise and misses the rotor, as in the README's loop; the
-// second calibration adds windage, for a History whose rotor error falls.
+// The dump (dump.hpp) is shared and only read: ctest makes it once (LPTN_REPORT_DUMP names it);
+// run by hand, the suite makes its own. Each test writes into a directory of its own.
 class ReportTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    dir_ = new TempDir;
-    const fs::path d = dir_->path();
-    fs::create_directories(d / "cal");
-    auto gen = run("generate --out " + (d / "data").string() +
-                       " --cycles 3 --seed 3 --minutes-min 15 --minutes-max 20 --hidden windage", d);
-    ASSERT_EQ(gen.code, 0) << gen.err;
-    const std::string calibrate = "calibrate --data " + (d / "data").string() + " --motor " +
-                                  (d / "data" / "motor.toml").string() + " --method lm";
-    auto cal = run(calibrate + " --out " + (d / "cal" / "1-paper.json").string(), d);
-    ASSERT_EQ(cal.code, 0) << cal.err;
-    auto cal2 = run(calibrate + " --effect windage --out " + (d / "cal" / "2-windage.json").string(), d);
-    ASSERT_EQ(cal2.code, 0) << cal2.err;
+    if (const char* made = std::getenv("LPTN_REPORT_DUMP")) {
+      dump_ = made;
+      return;
+    }
+    own_dump_ = new TempDir;
+    dump_ = own_dump_->path();
+    const std::string error = testing::make_report_dump(dump_);
+    ASSERT_EQ(error, "");
   }
   static void TearDownTestSuite() {
-    delete dir_;
-    dir_ = nullptr;
+    delete own_dump_;
+    own_dump_ = nullptr;
   }
-  static fs::path path(const std::string& name) { return dir_->path() / name; }
+  void SetUp() override {
+    ASSERT_TRUE(fs::exists(dump("cal/2-windage.json"))) << "no dump in " << dump_ << " (lptn_report_make_dump)";
+  }
+  static fs::path dump(const std::string& name) { return dump_ / name; }
+  fs::path path(const std::string& name) const { return scratch_.path() / name; }
+  const fs::path& cwd() const { return scratch_.path(); }
   static std::string base_args() {
-    return "report --data " + path("data").string() + " --calibration " + path("cal/1-paper.json").string();
+    return "report --data " + dump("data").string() + " --calibration " + dump("cal/1-paper.json").string();
   }
-  static TempDir* dir_;
+  static fs::path dump_;
+  static TempDir* own_dump_;
+  TempDir scratch_;
 };
-TempDir* ReportTest::dir_ = nullptr;
+fs::path ReportTest::dump_;
+TempDir* ReportTest::own_dump_ = nullptr;
 
 // Two candidates as `lptn diagnose --json` writes them, one key the report does not know.
 const char* kDiagnosis = R"({"rmse_k": 0.52, "candidates": [
@@ -76,9 +80,9 @@ using testing::page_data;
 using testing::shell;
 
 TEST_F(ReportTest, PageRendersInChromiumWithEveryChartDrawnAndNoErrors) {
-  write(path("cal/diagnosis.json"), kDiagnosis);
+  write(path("diagnosis.json"), kDiagnosis);
   const fs::path out = path("report.html");
-  auto r = run(base_args() + " --diagnosis " + path("cal/diagnosis.json").string() + " --out " + out.string(), dir_->path());
+  auto r = run(base_args() + " --diagnosis " + path("diagnosis.json").string() + " --out " + out.string(), cwd());
   ASSERT_EQ(r.code, 0) << r.err;
   ASSERT_TRUE(fs::exists(out));
   const std::string html = slurp(out);
@@ -176,7 +180,7 @@ TEST_F(ReportTest, PageRendersInChromiumWithEveryChartDrawnAndNoErrors) {
 // is there. The script that clicks is added to a copy of the page, after the page's own.
 TEST_F(ReportTest, ClickingTheRotorsWorstWindowZoomsItsCycleToIt) {
   const fs::path out = path("click.html");
-  auto r = run(base_args() + " --out " + out.string(), dir_->path());
+  auto r = run(base_args() + " --out " + out.string(), cwd());
   ASSERT_EQ(r.code, 0) << r.err;
   std::string html = slurp(out);
   const std::size_t body_end = html.rfind("</body>");
@@ -228,7 +232,7 @@ TEST_F(ReportTest, ClickingTheRotorsWorstWindowZoomsItsCycleToIt) {
 
 TEST_F(ReportTest, WithoutDiagnosisSaysHowToGetOne) {
   const fs::path out = path("plain.html");
-  auto r = run(base_args() + " --out " + out.string(), dir_->path());
+  auto r = run(base_args() + " --out " + out.string(), cwd());
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(slurp(out).find("\"diagnosis\":null"), std::string::npos);
 }
@@ -236,7 +240,7 @@ TEST_F(ReportTest, WithoutDiagnosisSaysHowToGetOne) {
 TEST_F(ReportTest, RefusesToReplaceWithoutForce) {
   const fs::path out = path("exists.html");
   write(out, "keep");
-  auto r = run(base_args() + " --out " + out.string(), dir_->path());
+  auto r = run(base_args() + " --out " + out.string(), cwd());
   EXPECT_EQ(r.code, 2);
   EXPECT_EQ(slurp(out), "keep");
 }
@@ -254,7 +258,7 @@ void expect_bad_input(const std::string& args, const fs::path& out, const std::s
 
 TEST_F(ReportTest, MissingCalibrationIsBadInput) {
   fs::create_directories(path("bad1"));
-  expect_bad_input("report --data " + path("data").string() + " --calibration " + path("nope.json").string(),
+  expect_bad_input("report --data " + dump("data").string() + " --calibration " + path("nope.json").string(),
                    path("bad1/report.html"), "nope.json");
 }
 
