@@ -786,7 +786,8 @@ class Checker:
                                     "and unpacked")
         self.check_node(message.sender, message.line, f"{where}: sender")
         if not message.signals:
-            self.warn(message.line, f"{where} has no signals; its struct packs {message.dlc} zero bytes")
+            data = f"packs {message.dlc} zero bytes" if message.dlc else "has no data"
+            self.warn(message.line, f"{where} has no signals; its struct {data}")
         names = {}
         for signal in message.signals:
             if signal.name in names:
@@ -822,11 +823,12 @@ class Checker:
                     if mux_values_meet(signal, other):
                         overlapped.setdefault(other.name, bit)
                 owners.setdefault(bit, []).append(signal)
-            for other, bit in overlapped.items():
+            if overlapped:
                 # Each signal still reads its own bits; only a frame packed with both is ambiguous.
-                self.warn(signal.line, f"signal {signal.name} overlaps signal {other} in message {message.name} "
-                                       f"(frame bit {bit}); each unpacks from the shared bits, pack() ORs both "
-                                       "into them")
+                others = ", ".join(f"{other} (frame bit {bit})" for other, bit in overlapped.items())
+                self.warn(signal.line, f"signal {signal.name} overlaps signal{'s' if len(overlapped) > 1 else ''} "
+                                       f"{others} in message {message.name}; each unpacks from the shared bits, "
+                                       "pack() ORs them together")
 
     def check_mux_values(self, message, multiplexor):
         low, high = raw_limits(multiplexor)
@@ -902,7 +904,8 @@ class Checker:
         self.seen_statements[key] = line
 
     def resolve_comment(self, stmt):
-        target = {"BU_": f"node {stmt.key}", "BO_": f"message {stmt.key}", "SG_": f"signal {stmt.key}",
+        target = {"BU_": f"node {stmt.key}", "BO_": f"message {stmt.key}",
+                  "SG_": f"signal {stmt.key[1]} of message {stmt.key[0]}" if stmt.kind == "SG_" else "",
                   "EV_": f"environment variable {stmt.key}", "": "the network"}[stmt.kind]
         self.once(f"comment for {target}", ("CM_", stmt.kind, stmt.key), stmt.line)
         if stmt.kind == "":
