@@ -689,8 +689,9 @@ FD_LENGTHS = (12, 16, 20, 24, 32, 48, 64)  # the CAN FD frame lengths above 8 by
 
 
 class Checker:
-    def __init__(self, dbc, warnings=None):
+    def __init__(self, dbc, warnings=None, node=None):
         self.dbc = dbc
+        self.node = node  # the node the header is for (--node)
         self.warnings = warnings if warnings is not None else Warnings()
         self.nodes = {}
         self.unknown_nodes = {}
@@ -847,9 +848,16 @@ class Checker:
         for receiver in signal.receivers:
             self.check_node(receiver, signal.line, f"{where}: receiver")
         if max(frame_bits(signal)) >= 8 * message.dlc:
+            # The file contradicts itself (the length or the layout is wrong) and nothing tells
+            # which. The node the header is for cannot do without a signal it sends or receives:
+            # an error. A signal only other nodes use is left out, with a warning.
             order = "big-endian" if signal.big_endian else "little-endian"
-            self.warn(signal.line, f"{where} ({order}, start bit {signal.start}, {signal.length} bits) "
-                                   f"overflows its {message.dlc}-byte frame; the signal is left out")
+            overflow = (f"{where} ({order}, start bit {signal.start}, {signal.length} bits) "
+                        f"overflows its {message.dlc}-byte frame")
+            if self.node is None or self.node != NO_NODE and (self.node == message.sender
+                                                              or self.node in signal.receivers):
+                raise DbcError(signal.line, overflow)
+            self.warn(signal.line, f"{overflow}; {self.node} neither sends nor receives it, so it is left out")
             return False
         self.check_range(signal)
         return True
@@ -1630,6 +1638,8 @@ def render(dbc, messages, node, namespace, dbc_name):
         lines += message_lines(message)
     received = [m for m in messages if any(node in signal.receivers for signal in m.signals)]
     sent = [m for m in messages if m.sender == node or node in m.transmitters]
+    if node == NO_NODE:  # a header for the whole bus (a logger's): no node of its own
+        received, sent = [], []
     if node in dbc.node_comments:
         lines += comment_lines(f"{node}: {dbc.node_comments[node]}", "")
     lines += comment_lines(f"The frames {node} receives (one of their signals names it as a receiver) and "
@@ -1647,8 +1657,8 @@ def generate(text, node, namespace, dbc_name, warnings=None):
     """The header's text; what the generator read past goes to `warnings` (a Warnings)."""
     warnings = warnings if warnings is not None else Warnings()
     dbc = Parser(tokenize(text), warnings).parse()
-    Checker(dbc, warnings).run()
-    if dbc.nodes_line is not None and node not in dict(dbc.nodes):
+    Checker(dbc, warnings, node).run()
+    if dbc.nodes_line is not None and node != NO_NODE and node not in dict(dbc.nodes):
         raise DbcError(dbc.nodes_line or 1, f"node {node} (--node) is not in BU_")
     messages = [message for message in dbc.messages if message.generated]
     check_cxx_names(messages, warnings)
@@ -1683,7 +1693,9 @@ def write_atomically(path, text):
 def main(argv=None):
     parser = argparse.ArgumentParser(description="Generate C++ CAN codecs from a DBC file.")
     parser.add_argument("--dbc", required=True, help="the DBC file")
-    parser.add_argument("--node", required=True, help="the node whose received and sent ids to list")
+    parser.add_argument("--node", required=True,
+                        help=f"the node whose received and sent ids to list ({NO_NODE}: none, a header for "
+                             "the whole bus)")
     parser.add_argument("--namespace", default="lptn::can", help="C++ namespace of the generated code")
     parser.add_argument("--out", required=True, help="the header to write")
     parser.add_argument("--werror", action="store_true",

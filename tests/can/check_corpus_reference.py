@@ -149,10 +149,7 @@ def generate(args, dbc):
     safe = re.sub(r"\W", "_", os.path.splitext(dbc)[0])
     out = os.path.join(args.work, "include", "reference", f"{safe}.hpp")
     path = os.path.join(args.corpus, dbc)
-    text = open(path, "rb").read().decode("latin-1")
-    match = re.search(r"^BU_\s*:(.*?)(?=^\s*[A-Z_]+_\b)", text, re.M | re.S)
-    nodes = match.group(1).split() if match else []
-    result = subprocess.run([sys.executable, args.generator, "--dbc", path, "--node", nodes[0] if nodes else "X",
+    result = subprocess.run([sys.executable, args.generator, "--dbc", path, "--node", "Vector__XXX",
                              "--namespace", f"reference::{safe}", "--out", out],
                             capture_output=True, text=True, check=False)
     if result.returncode != 0:
