@@ -1,11 +1,19 @@
 #!/usr/bin/env python3
 """Generates the C++ CAN codecs (one header) from a DBC file.
 
-    dbc_codegen.py --dbc lptn.dbc --node LPTN --namespace lptn::can --out DIR/lptn/can/lptn_frames.hpp
+    dbc_codegen.py --dbc lptn.dbc --node LPTN --namespace lptn::can --out DIR/lptn/can/lptn_frames.hpp [--werror]
 
 The DBC is the single source of truth for every CAN frame, so the build runs this script whenever
-the DBC changes. A DBC that is malformed, or that the generated code could not honour, stops the
-build: one line `FILE:LINE: reason` on stderr, exit status 1, and no output file.
+the DBC changes. It reads DBC files as the industry writes them: what leaves every frame
+decodable (a range its bits cannot hold, a node missing from BU_, a message without signals, a bare
+id above 0x7FF, ...) is a warning, `FILE:LINE: warning: reason` on stderr, and the header is
+written. What would make a frame undecodable, or the generated code wrong, stops the build: one
+line `FILE:LINE: reason` on stderr, exit status 1, and no output file. With --werror (our own
+DBC files) the first warning stops the build in the same way.
+
+Supported beyond classic CAN: extended ids (the 0x80000000 flag, or a bare id above 0x7FF), CAN FD
+lengths up to 64 bytes, and simple multiplexing (one multiplexor `M` per message, signals `m<N>`,
+SG_MUL_VAL_ ranges on that multiplexor).
 
 Python 3.11 standard library only: the build host may have nothing else.
 """
@@ -34,6 +42,19 @@ class DbcError(Exception):
         self.reason = reason
 
 
+class Warnings:
+    """What the generator reads past: (line, reason), printed once the header is written."""
+
+    def __init__(self):
+        self.items = []
+
+    def add(self, line, reason):
+        self.items.append((line, reason))
+
+    def sorted(self):
+        return sorted(self.items, key=lambda item: item[0])
+
+
 # ---------------------------------------------------------------------------------------------
 # Tokens
 
@@ -48,14 +69,15 @@ _TOKEN = re.compile(r"""
     (?P<space>[ \t\r\f\v]+)
   | (?P<newline>\n)
   | (?P<string>"(?:\\.|[^"\\])*")
-  | (?P<number>(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?)
-  | (?P<ident>[A-Za-z_][A-Za-z0-9_]*)
+  | (?P<number>(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?(?![A-Za-z0-9_.]))
+  | (?P<ident>[A-Za-z_][A-Za-z0-9_]*|[0-9]+[A-Za-z_][A-Za-z0-9_]*)
   | (?P<punct>[:;|@(),\[\]+-])
 """, re.VERBOSE | re.DOTALL)
 
 
 def tokenize(text):
-    """Signs are separate tokens (the parser joins them to numbers): `@1-` is `@`, `1`, `-`."""
+    """Signs are separate tokens (the parser joins them to numbers): `@1-` is `@`, `1`, `-`.
+    Names may start with a digit (`2017_5`, `0_COUNTER`: real files have them)."""
     tokens, line, pos = [], 1, 0
     while pos < len(text):
         match = _TOKEN.match(text, pos)
@@ -105,6 +127,13 @@ class Signal:
     receivers: list
     comment: str = None
     values: list = None  # [(raw, description)] from VAL_
+    multiplexor: bool = False  # `M`: its value says which `m<N>` signals the frame carries
+    mux_ranges: list = None  # `m<N>`: [(low, high)] of multiplexor values that carry it; else None
+    range_ignored: bool = False  # [min|max] cannot be right: _is_in_range() is always true
+
+    @property
+    def multiplexed(self):
+        return self.mux_ranges is not None
 
 
 @dataclass
@@ -118,18 +147,29 @@ class Message:
     comment: str = None
     cycle_time: int = None
     transmitters: list = field(default_factory=list)  # from BO_TX_BU_
+    bare_extended: bool = False  # an id above 0x7FF without the flag, taken as extended
+    left_out: bool = False  # no CAN frame can have its id: read, checked for references, not generated
+    left_out_signals: list = field(default_factory=list)  # signals outside the frame: not generated
 
     @property
     def extended(self):
-        return bool(self.dbc_id & EXTENDED_FLAG)
+        return bool(self.dbc_id & EXTENDED_FLAG) or self.bare_extended
 
     @property
     def is_frame(self):
         return self.dbc_id != INDEPENDENT_SIGNALS_ID
 
     @property
+    def generated(self):
+        return self.is_frame and not self.left_out
+
+    @property
     def can_id(self):
         return self.dbc_id & ~EXTENDED_FLAG
+
+    @property
+    def multiplexor(self):
+        return next((signal for signal in self.signals if signal.multiplexor), None)
 
 
 @dataclass
@@ -191,6 +231,16 @@ class TransmittersStmt:
 
 
 @dataclass
+class MuxValuesStmt:
+    """SG_MUL_VAL_ id signal multiplexor low-high, ...;"""
+    line: int
+    message_id: int
+    signal: str
+    multiplexor: str
+    ranges: list
+
+
+@dataclass
 class Dbc:
     nodes: list = field(default_factory=list)  # [(name, line)]
     nodes_line: int = None
@@ -215,7 +265,8 @@ SKIPPED_SECTIONS = {
 
 
 class Parser:
-    def __init__(self, tokens):
+    def __init__(self, tokens, warnings=None):
+        self.warnings = warnings if warnings is not None else Warnings()
         self.tokens = tokens
         self.pos = 0
         self.dbc = Dbc()
@@ -281,17 +332,22 @@ class Parser:
         return Number(text, value)
 
     def integer(self, what):
+        """A whole number; `1e+09` is one (tools write attribute limits so)."""
         start = self.peek()
         number = self.number(what)
-        if number.value.denominator != 1 or not number.text.lstrip("+-").isdigit():
+        if number.value.denominator != 1 or "." in number.text:
             self.fail(start, what)
         return int(number.value)
 
     def natural(self, what):
-        """A count or a position: an integer written without a sign."""
+        """A count or a position: an integer written in digits, without a sign."""
         if self.at_punct("-") or self.at_punct("+"):
             self.fail(self.peek(), what)
-        return self.integer(what)
+        start = self.peek()
+        value = self.integer(what)
+        if not start.text.isdigit():
+            self.fail(start, what)
+        return value
 
     def value(self, what):
         """An attribute value: a number or a string."""
@@ -299,7 +355,25 @@ class Parser:
             return self.string(what)
         return self.number(what).value
 
+    def at_next_section(self):
+        """The next token starts a section on a later line: where a forgotten ';' would have been."""
+        token = self.peek()
+        previous = self.tokens[self.pos - 1] if self.pos else token
+        return (token.kind == "eof" or token.kind == "ident" and token.line > previous.line
+                and (token.text in self.SECTIONS or token.text in SKIPPED_SECTIONS))
+
+    def missing_semicolon(self, section):
+        """A statement the next section keyword ends as clearly as ';' would: read, with a warning."""
+        if not self.at_next_section():
+            return False
+        line = self.tokens[self.pos - 1].line if self.pos else self.peek().line
+        self.warnings.add(line, f"expected ';' at the end of {section}, found {_describe(self.peek())}; "
+                                f"read as if it were there")
+        return True
+
     def end(self, section):
+        if not self.at_punct(";") and self.missing_semicolon(section):
+            return
         self.punct(";", f"at the end of {section}")
 
     # -- sections
@@ -353,6 +427,8 @@ class Parser:
 
     def message_def(self, keyword):
         dbc_id = self.natural("a message id after BO_")
+        if dbc_id >= 1 << 32:
+            raise DbcError(keyword.line, f"message id {dbc_id} does not fit in 32 bits")
         name = self.ident("a message name")
         self.punct(":", "after the message name")
         dlc = self.natural("the message length (DLC)")
@@ -364,8 +440,24 @@ class Parser:
         if self.message is None:
             raise DbcError(keyword.line, "SG_ must follow its message's BO_ line")
         name = self.ident("a signal name after SG_")
-        if self.peek().kind == "ident":
-            raise DbcError(keyword.line, f"signal {name}: multiplexed signals are not supported")
+        multiplexor, mux_ranges = False, None
+        if self.peek().kind == "ident":  # the multiplex indicator: M, m<N> or m<N>M
+            indicator = self.take().text
+            match = re.fullmatch(r"m([0-9]+)(M?)", indicator)
+            if indicator == "M":
+                multiplexor = True
+            elif match and match.group(2):
+                raise DbcError(keyword.line, f"signal {name}: extended multiplexing ({indicator}: a multiplexed "
+                                             "multiplexor) is not supported, only one multiplexor per message")
+            elif match:
+                mux_ranges = [(int(match.group(1)), int(match.group(1)))]
+            elif indicator == "m":
+                multiplexor = True
+                self.warnings.add(keyword.line, f"signal {name}: multiplex indicator 'm' without a value; "
+                                                "read as 'M' (the multiplexor)")
+            else:
+                raise DbcError(keyword.line, f"signal {name}: expected ':' or a multiplex indicator "
+                                             f"(M or m<N>), found '{indicator}'")
         self.punct(":", "after the signal name")
         start = self.natural("the start bit")
         self.punct("|", "between start bit and length")
@@ -394,7 +486,7 @@ class Parser:
             receivers.append(self.ident("a receiving node after ','"))
         self.message.signals.append(Signal(
             name, keyword.line, start, length, order == 0, sign.text == "-", factor, offset,
-            minimum, maximum, unit, receivers))
+            minimum, maximum, unit, receivers, multiplexor=multiplexor, mux_ranges=mux_ranges))
 
     def object_ref(self, kinds):
         """`BU_ node`, `BO_ id`, `SG_ id signal` or `EV_ name` (or nothing: the network)."""
@@ -454,6 +546,8 @@ class Parser:
     def value_pairs(self, section):
         pairs, seen = [], set()
         while not self.accept_punct(";"):
+            if pairs and self.missing_semicolon(section):
+                break
             token = self.peek()
             raw = self.integer(f"a raw value or the ';' that ends {section}")
             if raw in seen:
@@ -497,7 +591,21 @@ class Parser:
         self.dbc.statements.append(TransmittersStmt(keyword.line, message_id, nodes))
 
     def multiplexing(self, keyword):
-        raise DbcError(keyword.line, "multiplexed signals are not supported (SG_MUL_VAL_)")
+        message_id = self.integer("a message id after SG_MUL_VAL_")
+        signal = self.ident("a signal name")
+        multiplexor = self.ident("the multiplexor's name")
+        ranges = []
+        while True:
+            low = self.natural("the low end of a multiplexor value range")
+            self.punct("-", "between the ends of a multiplexor value range")
+            high = self.natural("the high end of a multiplexor value range")
+            if low > high:
+                raise DbcError(keyword.line, f"multiplexor value range {low}-{high} is empty")
+            ranges.append((low, high))
+            if not self.accept_punct(","):
+                break
+        self.end("SG_MUL_VAL_")
+        self.dbc.statements.append(MuxValuesStmt(keyword.line, message_id, signal, multiplexor, ranges))
 
     SECTIONS = {
         "VERSION": version, "NS_": new_symbols, "BS_": bit_timing, "BU_": nodes,
@@ -553,43 +661,78 @@ def chunks(signal):
 
 
 def in_range_raw_bounds(signal):
-    """Exact raw bounds of the DBC's physical [min|max], or None for [0|0] (no range)."""
-    if signal.minimum.value == 0 and signal.maximum.value == 0:
+    """Exact raw bounds of the DBC's physical [min|max], or None for [0|0] (no range) and for a
+    range the checker found cannot be right."""
+    if signal.minimum.value == 0 and signal.maximum.value == 0 or signal.range_ignored:
         return None
     factor, offset = signal.factor.value, signal.offset.value
     ends = sorted(((signal.minimum.value - offset) / factor, (signal.maximum.value - offset) / factor))
     return ends[0], ends[1]
 
 
+def mux_values_meet(one, other):
+    """Can a frame carry both signals? Yes unless both are multiplexed on disjoint values."""
+    if not one.multiplexed or not other.multiplexed:
+        return True
+    return any(a_low <= b_high and b_low <= a_high
+               for a_low, a_high in one.mux_ranges for b_low, b_high in other.mux_ranges)
+
+
+def format_ranges(ranges):
+    return ", ".join(str(low) if low == high else f"{low}..{high}" for low, high in ranges)
+
+
 # ---------------------------------------------------------------------------------------------
 # Validation
 
+FD_LENGTHS = (12, 16, 20, 24, 32, 48, 64)  # the CAN FD frame lengths above 8 bytes
+
+
 class Checker:
-    def __init__(self, dbc):
+    def __init__(self, dbc, warnings=None, node=None):
         self.dbc = dbc
+        self.node = node  # the node the header is for (--node)
+        self.warnings = warnings if warnings is not None else Warnings()
         self.nodes = {}
+        self.unknown_nodes = {}
         self.by_id = {}
         self.seen_statements = {}
+
+    def warn(self, line, reason):
+        self.warnings.add(line, reason)
 
     def run(self):
         self.check_nodes()
         self.check_messages()
         for statement in self.dbc.statements:
             self.RESOLVERS[type(statement)](self, statement)
+        for message in self.dbc.messages:
+            if message.generated:
+                self.check_layout(message)
         self.apply_default_cycle_time()
 
     def check_nodes(self):
+        if self.dbc.nodes_line is None:
+            self.warn(1, "the file has no BU_ section; senders and receivers are not checked")
         for name, line in self.dbc.nodes:
             if name in self.nodes:
-                raise DbcError(line, f"node {name} is listed twice in BU_")
+                self.warn(line, f"node {name} is listed twice in BU_ (first on line {self.nodes[name]})")
+                continue
             self.nodes[name] = line
 
     def check_node(self, name, line, role):
-        if name != NO_NODE and name not in self.nodes:
-            raise DbcError(line, f"{role} '{name}' is not a node in BU_")
+        """One warning per unknown node, where the file first names it."""
+        if name == NO_NODE or name in self.nodes or self.dbc.nodes_line is None:
+            return
+        if name not in self.unknown_nodes:
+            self.unknown_nodes[name] = [(line, role)]
+            self.warn(line, f"{role} '{name}' is not a node in BU_")
+        else:
+            self.unknown_nodes[name].append((line, role))
 
     def check_messages(self):
         by_name = {}
+        by_frame_id = {}
         for message in self.dbc.messages:
             if message.dbc_id in self.by_id:
                 first = self.by_id[message.dbc_id]
@@ -602,32 +745,99 @@ class Checker:
                 raise DbcError(message.line, f"message name {message.name} is already used on line "
                                              f"{by_name[message.name].line}")
             by_name[message.name] = message
+            self.check_id(message)
+            if message.left_out:
+                continue
+            key = (message.extended, message.can_id)
+            if key in by_frame_id:
+                first = by_frame_id[key]
+                raise DbcError(message.line, f"message {message.name}: {'extended' if message.extended else 'standard'} "
+                                             f"id 0x{message.can_id:X} is already used by {first.name} on line {first.line}")
+            by_frame_id[key] = message
             self.check_message(message)
 
+    def check_id(self, message):
+        """Flagged ids fit in 29 bits; a bare id above 0x7FF is taken as extended (tools write them
+        so); an id no CAN frame can have leaves its message out of the header."""
+        where = f"message {message.name}"
+        if message.dbc_id & EXTENDED_FLAG:
+            if message.can_id > 0x1FFFFFFF:
+                message.left_out = True
+                self.warn(message.line, f"{where}: extended id 0x{message.can_id:X} does not fit in 29 bits; "
+                                        "no CAN frame has it, so the message is left out")
+        elif message.can_id > 0x1FFFFFFF:
+            message.left_out = True
+            self.warn(message.line, f"{where}: id {message.dbc_id} (0x{message.dbc_id:X}) fits neither 11 nor "
+                                    "29 bits and has no extended flag (0x80000000); no CAN frame has it, so "
+                                    "the message is left out")
+        elif message.can_id > 0x7FF:
+            message.bare_extended = True
+            self.warn(message.line, f"{where}: id 0x{message.can_id:X} does not fit in 11 bits and has no "
+                                    "extended flag (0x80000000); taken as a 29-bit extended id")
+
     def check_message(self, message):
-        limit = 0x1FFFFFFF if message.extended else 0x7FF
-        if message.can_id > limit:
-            kind = "extended id does not fit in 29" if message.extended else "standard id does not fit in 11"
-            raise DbcError(message.line, f"message {message.name}: {kind} bits (0x{message.can_id:X})")
-        if message.dlc > 8:
-            raise DbcError(message.line, f"message {message.name}: DLC {message.dlc} is more than 8 bytes; "
-                                         "only classic CAN is supported (no CAN FD)")
-        self.check_node(message.sender, message.line, f"message {message.name}: sender")
+        where = f"message {message.name}"
+        if message.dlc > 64:
+            raise DbcError(message.line, f"{where}: length {message.dlc} is more than 64 bytes, CAN FD's "
+                                         "longest frame")
+        if message.dlc > 8 and message.dlc not in FD_LENGTHS:
+            fd_length = next(length for length in FD_LENGTHS if length > message.dlc)
+            self.warn(message.line, f"{where}: length {message.dlc} is not a CAN FD frame length (a frame "
+                                    f"carrying it is {fd_length} bytes long); {message.dlc} bytes are packed "
+                                    "and unpacked")
+        self.check_node(message.sender, message.line, f"{where}: sender")
         if not message.signals:
-            raise DbcError(message.line, f"message {message.name} has no signals")
-        owners = {}
+            data = f"packs {message.dlc} zero bytes" if message.dlc else "has no data"
+            self.warn(message.line, f"{where} has no signals; its struct {data}")
         names = {}
         for signal in message.signals:
             if signal.name in names:
                 raise DbcError(signal.line, f"signal {signal.name} appears twice in message {message.name} "
                                             f"(first on line {names[signal.name]})")
             names[signal.name] = signal.line
-            self.check_signal(message, signal)
+            if not self.check_signal(message, signal):
+                message.left_out_signals.append(signal)
+        message.signals = [signal for signal in message.signals if signal not in message.left_out_signals]
+        multiplexor = None
+        for signal in message.signals:
+            if signal.multiplexor:
+                if multiplexor is not None:
+                    raise DbcError(signal.line, f"signal {signal.name}: message {message.name} already has a "
+                                                f"multiplexor ({multiplexor.name}, line {multiplexor.line}); "
+                                                "extended multiplexing is not supported")
+                multiplexor = signal
+        for signal in message.signals:
+            if signal.multiplexed and multiplexor is None:
+                raise DbcError(signal.line, f"signal {signal.name} is multiplexed (m{signal.mux_ranges[0][0]}) "
+                                            f"but message {message.name} has no multiplexor (M)")
+
+    def check_layout(self, message):
+        """Two signals may share frame bits only if no multiplexor value carries both."""
+        multiplexor = message.multiplexor
+        if multiplexor is not None:
+            self.check_mux_values(message, multiplexor)
+        owners = {}
+        for signal in message.signals:
+            overlapped = {}
             for bit in frame_bits(signal):
-                if bit in owners:
-                    raise DbcError(signal.line, f"signal {signal.name} overlaps signal {owners[bit]} "
-                                                f"in message {message.name} (frame bit {bit})")
-                owners[bit] = signal.name
+                for other in owners.get(bit, []):
+                    if mux_values_meet(signal, other):
+                        overlapped.setdefault(other.name, bit)
+                owners.setdefault(bit, []).append(signal)
+            if overlapped:
+                # Each signal still reads its own bits; only a frame packed with both is ambiguous.
+                others = ", ".join(f"{other} (frame bit {bit})" for other, bit in overlapped.items())
+                self.warn(signal.line, f"signal {signal.name} overlaps signal{'s' if len(overlapped) > 1 else ''} "
+                                       f"{others} in message {message.name}; each unpacks from the shared bits, "
+                                       "pack() ORs them together")
+
+    def check_mux_values(self, message, multiplexor):
+        low, high = raw_limits(multiplexor)
+        for signal in message.signals:
+            if signal.multiplexed and all(r_high < low or r_low > high for r_low, r_high in signal.mux_ranges):
+                self.warn(signal.line, f"signal {signal.name}: multiplexor {multiplexor.name} "
+                                       f"({multiplexor.length} bits, raw {low}..{high}) never takes "
+                                       f"{format_ranges(signal.mux_ranges)}; the signal is never in the frame")
 
     def check_signal(self, message, signal):
         where = f"signal {signal.name}"
@@ -635,52 +845,75 @@ class Checker:
             raise DbcError(signal.line, f"{where}: length {signal.length} is not in 1..64")
         if signal.factor.value == 0:
             raise DbcError(signal.line, f"{where}: factor 0 (every raw value would decode to the offset)")
-        if signal.minimum.value > signal.maximum.value:
-            raise DbcError(signal.line, f"{where}: minimum {signal.minimum.text} is greater than "
-                                        f"maximum {signal.maximum.text}")
-        if max(frame_bits(signal)) >= 8 * message.dlc:
-            order = "big-endian" if signal.big_endian else "little-endian"
-            raise DbcError(signal.line, f"{where} ({order}, start bit {signal.start}, {signal.length} bits) "
-                                        f"overflows its {message.dlc}-byte frame")
         for receiver in signal.receivers:
-            self.check_node(receiver, signal.line, f"signal {signal.name}: receiver")
+            self.check_node(receiver, signal.line, f"{where}: receiver")
+        if max(frame_bits(signal)) >= 8 * message.dlc:
+            # The file contradicts itself (the length or the layout is wrong) and nothing tells
+            # which. The node the header is for cannot do without a signal it sends or receives:
+            # an error. A signal only other nodes use is left out, with a warning.
+            order = "big-endian" if signal.big_endian else "little-endian"
+            overflow = (f"{where} ({order}, start bit {signal.start}, {signal.length} bits) "
+                        f"overflows its {message.dlc}-byte frame")
+            if self.node is None or self.node != NO_NODE and (self.node == message.sender
+                                                              or self.node in signal.receivers):
+                raise DbcError(signal.line, overflow)
+            self.warn(signal.line, f"{overflow}; {self.node} neither sends nor receives it, so it is left out")
+            return False
         self.check_range(signal)
+        return True
 
-    @staticmethod
-    def check_range(signal):
+    def check_range(self, signal):
+        """A range that cannot be right leaves decoding alone: a warning, and _is_in_range() says
+        what is written in the comment above it."""
+        where = f"signal {signal.name}: range [{signal.minimum.text}|{signal.maximum.text}]"
+        if signal.minimum.value > signal.maximum.value:
+            signal.range_ignored = True
+            self.warn(signal.line, f"{where}: minimum {signal.minimum.text} is greater than maximum "
+                                   f"{signal.maximum.text}; the range is ignored (every raw value is in range)")
+            return
         bounds = in_range_raw_bounds(signal)
         if bounds is None:
             return
         low, high = raw_limits(signal)
-        where = f"signal {signal.name}: range [{signal.minimum.text}|{signal.maximum.text}]"
         if bounds[0] < low or bounds[1] > high:
             kind = "signed" if signal.signed else "unsigned"
-            raise DbcError(signal.line, f"{where} needs raw values {_fmt(bounds[0])}..{_fmt(bounds[1])} "
-                                        f"but {signal.length} {kind} bits cannot represent them "
-                                        f"(they hold {low}..{high})")
-        if math.ceil(bounds[0]) > math.floor(bounds[1]):
-            raise DbcError(signal.line, f"{where} contains no raw value")
+            self.warn(signal.line, f"{where} needs raw values {_fmt(bounds[0])}..{_fmt(bounds[1])} but "
+                                   f"{signal.length} {kind} bits cannot represent them (they hold {low}..{high}); "
+                                   "the range is checked within what the bits hold")
+        if math.ceil(bounds[0]) > math.floor(bounds[1]) or math.ceil(bounds[0]) > high \
+                or math.floor(bounds[1]) < low:
+            signal.range_ignored = True
+            self.warn(signal.line, f"{where} contains no raw value the signal can hold; the range is ignored "
+                                   "(every raw value is in range)")
 
     # -- statements that refer to other objects
-    def message(self, message_id, line):
+    # A statement about a message or signal the file does not define describes nothing that is
+    # on the bus: it is read past with a warning (message() and signal() give None).
+    def message(self, message_id, line, statement):
         if message_id not in self.by_id:
-            raise DbcError(line, f"no message has id {message_id}")
+            self.warn(line, f"no message has id {message_id}; the {statement} is ignored")
+            return None
         return self.by_id[message_id]
 
-    def signal(self, message_id, name, line):
-        message = self.message(message_id, line)
-        for signal in message.signals:
+    def signal(self, message_id, name, line, statement):
+        message = self.message(message_id, line, statement)
+        if message is None:
+            return None, None
+        for signal in message.signals + message.left_out_signals:
             if signal.name == name:
                 return message, signal
-        raise DbcError(line, f"message {message.name} has no signal {name}")
+        self.warn(line, f"message {message.name} has no signal {name}; the {statement} is ignored")
+        return None, None
 
     def once(self, what, key, line):
+        """A second statement for the same thing: the later one is used."""
         if key in self.seen_statements:
-            raise DbcError(line, f"second {what} (the first is on line {self.seen_statements[key]})")
+            self.warn(line, f"second {what} (the first is on line {self.seen_statements[key]}); this one is used")
         self.seen_statements[key] = line
 
     def resolve_comment(self, stmt):
-        target = {"BU_": f"node {stmt.key}", "BO_": f"message {stmt.key}", "SG_": f"signal {stmt.key}",
+        target = {"BU_": f"node {stmt.key}", "BO_": f"message {stmt.key}",
+                  "SG_": f"signal {stmt.key[1]} of message {stmt.key[0]}" if stmt.kind == "SG_" else "",
                   "EV_": f"environment variable {stmt.key}", "": "the network"}[stmt.kind]
         self.once(f"comment for {target}", ("CM_", stmt.kind, stmt.key), stmt.line)
         if stmt.kind == "":
@@ -689,9 +922,13 @@ class Checker:
             self.check_node(stmt.key, stmt.line, "CM_ BU_:")
             self.dbc.node_comments[stmt.key] = stmt.text
         elif stmt.kind == "BO_":
-            self.message(stmt.key, stmt.line).comment = stmt.text
+            message = self.message(stmt.key, stmt.line, "CM_")
+            if message is not None:
+                message.comment = stmt.text
         elif stmt.kind == "SG_":
-            self.signal(*stmt.key, stmt.line)[1].comment = stmt.text
+            signal = self.signal(*stmt.key, stmt.line, "CM_")[1]
+            if signal is not None:
+                signal.comment = stmt.text
 
     def definition(self, name, line):
         if name not in self.dbc.attribute_defs:
@@ -713,35 +950,59 @@ class Checker:
         if stmt.kind == "BU_":
             self.check_node(stmt.key, stmt.line, "BA_ BU_:")
         elif stmt.kind == "BO_":
-            message = self.message(stmt.key, stmt.line)
-            if stmt.name == "GenMsgCycleTime":
+            message = self.message(stmt.key, stmt.line, "BA_")
+            if message is not None and stmt.name == "GenMsgCycleTime":
                 message.cycle_time = cycle_time(stmt.value, stmt.line)
         elif stmt.kind == "SG_":
-            self.signal(*stmt.key, stmt.line)
+            self.signal(*stmt.key, stmt.line, "BA_")
 
     def resolve_values(self, stmt):
         self.once(f"VAL_ for signal {stmt.signal}", ("VAL_", stmt.message_id, stmt.signal), stmt.line)
-        message, signal = self.signal(stmt.message_id, stmt.signal, stmt.line)
-        if not message.is_frame:  # its signals are never checked, nor generated
-            return
+        message, signal = self.signal(stmt.message_id, stmt.signal, stmt.line, "VAL_")
+        if message is None or not message.generated or signal in message.left_out_signals:
+            return  # never checked, nor generated
         low, high = raw_limits(signal)
-        for raw, _ in stmt.pairs:
-            if not low <= raw <= high:
-                raise DbcError(stmt.line, f"VAL_ value {raw} does not fit signal {signal.name} "
-                                          f"(raw {low}..{high})")
-        signal.values = stmt.pairs
+        pairs = []
+        for raw, description in stmt.pairs:
+            if low <= raw <= high:
+                pairs.append((raw, description))
+            else:
+                self.warn(stmt.line, f"VAL_ value {raw} does not fit signal {signal.name} (raw {low}..{high}); "
+                                     "it is left out of the enum")
+        signal.values = pairs or None
 
     def resolve_value_type(self, stmt):
-        message, signal = self.signal(stmt.message_id, stmt.signal, stmt.line)
-        if message.is_frame and stmt.value_type != 0:
+        message, signal = self.signal(stmt.message_id, stmt.signal, stmt.line, "SIG_VALTYPE_")
+        if message is not None and message.generated and signal not in message.left_out_signals \
+                and stmt.value_type != 0:
             raise DbcError(stmt.line, f"signal {signal.name}: IEEE float signals (SIG_VALTYPE_ "
                                       f"{stmt.value_type}) are not supported")
 
     def resolve_transmitters(self, stmt):
-        message = self.message(stmt.message_id, stmt.line)
+        message = self.message(stmt.message_id, stmt.line, "BO_TX_BU_")
+        if message is None:
+            return
         for node in stmt.nodes:
             self.check_node(node, stmt.line, f"message {message.name}: transmitter")
         message.transmitters.extend(stmt.nodes)
+
+    def resolve_mux_values(self, stmt):
+        """SG_MUL_VAL_: the multiplexor values that carry a signal, for the message's only
+        multiplexor (what simple multiplexing writes; the m<N> value is replaced)."""
+        self.once(f"SG_MUL_VAL_ for signal {stmt.signal}", ("SG_MUL_VAL_", stmt.message_id, stmt.signal),
+                  stmt.line)
+        message, signal = self.signal(stmt.message_id, stmt.signal, stmt.line, "SG_MUL_VAL_")
+        if message is None or self.signal(stmt.message_id, stmt.multiplexor, stmt.line, "SG_MUL_VAL_")[1] is None:
+            return
+        if not message.generated or signal in message.left_out_signals:
+            return
+        multiplexor = message.multiplexor
+        if not signal.multiplexed:
+            raise DbcError(stmt.line, f"SG_MUL_VAL_: signal {signal.name} is not multiplexed (m<N>)")
+        if multiplexor is None or multiplexor.name != stmt.multiplexor:
+            raise DbcError(stmt.line, f"SG_MUL_VAL_: {stmt.multiplexor} is not the multiplexor (M) of message "
+                                      f"{message.name}; extended multiplexing is not supported")
+        signal.mux_ranges = stmt.ranges
 
     def apply_default_cycle_time(self):
         default = 0
@@ -756,6 +1017,7 @@ class Checker:
         CommentStmt: resolve_comment, AttrDefaultStmt: resolve_attr_default,
         AttrValueStmt: resolve_attr_value, ValuesStmt: resolve_values,
         ValueTypeStmt: resolve_value_type, TransmittersStmt: resolve_transmitters,
+        MuxValuesStmt: resolve_mux_values,
     }
 
 
@@ -811,20 +1073,28 @@ NAMESPACE_NAMES = ("SignalInfo", "detail", "kReceivedIds", "kTransmittedIds")
 
 
 def camel_case(name):
-    """TC_Electrical -> TcElectrical: all-capital words become Capitalised."""
+    """TC_Electrical -> TcElectrical: all-capital words become Capitalised. A name that starts
+    with a digit (2017_5) gets an N in front (N20175): C++ names cannot."""
     parts = [part for part in name.split("_") if part]
-    return "".join(part.capitalize() if part.isupper() else part[0].upper() + part[1:] for part in parts)
+    text = "".join(part.capitalize() if part.isupper() else part[0].upper() + part[1:] for part in parts)
+    return "N" + text if text[:1].isdigit() else text
 
 
 def snake_case(name):
-    """MotorSpeed -> motor_speed, ABSActive -> abs_active."""
+    """MotorSpeed -> motor_speed, ABSActive -> abs_active; 0_COUNTER -> n_0_counter."""
     text = re.sub(r"([A-Z]+)([A-Z][a-z])", r"\1_\2", name)
     text = re.sub(r"([a-z0-9])([A-Z])", r"\1_\2", text)
-    return re.sub(r"_+", "_", text).strip("_").lower()
+    text = re.sub(r"_+", "_", text).strip("_").lower()
+    return "n_" + text if text[:1].isdigit() else text
+
+
+def base_name(signal):
+    """The signal's name in C++ (snake case), as check_cxx_names() chose it."""
+    return getattr(signal, "cxx_base", None) or snake_case(signal.name)
 
 
 def member_name(signal):
-    base = snake_case(signal.name)
+    base = base_name(signal)
     return base + "_" if base in CXX_KEYWORDS or base in PACK_LOCALS else base
 
 
@@ -853,21 +1123,58 @@ def _claim(names, name, owner, line):
     names[name] = owner
 
 
-def check_cxx_names(messages):
-    """Different DBC names can meet in C++ (TC_Speed and TcSpeed, Speed and speed_decode)."""
+def _claim_free(names, candidates, derived, owner, line, warnings):
+    """The first of `candidates` whose derived names (derived(candidate)) are all free; a warning
+    says when it is not the first. The names are C++'s, so two DBC names may meet in one."""
+    first = None
+    for candidate in candidates:
+        wanted = derived(candidate)
+        if not re.fullmatch(r"[A-Za-z][A-Za-z0-9_]*", wanted[0]):
+            raise DbcError(line, f"{owner} gives no valid C++ name ('{wanted[0]}')")
+        taken = next((name for name in wanted if name in names), None)
+        if taken is None:
+            if first is not None:
+                warnings.add(line, f"{owner}: its C++ name '{first[0]}' clashes with {first[1]}; "
+                                   f"named '{wanted[0]}' instead")
+            for name in wanted:
+                names[name] = owner
+            return candidate
+        if first is None:
+            first = (taken, names[taken])
+    raise DbcError(line, f"{owner}: its C++ name '{first[0]}' clashes with {first[1]}")
+
+
+def _numbered(base, first_suffixes=()):
+    yield base
+    yield from (base + suffix for suffix in first_suffixes)
+    yield from (f"{base}_{n}" for n in range(2, 100))
+
+
+def check_cxx_names(messages, warnings=None):
+    """Names the C++ code gives each message (cxx_name), signal (cxx_base, cxx_enum) and value.
+    Different DBC names can meet in C++ (TC_Speed and TcSpeed, Speed and speed_decode, a signal
+    GEAR with values in a message GEAR): the later one is renamed, with a warning."""
+    warnings = warnings if warnings is not None else Warnings()
     global_names = {name: "a name the header defines" for name in NAMESPACE_NAMES}
     for message in messages:
-        struct = camel_case(message.name)
-        _claim(global_names, struct, f"message {message.name}", message.line)
+        message.cxx_name = _claim_free(global_names, _numbered(camel_case(message.name)), lambda name: [name],
+                                       f"message {message.name}", message.line, warnings)
         members = {name: "a name the header defines" for name in STRUCT_CONSTANTS}
-        members[struct] = "the struct's own name"
+        members[message.cxx_name] = "the struct's own name"
         for signal in message.signals:
             owner = f"signal {signal.name}"
-            base = snake_case(signal.name)
-            for name in (member_name(signal), base + "_decode", base + "_encode", base + "_is_in_range"):
-                _claim(members, name, owner, signal.line)
+
+            def derived(base, signal=signal):
+                member = base + "_" if base in CXX_KEYWORDS or base in PACK_LOCALS else base
+                names = [member, base + "_decode", base + "_encode", base + "_is_in_range"]
+                return names + [base + "_is_present"] if signal.multiplexed else names
+
+            signal.cxx_base = _claim_free(members, _numbered(snake_case(signal.name)), derived, owner, signal.line,
+                                          warnings)
             if signal.values is not None:
-                _claim(members, camel_case(signal.name), owner, signal.line)
+                signal.cxx_enum = _claim_free(members, _numbered(camel_case(signal.name), ("Values",)),
+                                              lambda name: [name], f"the values (VAL_) of {signal.name}",
+                                              signal.line, warnings)
                 enumerators = {}
                 for name in enumerator_names(signal.values):
                     _claim(enumerators, name, f"VAL_ of {signal.name}", signal.line)
@@ -1063,7 +1370,7 @@ def in_range_conditions(signal):
 
 def signal_function_lines(signal):
     stype, _ = cxx_type(signal)
-    base = snake_case(signal.name)
+    base = base_name(signal)
     unit = f" {ascii_text(signal.unit)}" if signal.unit else ""
     sign = "-" if signal.offset.value < 0 else "+"
     conditions = in_range_conditions(signal)
@@ -1073,7 +1380,7 @@ def signal_function_lines(signal):
         parameter, body = "/*raw*/", "true"
     return [
         f"  // {signal.name}: raw * {signal.factor.text} {sign} {signal.offset.text.lstrip('+-')}{unit}, "
-        f"in range [{signal.minimum.text}|{signal.maximum.text}]",
+        f"in range [{signal.minimum.text}|{signal.maximum.text}]{' (ignored: it cannot be right)' if signal.range_ignored else ''}",
         f"  static constexpr double {base}_decode({stype} raw) noexcept {{",
         f"    return {decode_expression(signal)};",
         "  }",
@@ -1099,7 +1406,7 @@ def enum_lines(signal):
     stype, _ = cxx_type(signal)
     names = enumerator_names(signal.values)
     items = [f"{name} = {int_literal(raw, True)}" for name, (raw, _) in zip(names, signal.values)]
-    head = f"  enum class {camel_case(signal.name)} : {stype} {{"
+    head = f"  enum class {signal.cxx_enum} : {stype} {{"
     one_line = f"{head} {', '.join(items)} }};"
     if len(one_line) <= 100:
         return [one_line]
@@ -1112,14 +1419,55 @@ def signal_info(signal):
             f"{signal.start}, {signal.length}, {str(signal.signed).lower()}, {str(signal.big_endian).lower()}}}")
 
 
+def present_condition(signal, multiplexor):
+    """The C++ condition under which the frame carries a multiplexed signal, comparing the
+    multiplexor's raw member only where its type does not make the comparison constant."""
+    _, width = cxx_type(multiplexor)
+    type_low, type_high = ((-(1 << (width - 1)), (1 << (width - 1)) - 1) if multiplexor.signed
+                           else (0, (1 << width) - 1))
+    raw_low, raw_high = raw_limits(multiplexor)
+    mux, signed = member_name(multiplexor), multiplexor.signed
+    alternatives = []
+    for low, high in signal.mux_ranges:
+        low, high = max(low, raw_low), min(high, raw_high)
+        if low > high:
+            continue
+        if low == high:
+            alternatives.append(f"{mux} == {int_literal(low, signed)}")
+            continue
+        ends = []
+        if low > type_low:
+            ends.append(f"{mux} >= {int_literal(low, signed)}")
+        if high < type_high:
+            ends.append(f"{mux} <= {int_literal(high, signed)}")
+        if not ends:
+            return "true"
+        alternatives.append(" && ".join(ends))
+    if not alternatives:
+        return "false"
+    if len(alternatives) == 1:
+        return alternatives[0]
+    return " || ".join(f"({alternative})" if "&&" in alternative else alternative
+                       for alternative in alternatives)
+
+
+def indented(lines, extra="  "):
+    return [extra + line if line else line for line in lines]
+
+
 def message_lines(message):
-    struct = camel_case(message.name)
+    struct = message.cxx_name
     cycle = f"every {message.cycle_time} ms" if message.cycle_time else "no cycle time"
     kind = " (extended)" if message.extended else ""
     lines = comment_lines(f"{message.name}: id 0x{message.can_id:X}{kind}, {message.dlc} bytes, {cycle}, "
                           f"sent by {message.sender}.", "")
     if message.comment:
         lines += comment_lines(message.comment, "")
+    multiplexor = message.multiplexor
+    if multiplexor is not None:
+        lines += comment_lines(f"Multiplexed: {multiplexor.name} says which of the signals marked m<N> the frame "
+                               f"carries. unpack() reads those it carries and zeroes the others; pack() writes "
+                               f"those the multiplexor's value selects; NAME_is_present() tells which.", "")
     lines += [
         f"struct {struct} {{",
         f"  static constexpr std::uint32_t kId = 0x{message.can_id:X};",
@@ -1132,45 +1480,80 @@ def message_lines(message):
     for signal in message.signals:
         if signal.values is not None:
             lines += [""] + comment_lines(f"Values of {signal.name} (VAL_).", "  ") + enum_lines(signal)
-    lines += ["", "  // Raw signal values, the bits on the wire: physical = raw * factor + offset."]
+    if message.signals:
+        lines += ["", "  // Raw signal values, the bits on the wire: physical = raw * factor + offset."]
     for signal in message.signals:
         if signal.comment:
             lines += comment_lines(signal.comment, "  ")
-        lines.append(f"  {cxx_type(signal)[0]} {member_name(signal)} = 0;  // {sg_notation(signal)}")
-    lines += [
-        "",
-        "  // Writes kLength bytes (unused bits 0). false (nothing written) if size < kLength.",
-        "  constexpr bool pack(std::uint8_t* dst, std::size_t size) const noexcept {",
-        "    if (size < kLength) {",
-        "      return false;",
-        "    }",
-        "    for (std::size_t i = 0; i < kLength; ++i) {",
-        "      dst[i] = 0;",
-        "    }",
-    ]
-    for signal in message.signals:
-        lines += pack_lines(signal)
-    lines += [
-        "    return true;",
-        "  }",
-        "",
-        "  // false (nothing changed) if size < kLength. Signed signals are sign-extended.",
-        "  constexpr bool unpack(const std::uint8_t* src, std::size_t size) noexcept {",
-        "    if (size < kLength) {",
-        "      return false;",
-        "    }",
-    ]
-    for signal in message.signals:
-        lines += unpack_lines(signal)
-    lines += ["    return true;", "  }", ""]
-    lines += ["  // encode: round((value - offset) / factor), saturated to what the signal's bits hold; NaN -> 0.",
-              "  // is_in_range: the DBC's [min|max] on the physical value ([0|0]: any raw value)."]
+        note = ""
+        if signal.multiplexor:
+            note = ", the multiplexor"
+        elif signal.multiplexed:
+            note = f", in the frame when {multiplexor.name} is {format_ranges(signal.mux_ranges)}"
+        lines.append(f"  {cxx_type(signal)[0]} {member_name(signal)} = 0;  // {sg_notation(signal)}{note}")
+    plain = [signal for signal in message.signals if not signal.multiplexed]
+    muxed = [signal for signal in message.signals if signal.multiplexed]
+    if muxed:
+        lines += ["", f"  // Whether the frame carries the signal: {multiplexor.name}'s value selects it."]
+        for signal in muxed:
+            lines += [f"  constexpr bool {base_name(signal)}_is_present() const noexcept {{",
+                      f"    return {present_condition(signal, multiplexor)};",
+                      "  }"]
+    if message.dlc == 0:
+        lines += [
+            "",
+            "  // A frame without data: nothing to write or read.",
+            "  constexpr bool pack(std::uint8_t* /*dst*/, std::size_t /*size*/) const noexcept { return true; }",
+            "  constexpr bool unpack(const std::uint8_t* /*src*/, std::size_t /*size*/) noexcept { return true; }",
+        ]
+    else:
+        lines += [
+            "",
+            "  // Writes kLength bytes (unused bits 0). false (nothing written) if size < kLength.",
+            "  constexpr bool pack(std::uint8_t* dst, std::size_t size) const noexcept {",
+            "    if (size < kLength) {",
+            "      return false;",
+            "    }",
+            "    for (std::size_t i = 0; i < kLength; ++i) {",
+            "      dst[i] = 0;",
+            "    }",
+        ]
+        for signal in plain:
+            lines += pack_lines(signal)
+        for signal in muxed:
+            lines += [f"    if ({base_name(signal)}_is_present()) {{"] + indented(pack_lines(signal)) + ["    }"]
+        lines += [
+            "    return true;",
+            "  }",
+            "",
+            "  // false (nothing changed) if size < kLength. Signed signals are sign-extended.",
+            f"  constexpr bool unpack(const std::uint8_t* {'src' if message.signals else '/*src*/'}, "
+            "std::size_t size) noexcept {",
+            "    if (size < kLength) {",
+            "      return false;",
+            "    }",
+        ]
+        for signal in plain:
+            lines += unpack_lines(signal)
+        for signal in muxed:
+            lines += [f"    if ({base_name(signal)}_is_present()) {{"] + indented(unpack_lines(signal))
+            lines += ["    } else {", f"      {member_name(signal)} = 0;", "    }"]
+        lines += ["    return true;", "  }"]
+    lines += [""]
+    if message.signals:
+        lines += ["  // encode: round((value - offset) / factor), saturated to what the signal's bits hold; NaN -> 0.",
+                  "  // is_in_range: the DBC's [min|max] on the physical value ([0|0]: any raw value)."]
     for signal in message.signals:
         lines += signal_function_lines(signal)
-    lines += ["", "  // name, unit, factor, offset, min, max, start, length, is_signed, big_endian (DBC order)",
-              "  static constexpr SignalInfo kSignals[] = {"]
-    lines += [f"      {signal_info(signal)}," for signal in message.signals]
-    lines += ["  };", f"  static constexpr std::size_t kNumSignals = {len(message.signals)};", "};", ""]
+    if message.signals:
+        lines += ["", "  // name, unit, factor, offset, min, max, start, length, is_signed, big_endian (DBC order)",
+                  "  static constexpr SignalInfo kSignals[] = {"]
+        lines += [f"      {signal_info(signal)}," for signal in message.signals]
+        lines += ["  };"]
+    else:
+        lines += ["  // No signals (C++ has no empty arrays): kSignals points nowhere."]
+        lines += ["  static constexpr const SignalInfo* kSignals = nullptr;"]
+    lines += [f"  static constexpr std::size_t kNumSignals = {len(message.signals)};", "};", ""]
     return lines
 
 
@@ -1220,8 +1603,19 @@ def id_array_lines(name, messages):
     if not messages:
         return [f"// {name}: none (C++ has no empty arrays, so the array is left out)."]
     lines = [f"inline constexpr std::uint32_t {name}[] = {{"]
-    lines += [f"    {camel_case(message.name)}::kId,  // 0x{message.can_id:X}" for message in messages]
+    lines += [f"    {message.cxx_name}::kId,  // 0x{message.can_id:X}" for message in messages]
     return lines + ["};"]
+
+
+def signal_info_lines(messages):
+    """SignalInfo, with a 16-bit start where a CAN FD frame of more than 32 bytes has start bits
+    above 255 (the classic layout otherwise, as every header had it before CAN FD)."""
+    if all(message.dlc <= 32 for message in messages):
+        return ["struct SignalInfo { const char* name; const char* unit; double factor, offset, min, max; "
+                "std::uint8_t start, length; bool is_signed, big_endian; };"]
+    return ["// CAN FD frames up to 64 bytes: start bits up to 511.",
+            "struct SignalInfo { const char* name; const char* unit; double factor, offset, min, max; "
+            "std::uint16_t start; std::uint8_t length; bool is_signed, big_endian; };"]
 
 
 def render(dbc, messages, node, namespace, dbc_name):
@@ -1236,8 +1630,7 @@ def render(dbc, messages, node, namespace, dbc_name):
         f"namespace {namespace} {{",
         "",
         "// One signal's DBC definition, for code that walks a message's signals (logs, range tables).",
-        "struct SignalInfo { const char* name; const char* unit; double factor, offset, min, max; "
-        "std::uint8_t start, length; bool is_signed, big_endian; };",
+        *signal_info_lines(messages),
         "",
         DETAIL,
     ]
@@ -1245,6 +1638,8 @@ def render(dbc, messages, node, namespace, dbc_name):
         lines += message_lines(message)
     received = [m for m in messages if any(node in signal.receivers for signal in m.signals)]
     sent = [m for m in messages if m.sender == node or node in m.transmitters]
+    if node == NO_NODE:  # a header for the whole bus (a logger's): no node of its own
+        received, sent = [], []
     if node in dbc.node_comments:
         lines += comment_lines(f"{node}: {dbc.node_comments[node]}", "")
     lines += comment_lines(f"The frames {node} receives (one of their signals names it as a receiver) and "
@@ -1258,13 +1653,15 @@ def render(dbc, messages, node, namespace, dbc_name):
 # ---------------------------------------------------------------------------------------------
 # Command line
 
-def generate(text, node, namespace, dbc_name):
-    dbc = Parser(tokenize(text)).parse()
-    Checker(dbc).run()
-    if node not in dict(dbc.nodes):
+def generate(text, node, namespace, dbc_name, warnings=None):
+    """The header's text; what the generator read past goes to `warnings` (a Warnings)."""
+    warnings = warnings if warnings is not None else Warnings()
+    dbc = Parser(tokenize(text), warnings).parse()
+    Checker(dbc, warnings, node).run()
+    if dbc.nodes_line is not None and node != NO_NODE and node not in dict(dbc.nodes):
         raise DbcError(dbc.nodes_line or 1, f"node {node} (--node) is not in BU_")
-    messages = [message for message in dbc.messages if message.is_frame]
-    check_cxx_names(messages)
+    messages = [message for message in dbc.messages if message.generated]
+    check_cxx_names(messages, warnings)
     header = render(dbc, messages, node, namespace, dbc_name)
     header.encode("ascii")  # a generator bug if not: every DBC text went through an escape
     return header
@@ -1296,21 +1693,32 @@ def write_atomically(path, text):
 def main(argv=None):
     parser = argparse.ArgumentParser(description="Generate C++ CAN codecs from a DBC file.")
     parser.add_argument("--dbc", required=True, help="the DBC file")
-    parser.add_argument("--node", required=True, help="the node whose received and sent ids to list")
+    parser.add_argument("--node", required=True,
+                        help=f"the node whose received and sent ids to list ({NO_NODE}: none, a header for "
+                             "the whole bus)")
     parser.add_argument("--namespace", default="lptn::can", help="C++ namespace of the generated code")
     parser.add_argument("--out", required=True, help="the header to write")
+    parser.add_argument("--werror", action="store_true",
+                        help="a warning stops the build as an error does (for DBC files we write ourselves)")
     args = parser.parse_args(argv)
     if not re.fullmatch(r"[A-Za-z_]\w*(::[A-Za-z_]\w*)*", args.namespace, re.ASCII):
         parser.error(f"--namespace {args.namespace!r} is not a C++ namespace name")
+    warnings = Warnings()
     try:
-        header = generate(read_text(args.dbc), args.node, args.namespace, os.path.basename(args.dbc))
+        header = generate(read_text(args.dbc), args.node, args.namespace, os.path.basename(args.dbc), warnings)
     except OSError as error:
         print(f"{args.dbc}:0: cannot read the file ({error.strerror})", file=sys.stderr)
         return 1
     except DbcError as error:
         print(f"{args.dbc}:{error.line}: {error.reason}", file=sys.stderr)
         return 1
+    if args.werror and warnings.items:
+        line, reason = warnings.sorted()[0]
+        print(f"{args.dbc}:{line}: {reason} [--werror]", file=sys.stderr)
+        return 1
     write_atomically(args.out, header)
+    for line, reason in warnings.sorted():
+        print(f"{args.dbc}:{line}: warning: {reason}", file=sys.stderr)
     return 0
 
 
