@@ -18,6 +18,8 @@ HOST=(
   libcli11-dev libtomlplusplus-dev nlohmann-json3-dev   # command line, motor files, JSON
   libjs-dygraphs                                        # lptn report's charts, embedded at build time
   time                                                  # GNU time: tools/bench-scale.sh's peak memory
+  zlib1g-dev                                            # Vector BLF logs' compressed containers
+  python3-can                                           # tests: ASC and BLF logs written and read by another implementation
 )
 CROSS=(
   g++-aarch64-linux-gnu qemu-user-static                # aarch64 Linux; tests run under qemu-aarch64-static

@@ -51,6 +51,11 @@ const char* parse_candump_line(std::string_view line, CandumpRecord& out) {
   out.interface = rest.substr(0, space);
   std::string_view frame = rest.substr(space + 1);
   while (!frame.empty() && frame.back() == ' ') frame.remove_suffix(1);
+  // can-utils' and python-can's newer logs end with the direction: " R" received, " T" sent.
+  if (frame.size() > 2 && frame[frame.size() - 2] == ' ' && (frame.back() == 'R' || frame.back() == 'T')) {
+    frame.remove_suffix(2);
+    while (!frame.empty() && frame.back() == ' ') frame.remove_suffix(1);
+  }
 
   // id#data
   const std::size_t hash = frame.find('#');

@@ -2,7 +2,9 @@
 //     (1700000000.123456) can0 101#0A1B2C3D00000005
 //   id: 3 hex digits standard, 8 extended; with bit 29 (0x20000000) set, an error frame
 //   data: hex bytes; `R` (optionally a length digit) for a remote frame;
-//   CAN FD: `##` then one flags nibble, then the data.
+//   CAN FD: `##` then one flags nibble, then the data;
+//   optionally a direction after the frame, ` R` (received) or ` T` (sent), as newer can-utils and
+//   python-can write it.
 // Parsing takes a string_view and allocates nothing, so the daemon can read logs on the target.
 #pragma once
 

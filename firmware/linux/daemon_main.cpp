@@ -141,7 +141,7 @@ int run_replay(const Options& o) {
   sinks.row = [&](const lptn::fw::EstimatorOutput<double>& out, TimeUs log_start_us) {
     lptn::fw::write_estimate_row(csv.get(), out, log_start_us);
   };
-  sinks.bad_line = [&](std::size_t line, const char* why) {
+  sinks.bad_record = [&](std::size_t line, const char* why) {
     std::fprintf(stderr, "%s:%zu: %s (line skipped)\n", o.replay.c_str(), line, why);
   };
   const lptn::fw::ReplayStats s = lptn::fw::replay_candump(log, estimator, sinks);
@@ -151,7 +151,7 @@ int run_replay(const Options& o) {
     return 1;
   }
   std::fprintf(stderr, "lptn-daemon: replayed %zu frames, %zu ticks, %zu estimates, %zu bad lines\n", s.frames, s.ticks,
-               s.rows, s.bad_lines);
+               s.rows, s.bad_records);
   return 0;
 }
 

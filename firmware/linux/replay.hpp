@@ -1,4 +1,4 @@
-// Replay of a candump log through the estimator, as fast as the CPU allows: the frames' time
+// Replay of a CAN log through the estimator, as fast as the CPU allows: the frames' time
 // stamps drive the ticks. Frames at or before a tick's time reach the estimator before that tick;
 // ticks run every dt from the first frame's time. Shared by `lptn replay` (calibration from JSON)
 // and `lptn-daemon --replay` (calibration compiled in), so the two differ in nothing else.
@@ -10,14 +10,15 @@
 #include <string>
 
 #include "candump_log.hpp"
+#include "frame_source.hpp"
 #include "lptn/firmware/estimator.hpp"
 
 namespace lptn::fw {
 
 struct ReplayStats {
-  std::size_t lines = 0;
+  std::size_t records = 0;     // lines of a text log, objects of a BLF, as far as read
   std::size_t frames = 0;      // well-formed frames handed to the estimator
-  std::size_t bad_lines = 0;   // malformed, reported and skipped
+  std::size_t bad_records = 0; // malformed, reported and skipped
   std::size_t ticks = 0;
   std::size_t rows = 0;        // ticks with an initialized estimate
   std::size_t re_anchored = 0; // forward jumps too long to tick through
@@ -27,8 +28,8 @@ struct ReplayStats {
 struct ReplaySinks {
   // Every tick once the estimator is initialized, with the log's first time stamp.
   std::function<void(const EstimatorOutput<double>&, TimeUs log_start_us)> row;
-  // A malformed line (1-based number) and why; replay goes on with the next line.
-  std::function<void(std::size_t line, const char* reason)> bad_line;
+  // A malformed record (1-based number) and why; replay goes on with the next one.
+  std::function<void(std::size_t record, const char* reason)> bad_record;
   // Called every `progress_every` frames (for a progress line); may be empty.
   std::function<void(const ReplayStats&)> progress;
   std::size_t progress_every = 1000000;
@@ -38,6 +39,11 @@ struct ReplaySinks {
 // the next frame (the estimator reports the jump in its status).
 inline constexpr TimeUs kMaxTickedGapUs = 3600 * kUsPerS;
 
-ReplayStats replay_candump(std::FILE* log, Estimator<double>& estimator, const ReplaySinks& sinks);
+ReplayStats replay_frames(FrameSource& log, Estimator<double>& estimator, const ReplaySinks& sinks);
+
+inline ReplayStats replay_candump(std::FILE* log, Estimator<double>& estimator, const ReplaySinks& sinks) {
+  CandumpSource source(log);
+  return replay_frames(source, estimator, sinks);
+}
 
 }  // namespace lptn::fw

@@ -49,6 +49,18 @@ TEST(CandumpLog, ReadsExtendedRemoteErrorAndFdFrames) {
   EXPECT_EQ(parse_ok("(0000000001.000000) can0 123#\r").frame.len, 0) << "CRLF and an empty frame";
 }
 
+// Newer can-utils and python-can end a line with the frame's direction.
+TEST(CandumpLog, ReadsTheDirectionNewerLogsEndWith) {
+  const CandumpRecord rx = parse_ok("(1700000000.123456) vcan0 101#0102 R");
+  EXPECT_EQ(rx.frame.len, 2);
+  EXPECT_EQ(rx.frame.data[1], 2);
+  EXPECT_EQ(parse_ok("(1700000000.123456) vcan0 123##00011 T").frame.len, 2);
+  EXPECT_TRUE(parse_ok("(1700000000.123456) vcan0 101#R R").frame.remote);
+  CandumpRecord r;
+  EXPECT_NE(parse_candump_line("(1700000000.123456) vcan0 101#0102 X", r), nullptr);
+  EXPECT_NE(parse_candump_line("(1700000000.123456) vcan0 101#0102 RR", r), nullptr);
+}
+
 TEST(CandumpLog, NamesWhatIsWrongWithABadLine) {
   const char* bad[] = {
       "",

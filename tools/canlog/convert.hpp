@@ -1,5 +1,5 @@
-// Fleet-dump CSV <-> candump log (`candump -L`, what canplayer plays), through the DBC's generated
-// codecs: the data a calibration was fitted on, played onto a bus as the converter would send it,
+// Fleet-dump CSV <-> CAN log (candump -L, what canplayer plays; Vector ASC or BLF), through the
+// DBC's generated codecs: the data a calibration was fitted on, played onto a bus as the converter would send it,
 // and a recorded bus turned into data the trainer loads.
 #pragma once
 
@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "lptn/firmware/input.hpp"
+#include "tools/canfile/can_log.hpp"
 
 namespace lptn::canlog {
 
@@ -20,14 +21,15 @@ class ConvertError : public std::runtime_error {
 };
 
 struct Converted {
-  std::string text;  // the whole output file
+  std::string text;  // the whole output file (BLF: its bytes)
   std::size_t frames = 0;  // written (CSV -> log) or taken (log -> CSV)
   double duration_s = 0;  // first to last frame
   std::vector<std::string> warnings;  // one line each, naming the file (and line where there is one)
 };
 
 struct LogOptions {
-  std::string interface = "can0";
+  canfile::LogFormat format = canfile::LogFormat::candump;
+  std::string interface = "can0";  // candump's; ASC and BLF write channel 1
   fw::TimeUs start_us = 0;  // time stamp of the first grid point the loader kept
 };
 
@@ -37,14 +39,14 @@ struct LogOptions {
 // columns have one; each message's alive counter counts the frames of it actually sent.
 // Throws data::DataError for a CSV the loader refuses, ConvertError for a value outside its DBC
 // signal's range.
-Converted candump_from_csv(const std::filesystem::path& csv, const LogOptions& options);
+Converted log_from_csv(const std::filesystem::path& csv, const LogOptions& options);
 
 // log -> CSV. One row per frame time (frames with the same time stamp share a row), time_s counted
 // from the first frame taken, a cell per column the frame carries. Malformed lines and frames whose
 // time stamp goes backwards are warned about and dropped; frames that carry no column (unknown ids,
 // the estimator's outputs, error, remote, CAN FD, wrong length) are counted in one summary warning.
-// Columns whose message never appeared are left out. Throws ConvertError if no frame could be
-// taken or a required column's message never appeared.
-Converted csv_from_candump(const std::filesystem::path& log);
+// Columns whose message never appeared are left out. Throws ConvertError if the log cannot be
+// opened, no frame could be taken or a required column's message never appeared.
+Converted csv_from_log(const std::filesystem::path& log, canfile::LogFormat format);
 
 }  // namespace lptn::canlog

@@ -1,15 +1,17 @@
-// lptn convert: a fleet-dump CSV as a candump log (what canplayer plays onto a bus), and a
-// candump log back into the fleet-dump CSV contract.
+// lptn convert: a fleet-dump CSV as a CAN log (candump -L, what canplayer plays onto a bus; Vector
+// ASC or BLF, what CANoe and CANalyzer replay), and such a log back into the fleet-dump CSV contract.
 #include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <string>
 #include <type_traits>
 #include <vector>
 
+#include "tools/canfile/can_log.hpp"
 #include "tools/canlog/bus_channels.hpp"
 #include "tools/canlog/convert.hpp"
 #include "tools/cli/commands.hpp"
@@ -21,7 +23,7 @@ namespace {
 namespace fs = std::filesystem;
 
 struct Args {
-  std::string in, out, interface = "can0";
+  std::string in, out, interface = "can0", format;
   double start_time_s = 0;
   bool force = false;
 };
@@ -43,10 +45,15 @@ std::string messages_help() {
 }
 
 std::string footer() {
-  return "Direction: an input *.log is a candump log and becomes a CSV, an input *.csv becomes a log;\n"
-         "a file named otherwise is a candump log if its first line starts with '('. A directory\n"
-         "converts every *.csv in it into OUT/NAME.log, or every *.log into OUT/NAME.csv (not both kinds\n"
-         "at once).\n"
+  return "Direction: an input *.csv becomes a log; a log (*.log candump -L, *.asc Vector ASC, *.blf\n"
+         "Vector BLF) becomes a CSV; a file named otherwise is a log with --format or if its content is one\n"
+         "(BLF's \"LOGG\", a candump line, an ASC header among its first lines), else a CSV. A directory converts every\n"
+         "*.csv in it into OUT/NAME.log (.asc, .blf with --format), or every log into OUT/NAME.csv (not\n"
+         "both kinds at once).\n"
+         "\n"
+         "Formats: --format, else the extension of --out (CSV -> log) or the log's content (log -> CSV).\n"
+         "candump lines carry --interface; ASC and BLF carry channel 1, every frame received (Rx), time\n"
+         "stamps counted from the first frame, whose time starts the file (ASC's date, BLF's header).\n"
          "\n"
          "CSV -> log: the CSV is loaded as every lptn command loads it (0.1 s grid, the loader's gap\n"
          "rules). Each input message of can-dbc/lptn.dbc goes out every cycle time, shortly after its\n"
@@ -59,8 +66,9 @@ std::string footer() {
          "written).\n"
          "\n"
          "log -> CSV: one row per frame time, time_s counted from the first input frame, each frame\n"
-         "filling the columns it carries. Malformed lines and frames going back in time are reported\n"
-         "(FILE:LINE) and dropped; unknown ids, LPTN_* outputs, error, remote, CAN FD and wrong-length\n"
+         "filling the columns it carries, from every channel of an ASC or BLF. Malformed lines (BLF:\n"
+         "objects) and frames going back in time are reported (FILE:LINE, the first ten, then a count)\n"
+         "and dropped; unknown ids, LPTN_* outputs, error, remote, CAN FD and wrong-length\n"
          "frames are skipped and counted. Columns whose message never appears are left out; the ones the\n"
          "contract requires must appear.\n";
 }
@@ -71,27 +79,38 @@ std::string lower_extension(const fs::path& p) {
   return ext;
 }
 
-// By the name where it says (a damaged log may start with garbage), else by the content: a candump
-// -L line starts with its "(seconds.microseconds)" stamp, a CSV never does.
-bool is_candump_log(const fs::path& file) {
-  const std::string ext = lower_extension(file);
-  if (ext == ".log" || ext == ".csv") return ext == ".log";
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw BadInput(file.string() + ": cannot open for reading");
-  char c;
-  while (in.get(c))
-    if (!std::isspace(static_cast<unsigned char>(c))) return c == '(';
-  return false;
+std::optional<canfile::LogFormat> given_format(const Args& args) {
+  if (args.format.empty()) return std::nullopt;
+  return canfile::format_from_name(args.format);
 }
 
-canlog::Converted convert(const fs::path& in, bool from_log, const Args& args) {
+// A log or a CSV: by the name where it says, else by --format, else by the content (a log's, or a CSV).
+bool is_log(const fs::path& file, const Args& args) {
+  const std::string ext = lower_extension(file);
+  if (ext == ".csv") return false;
+  if (canfile::format_from_extension(file) || given_format(args)) return true;
   try {
-    if (from_log) return canlog::csv_from_candump(in);
+    canfile::detect_format(file);
+    return true;
+  } catch (const canfile::LogError&) {
+    return false;
+  }
+}
+
+canlog::Converted convert(const fs::path& in, const fs::path& out, bool from_log, const Args& args) {
+  try {
+    if (from_log) {
+      const auto given = given_format(args);
+      return canlog::csv_from_log(in, given ? *given : canfile::detect_format(in));
+    }
     canlog::LogOptions options;
+    options.format = given_format(args).value_or(canfile::format_from_extension(out).value_or(canfile::LogFormat::candump));
     options.interface = args.interface;
     options.start_us = std::llround(args.start_time_s * 1e6);
-    return canlog::candump_from_csv(in, options);
+    return canlog::log_from_csv(in, options);
   } catch (const canlog::ConvertError& e) {
+    throw BadInput(e.what());
+  } catch (const canfile::LogError& e) {
     throw BadInput(e.what());
   }
 }
@@ -106,26 +125,33 @@ void reject_log_options(const CLI::App& cmd, const fs::path& in) {
     throw BadInput("--interface and --start-time apply to CSV -> log only; " + in.string() + " converts log -> CSV");
 }
 
+// Only candump lines name an interface.
+void reject_interface(const CLI::App& cmd, canfile::LogFormat format) {
+  if (cmd.count("--interface") && format != canfile::LogFormat::candump)
+    throw BadInput(std::string("--interface applies to candump logs; ") + canfile::format_name(format) +
+                   " logs carry channel 1");
+}
+
 void convert_file(const CLI::App& cmd, const Args& args) {
   const fs::path in(args.in), out(args.out);
   if (fs::exists(out) && fs::equivalent(in, out)) throw BadInput(args.out + ": is the input");
   if (fs::is_directory(out)) throw BadInput(args.out + ": is a directory (one input file makes one output file)");
   refuse_overwrite(args.out, args.force);
-  const bool from_log = is_candump_log(in);
+  const bool from_log = is_log(in, args);
   if (from_log) reject_log_options(cmd, in);
-  const canlog::Converted c = convert(in, from_log, args);
+  else reject_interface(cmd, given_format(args).value_or(canfile::format_from_extension(out).value_or(canfile::LogFormat::candump)));
+  const canlog::Converted c = convert(in, out, from_log, args);
   print_warnings(c);
   write_file_atomically(out, c.text);
   std::printf("wrote %s (%zu frames, %.2f h)\n", args.out.c_str(), c.frames, c.duration_s / 3600);
 }
 
-// The *.csv and the *.log files directly in `dir`, each sorted by name.
+// The *.csv and the log files (*.log, *.asc, *.blf) directly in `dir`, each sorted by name.
 void list_inputs(const fs::path& dir, std::vector<fs::path>& csvs, std::vector<fs::path>& logs) {
   for (const fs::directory_entry& e : fs::directory_iterator(dir)) {
     if (!e.is_regular_file()) continue;
-    const std::string ext = lower_extension(e.path());
-    if (ext == ".csv") csvs.push_back(e.path());
-    if (ext == ".log") logs.push_back(e.path());
+    if (lower_extension(e.path()) == ".csv") csvs.push_back(e.path());
+    if (canfile::format_from_extension(e.path())) logs.push_back(e.path());
   }
   std::sort(csvs.begin(), csvs.end());
   std::sort(logs.begin(), logs.end());
@@ -136,21 +162,23 @@ void convert_directory(const CLI::App& cmd, const Args& args) {
   std::vector<fs::path> csvs, logs;
   list_inputs(in, csvs, logs);
   if (!csvs.empty() && !logs.empty())
-    throw BadInput(args.in + ": holds both *.csv and *.log files; convert one kind at a time");
-  if (csvs.empty() && logs.empty()) throw BadInput(args.in + ": no *.csv or *.log files in this directory");
+    throw BadInput(args.in + ": holds both *.csv and log files; convert one kind at a time");
+  if (csvs.empty() && logs.empty()) throw BadInput(args.in + ": no *.csv, *.log, *.asc or *.blf files in this directory");
   if (fs::exists(args.out) && fs::equivalent(in, args.out)) throw BadInput(args.out + ": is the input directory");
   const bool from_log = !logs.empty();
+  const canfile::LogFormat log_format = given_format(args).value_or(canfile::LogFormat::candump);
   if (from_log) reject_log_options(cmd, in);
+  else reject_interface(cmd, log_format);
   const std::vector<fs::path>& files = from_log ? logs : csvs;
-  const char* out_ext = from_log ? ".csv" : ".log";
+  const std::string out_ext = from_log ? ".csv" : "." + std::string(log_format == canfile::LogFormat::candump ? "log" : canfile::format_name(log_format));
 
   AtomicDirectory out(args.out, args.force);
   std::size_t frames = 0;
   double hours = 0;
   for (std::size_t i = 0; i < files.size(); ++i) {
-    const canlog::Converted c = convert(files[i], from_log, args);
-    print_warnings(c);
     const std::string name = files[i].stem().string() + out_ext;
+    const canlog::Converted c = convert(files[i], name, from_log, args);
+    print_warnings(c);
     write_file_atomically(out.path() / name, c.text);
     frames += c.frames;
     hours += c.duration_s / 3600;
@@ -173,14 +201,16 @@ std::string check_interface(const std::string& name) {
 }  // namespace
 
 void add_convert(CLI::App& app) {
-  auto* cmd = app.add_subcommand("convert", "Convert a fleet-dump CSV into a candump log (through the DBC's encoders), "
-                                            "or a candump log into a fleet-dump CSV");
+  auto* cmd = app.add_subcommand("convert", "Convert a fleet-dump CSV into a CAN log (candump, Vector ASC or BLF; "
+                                            "through the DBC's encoders), or such a log into a fleet-dump CSV");
   auto args = std::make_shared<Args>();
-  cmd->add_option("--in", args->in, "A cycle CSV, a candump log (candump -L), or a directory of either")
+  cmd->add_option("--in", args->in, "A cycle CSV, a CAN log (candump -L, Vector ASC or BLF), or a directory of either")
       ->required()
       ->check(CLI::ExistingPath);
   cmd->add_option("--out", args->out, "The log or CSV to write; a directory if --in is one")->required();
-  cmd->add_option("--interface", args->interface, "CSV -> log: interface name on every line")
+  cmd->add_option("--format", args->format, "The log's format: candump, asc or blf (default: by extension or content)")
+      ->check(CLI::IsMember({"candump", "asc", "blf"}));
+  cmd->add_option("--interface", args->interface, "CSV -> candump log: interface name on every line")
       ->capture_default_str()
       ->check(CLI::Validator(check_interface, "NAME"));
   cmd->add_option("--start-time", args->start_time_s, "CSV -> log: time stamp of the first frame, s (e.g. epoch seconds)")

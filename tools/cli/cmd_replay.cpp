@@ -1,7 +1,8 @@
-// lptn replay: a candump log through the firmware's estimator, in-process and as fast as the CPU
+// lptn replay: a CAN log (candump, Vector ASC or BLF) through the firmware's estimator, in-process and as fast as the CPU
 // allows, the frames' time stamps driving the ticks; the estimates and status as CSV.
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <filesystem>
 #include <string>
@@ -15,20 +16,27 @@
 namespace lptn::cli {
 
 void add_replay(CLI::App& app) {
-  auto* cmd = app.add_subcommand("replay", "Replay a candump log through the firmware's estimator, as fast as possible");
+  auto* cmd = app.add_subcommand("replay", "Replay a CAN log (candump, Vector ASC or BLF) through the firmware's estimator, "
+                                           "as fast as possible");
   cmd->footer(
       "The same estimator as the daemon (firmware/), configured from calibration.json instead of a compiled-in "
       "header. Ticks every 0.1 s from the log's first frame; frames at or before a tick reach it first. One CSV "
       "row per tick once the estimator has started: time_s and the inputs as the model ran on them (fleet-dump "
       "columns, so the CSV loads as a cycle), the four node estimates (est_*_c) and their standard deviations "
       "(std_*_k), the limiting node's margin, mode, stator sensor state, innovation and test ratio, input masks. "
-      "Malformed log lines are reported with their line number and skipped.");
+      "The log's format is --format, else its content's (BLF's \"LOGG\", a candump line, an ASC header), else its "
+      "extension's (.log candump, .asc, .blf); a file in none is one error line. ASC and BLF: the frames of "
+      "every channel. Malformed lines (BLF: objects) are reported with their number and skipped, the first ten "
+      "of them one by one, then as a count.");
   struct Args {
-    std::string log, calibration, out;
+    std::string log, calibration, out, format;
     bool open_loop = false, use_actor = false, force = false, quiet = false;
   };
   auto args = std::make_shared<Args>();
-  cmd->add_option("--log", args->log, "candump -L log (e.g. from lptn convert or a drive's recorder)")->required();
+  cmd->add_option("--log", args->log, "CAN log: candump -L, Vector ASC or BLF (e.g. from lptn convert or a drive's recorder)")
+      ->required();
+  cmd->add_option("--format", args->format, "The log's format: candump, asc or blf (default: detected)")
+      ->check(CLI::IsMember({"candump", "asc", "blf"}));
   cmd->add_option("--calibration", args->calibration, "calibration.json (from lptn calibrate)")->required();
   cmd->add_option("--out", args->out, "CSV of estimates and status to write")->required();
   cmd->add_flag("--open-loop", args->open_loop, "Do not fuse the stator winding sensor (the model alone)");
@@ -45,14 +53,16 @@ void add_replay(CLI::App& app) {
     cal->config.use_actor = args->use_actor;
     ReplaySummary r;
     try {
-      r = replay_to_csv(args->log, cal->config, args->out, args->quiet);
+      r = replay_to_csv(args->log, cal->config, args->out, args->quiet,
+                        args->format.empty() ? std::nullopt : canfile::format_from_name(args->format));
     } catch (const std::invalid_argument& e) {
       throw BadInput(e.what());
     }
     const fw::ReplayStats& s = r.stats;
-    std::printf("replayed %s: %zu frames, %s of log, %zu estimates%s -> %s\n", args->log.c_str(), s.frames,
+    std::printf("replayed %s (%s): %zu frames, %s of log, %zu estimates%s -> %s\n", args->log.c_str(),
+                canfile::format_name(r.format), s.frames,
                 ProgressLine::clock(static_cast<double>(s.last_us - s.first_us) / 1e6).c_str(), s.rows,
-                s.bad_lines ? (", " + std::to_string(s.bad_lines) + " bad lines skipped").c_str() : "",
+                s.bad_records ? (", " + std::to_string(s.bad_records) + " bad records skipped").c_str() : "",
                 args->out.c_str());
     std::printf("  %.2f s, %.0f frames/s\n", r.seconds, static_cast<double>(s.frames) / r.seconds);
     if (r.stator_samples)

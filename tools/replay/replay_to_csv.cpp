@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <memory>
 #include <stdexcept>
+#include <string_view>
 
 #include "hostio/atomic_file.hpp"
 #include "firmware/linux/estimate_csv.hpp"
@@ -12,17 +13,29 @@
 
 namespace lptn {
 
+namespace {
+
+// A garbage file should not bury the terminal; the count at the end says how many more there were.
+constexpr std::size_t kMaxBadRecordMessages = 10;
+
+}  // namespace
+
 ReplaySummary replay_to_csv(const std::string& log_path, const fw::EstimatorConfig<double>& config,
-                              const std::string& csv_path, bool quiet) {
-  std::unique_ptr<std::FILE, int (*)(std::FILE*)> log(std::fopen(log_path.c_str(), "r"), &std::fclose);
-  if (!log) throw std::invalid_argument(log_path + ": cannot be opened");
+                              const std::string& csv_path, bool quiet, std::optional<canfile::LogFormat> format) {
+  ReplaySummary summary;
+  std::unique_ptr<fw::FrameSource> log;
+  try {
+    summary.format = format ? *format : canfile::detect_format(log_path);
+    log = canfile::open_log(log_path, summary.format);
+  } catch (const canfile::LogError& e) {
+    throw std::invalid_argument(e.what());
+  }
   AtomicFile csv;
   if (!csv.open(csv_path)) throw std::invalid_argument(csv_path + ": cannot be written");
   auto estimator = std::make_unique<fw::Estimator<double>>(config);
   fw::write_estimate_header(csv.get());
   ProgressLine progress(quiet);
   fw::ReplaySinks sinks;
-  ReplaySummary summary;
   double sum_stator = 0, sum_rotor = 0;
   sinks.row = [&](const fw::EstimatorOutput<double>& o, fw::TimeUs start) {
     fw::write_estimate_row(csv.get(), o, start);
@@ -35,9 +48,13 @@ ReplaySummary replay_to_csv(const std::string& log_path, const fw::EstimatorConf
       ++summary.rotor_samples;
     }
   };
-  sinks.bad_line = [&](std::size_t line, const char* why) {
+  const bool lines = std::string_view(log->record_name()) == "line";
+  std::size_t bad = 0;
+  sinks.bad_record = [&](std::size_t record, const char* why) {
+    if (++bad > kMaxBadRecordMessages) return;
     progress.finish();
-    std::fprintf(stderr, "%s:%zu: %s (line skipped)\n", log_path.c_str(), line, why);
+    if (lines) std::fprintf(stderr, "%s:%zu: %s (line skipped)\n", log_path.c_str(), record, why);
+    else std::fprintf(stderr, "%s: object %zu: %s (skipped)\n", log_path.c_str(), record, why);
   };
   sinks.progress_every = 200000;
   sinks.progress = [&](const fw::ReplayStats& s) {
@@ -45,12 +62,17 @@ ReplaySummary replay_to_csv(const std::string& log_path, const fw::EstimatorConf
                     ProgressLine::clock(static_cast<double>(s.last_us - s.first_us) / 1e6) + " of log");
   };
   const auto start = std::chrono::steady_clock::now();
-  summary.stats = fw::replay_candump(log.get(), *estimator, sinks);
+  summary.stats = fw::replay_frames(*log, *estimator, sinks);
   summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   progress.finish();
+  if (bad > kMaxBadRecordMessages)
+    std::fprintf(stderr, "%s: %zu more malformed %ss skipped\n", log_path.c_str(), bad - kMaxBadRecordMessages,
+                 log->record_name());
   if (summary.stator_samples) summary.rmse_stator_k = std::sqrt(sum_stator / static_cast<double>(summary.stator_samples));
   if (summary.rotor_samples) summary.rmse_rotor_k = std::sqrt(sum_rotor / static_cast<double>(summary.rotor_samples));
-  if (summary.stats.frames == 0) throw std::invalid_argument(log_path + ": no CAN frame could be read");
+  if (summary.stats.frames == 0)
+    throw std::invalid_argument(log_path + ": no CAN frame could be read (as " + canfile::format_name(summary.format) +
+                                "; --format names another)");
   if (!csv.commit()) throw std::runtime_error(csv_path + ": writing failed");
   return summary;
 }

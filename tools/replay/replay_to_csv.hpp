@@ -1,11 +1,14 @@
-// A candump log through the estimator into a CSV of estimates (written atomically), with a
-// progress line and malformed lines reported: what `lptn replay` and `lptn vcan-bench` run.
+// A CAN log (candump, Vector ASC or BLF) through the estimator into a CSV of estimates (written
+// atomically), with a progress line and malformed records reported (the first ten, then a count):
+// what `lptn replay` and `lptn vcan-bench` run.
 #pragma once
 
+#include <optional>
 #include <string>
 
 #include "lptn/firmware/estimator_config.hpp"
 #include "firmware/linux/replay.hpp"
+#include "tools/canfile/can_log.hpp"
 
 namespace lptn {
 
@@ -16,11 +19,13 @@ struct ReplaySummary {
   double rmse_stator_k = 0, rmse_rotor_k = 0;
   std::size_t stator_samples = 0, rotor_samples = 0;
   double seconds = 0;  // wall time of the replay (reading, estimating, writing)
+  canfile::LogFormat format = canfile::LogFormat::candump;  // what the log was read as
 };
 
-// Throws std::invalid_argument (bad input: a log that cannot be read or holds no frame) or
+// `format`: as given, else detected (canfile::detect_format). Throws std::invalid_argument (bad
+// input: a log that cannot be read, is in no format lptn reads, or holds no frame) or
 // std::runtime_error (the output could not be written); nothing is left at `csv` then.
 ReplaySummary replay_to_csv(const std::string& log, const fw::EstimatorConfig<double>& config, const std::string& csv,
-                              bool quiet);
+                              bool quiet, std::optional<canfile::LogFormat> format = std::nullopt);
 
 }  // namespace lptn

@@ -1,4 +1,4 @@
-// Fleet-dump CSV -> candump log.
+// Fleet-dump CSV -> CAN log (candump, ASC, BLF).
 
 #include <array>
 #include <cmath>
@@ -7,11 +7,12 @@
 #include <fstream>
 #include <iterator>
 #include <limits>
+#include <memory>
 #include <type_traits>
 
-#include "firmware/linux/candump_log.hpp"
 #include "tools/canlog/bus_channels.hpp"
 #include "tools/canlog/convert.hpp"
+#include "tools/canfile/can_log.hpp"
 #include "trainer/data/dataset.hpp"
 #include "trainer/data/source_line.hpp"
 
@@ -36,10 +37,11 @@ template <class Msg>
   throw ConvertError(where + ": column '" + std::string(data::channel_name(s.channel)) + "': " + reason);
 }
 
-// Builds the log frame by frame, in time order, keeping each message's alive counter.
-class LogWriter {
+// Schedules the frames, in time order, keeping each message's alive counter.
+class FrameSchedule {
  public:
-  LogWriter(const fs::path& csv, const LogOptions& options) : csv_(csv), options_(options) {}
+  FrameSchedule(const fs::path& csv, const LogOptions& options)
+      : csv_(csv), options_(options), writer_(canfile::make_log_writer(options.format, options.interface)) {}
 
   // Every message due at grid point g (counted from the first kept one), in phase order; k is the
   // same point in `cycle`.
@@ -49,7 +51,7 @@ class LogWriter {
   }
 
   std::size_t frames() const { return frames_; }
-  std::string take_text() { return std::move(text_); }
+  std::string finish() { return writer_->finish(); }
 
  private:
   template <class M>
@@ -71,23 +73,24 @@ class LogWriter {
   }
 
   void put(TimeUs t, const fw::CanFrame& f) {
-    char line[128];
-    const std::size_t n = fw::format_candump_line(line, sizeof line, t, options_.interface, f);
-    if (n == 0) throw ConvertError("--interface '" + options_.interface + "': too long for a log line");
-    text_.append(line, n).push_back('\n');
+    try {
+      writer_->add(t, f);
+    } catch (const canfile::LogError& e) {
+      throw ConvertError(std::string("--interface: ") + e.what());
+    }
     ++frames_;
   }
 
   const fs::path& csv_;
   const LogOptions& options_;
   std::array<std::uint32_t, std::tuple_size_v<decltype(bus::kInputMessages)>> alive_{};
-  std::string text_;
+  std::unique_ptr<canfile::LogWriter> writer_;
   std::size_t frames_ = 0;
 };
 
 }  // namespace
 
-Converted candump_from_csv(const fs::path& csv, const LogOptions& options) {
+Converted log_from_csv(const fs::path& csv, const LogOptions& options) {
   const data::Dataset dataset = data::load_cycle_file(csv);
   Converted out;
   for (const data::Finding& f : dataset.reports.front().findings)
@@ -98,7 +101,7 @@ Converted candump_from_csv(const fs::path& csv, const LogOptions& options) {
 
   // Segments of a split cycle keep their place on the file's grid, so the log has a silence where
   // the loader cut, as a bus would.
-  LogWriter writer(csv, options);
+  FrameSchedule writer(csv, options);
   const double origin_s = dataset.cycles.front().t0_s;
   for (const data::Cycle& cycle : dataset.cycles) {
     const auto first = static_cast<std::size_t>(std::llround((cycle.t0_s - origin_s) / cycle.dt_s));
@@ -107,7 +110,7 @@ Converted candump_from_csv(const fs::path& csv, const LogOptions& options) {
   const data::Cycle& last = dataset.cycles.back();
   out.duration_s = last.t0_s + last.duration_s() - origin_s;
   out.frames = writer.frames();
-  out.text = writer.take_text();
+  out.text = writer.finish();
   return out;
 }
 

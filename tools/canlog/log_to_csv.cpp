@@ -1,4 +1,4 @@
-// candump log -> fleet-dump CSV.
+// CAN log (candump, ASC, BLF) -> fleet-dump CSV.
 
 #include <array>
 #include <charconv>
@@ -12,10 +12,9 @@
 #include <type_traits>
 #include <vector>
 
-#include "firmware/linux/candump_log.hpp"
-#include "hostio/line_reader.hpp"
 #include "tools/canlog/bus_channels.hpp"
 #include "tools/canlog/convert.hpp"
+#include "tools/canfile/can_log.hpp"
 
 namespace lptn::canlog {
 namespace {
@@ -28,7 +27,7 @@ using Values = std::array<double, kNumChannels>;  // NaN: no cell
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // A garbage file should not bury the terminal; the count says how many more there were.
-constexpr std::size_t kMaxLineWarnings = 20;
+constexpr std::size_t kMaxLineWarnings = 10;
 
 // Frames that are well formed but carry no column.
 enum class Skip { unknown_id, output_frame, error_frame, remote_frame, fd_frame, wrong_length };
@@ -101,25 +100,21 @@ struct Row {
 // Collects rows and what was left out, then writes the CSV with the columns that occurred.
 class CsvBuilder {
  public:
-  explicit CsvBuilder(const fs::path& log) : log_(log) {}
+  CsvBuilder(const fs::path& log, const char* record_name) : log_(log), record_name_(record_name) {}
 
-  void line(std::string_view text, std::size_t number) {
-    if (text.empty()) return;
-    fw::CandumpRecord rec;
-    if (const char* reason = fw::parse_candump_line(text, rec)) return line_warning(number, reason);
-    const Decoded d = decode(rec.frame);
+  void frame(TimeUs t, const fw::CanFrame& f, std::size_t number) {
+    const Decoded d = decode(f);
     if (d.skip) return count_skip(*d.skip, number);
-    if (!rows_.empty() && rec.time_us < last_us_) {
+    if (!rows_.empty() && t < last_us_) {
       char reason[128];
       std::snprintf(reason, sizeof reason, "time stamp %.6f s goes back %.6f s behind the frame before; dropped",
-                    static_cast<double>(rec.time_us) / fw::kUsPerS,
-                    static_cast<double>(last_us_ - rec.time_us) / fw::kUsPerS);
-      return line_warning(number, reason);
+                    static_cast<double>(t) / fw::kUsPerS, static_cast<double>(last_us_ - t) / fw::kUsPerS);
+      return record_warning(number, reason);
     }
-    take(rec.time_us, d.values);
+    take(t, d.values);
   }
 
-  void line_too_long(std::size_t number) { line_warning(number, "line longer than 512 bytes, not a candump line"); }
+  void bad(std::size_t number, const char* reason) { record_warning(number, reason); }
 
   Converted finish() {
     if (rows_.empty())
@@ -132,7 +127,7 @@ class CsvBuilder {
     out.warnings = std::move(warnings_);
     if (bad_lines_ > kMaxLineWarnings)
       out.warnings.push_back(log_.string() + ": " + std::to_string(bad_lines_ - kMaxLineWarnings) +
-                             " more lines dropped (malformed or going back in time)");
+                             " more " + record_name_ + "s dropped (malformed or going back in time)");
     if (skipped_total() > 0)
       out.warnings.push_back(log_.string() + ": skipped frames that carry no column: " + skipped_summary());
     out.text = csv_text();
@@ -140,8 +135,11 @@ class CsvBuilder {
   }
 
  private:
-  void line_warning(std::size_t number, const char* reason) {
-    if (++bad_lines_ <= kMaxLineWarnings) warnings_.push_back(log_.string() + ":" + std::to_string(number) + ": " + reason);
+  // "FILE:LINE: reason", or "FILE: object N: reason" for a BLF.
+  void record_warning(std::size_t number, const char* reason) {
+    if (++bad_lines_ > kMaxLineWarnings) return;
+    const bool line = std::string_view(record_name_) == "line";
+    warnings_.push_back(log_.string() + (line ? ":" : ": object ") + std::to_string(number) + ": " + reason);
   }
 
   void count_skip(Skip why, std::size_t number) {
@@ -221,6 +219,7 @@ class CsvBuilder {
   }
 
   const fs::path& log_;
+  const char* record_name_;
   std::vector<Row> rows_;
   std::array<bool, kNumChannels> present_{};
   TimeUs last_us_ = 0;
@@ -231,18 +230,21 @@ class CsvBuilder {
 
 }  // namespace
 
-Converted csv_from_candump(const fs::path& log) {
-  std::unique_ptr<std::FILE, int (*)(std::FILE*)> in(std::fopen(log.c_str(), "rb"), &std::fclose);
-  if (!in) throw ConvertError(log.string() + ": cannot open for reading");
-  CsvBuilder builder(log);
-  // A bounded reader: a corrupt log with one endless line costs no memory.
-  LineReader reader(in.get());
-  std::string_view text;
-  for (LineReader::Status status; (status = reader.next(text)) != LineReader::Status::end;) {
-    if (status == LineReader::Status::too_long) builder.line_too_long(reader.line_number());
-    else builder.line(text, reader.line_number());
+Converted csv_from_log(const fs::path& log, canfile::LogFormat format) {
+  std::unique_ptr<fw::FrameSource> source;
+  try {
+    source = canfile::open_log(log, format);
+  } catch (const canfile::LogError& e) {
+    throw ConvertError(e.what());
   }
-  if (std::ferror(in.get())) throw ConvertError(log.string() + ": read error");
+  CsvBuilder builder(log, source->record_name());
+  TimeUs t = 0;
+  fw::CanFrame frame;
+  const char* why = nullptr;
+  for (fw::FrameSource::Status s; (s = source->next(t, frame, why)) != fw::FrameSource::Status::end;) {
+    if (s == fw::FrameSource::Status::bad) builder.bad(source->record(), why);
+    else builder.frame(t, frame, source->record());
+  }
   return builder.finish();
 }
 

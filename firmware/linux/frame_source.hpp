@@ -1,0 +1,57 @@
+// Where a replay gets its frames, one record of a log at a time: a candump log here (what the
+// daemon replays on the target), Vector ASC and BLF on the host (tools/canfile).
+#pragma once
+
+#include <cstddef>
+#include <cstdio>
+#include <string_view>
+
+#include "candump_log.hpp"
+#include "hostio/line_reader.hpp"
+#include "lptn/firmware/can_frame.hpp"
+#include "lptn/firmware/input.hpp"
+
+namespace lptn::fw {
+
+class FrameSource {
+ public:
+  enum class Status { frame, bad, end };
+  virtual ~FrameSource() = default;
+  // `frame`: the next frame and its time stamp; `bad`: a record that is no frame, `why` (a static
+  // string) says what is wrong with it; `end`: nothing more. Records that carry no frame and are
+  // no error (a log's header, comments, a BLF's other objects) are passed over.
+  virtual Status next(TimeUs& time_us, CanFrame& frame, const char*& why) = 0;
+  // 1-based number of the record last returned: a line, or a BLF object.
+  virtual std::size_t record() const = 0;
+  // What a record is called in a message: "line" or "object".
+  virtual const char* record_name() const = 0;
+};
+
+// candump -L, one frame per line (candump_log.hpp). Allocates nothing.
+class CandumpSource final : public FrameSource {
+ public:
+  explicit CandumpSource(std::FILE* log) : reader_(log) {}
+  Status next(TimeUs& time_us, CanFrame& frame, const char*& why) override {
+    std::string_view line;
+    for (LineReader::Status s; (s = reader_.next(line)) != LineReader::Status::end;) {
+      if (s == LineReader::Status::too_long) {
+        why = "line longer than 512 bytes, not a candump line";
+        return Status::bad;
+      }
+      if (line.empty()) continue;
+      CandumpRecord rec;
+      if ((why = parse_candump_line(line, rec)) != nullptr) return Status::bad;
+      time_us = rec.time_us;
+      frame = rec.frame;
+      return Status::frame;
+    }
+    return Status::end;
+  }
+  std::size_t record() const override { return reader_.line_number(); }
+  const char* record_name() const override { return "line"; }
+
+ private:
+  LineReader reader_;
+};
+
+}  // namespace lptn::fw

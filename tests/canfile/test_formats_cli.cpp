@@ -1,0 +1,130 @@
+// `lptn replay` and `lptn convert` on candump, ASC and BLF logs, lptn's own and python-can's: the
+// same frames give the same estimates and the same CSV whatever the format; a file in no format is
+// one error line; a flood of malformed lines is ten messages and a count.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <string>
+
+#include "../cli/run_lptn.hpp"
+#include "../cli/temp_dir.hpp"
+
+namespace lptn {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::run;
+using testing::slurp;
+using testing::TempDir;
+
+std::size_t count_lines(const std::string& s) { return static_cast<std::size_t>(std::count(s.begin(), s.end(), '\n')); }
+
+class FormatsCli : public ::testing::Test {
+ protected:
+  // Six minutes of one generated cycle, as a candump log and in lptn's own ASC and BLF.
+  static void SetUpTestSuite() {
+    dir_ = new TempDir;
+    const fs::path d = dir_->path();
+    const auto g = run("generate --out " + (d / "data").string() + " --cycles 1 --seed 7 --minutes-min 6 --minutes-max 6", d);
+    ASSERT_EQ(g.code, 0) << g.err;
+    for (const auto& e : fs::directory_iterator(d / "data"))
+      if (e.path().extension() == ".csv") csv_ = e.path();
+    ASSERT_FALSE(csv_.empty());
+    for (const char* name : {"lptn.log", "lptn.asc", "lptn.blf"}) {
+      const auto c = run("convert --in " + csv_.string() + " --out " + (d / name).string() + " --start-time 1700000000", d);
+      ASSERT_EQ(c.code, 0) << c.err;
+    }
+  }
+  static void TearDownTestSuite() {
+    delete dir_;
+    dir_ = nullptr;
+  }
+  static fs::path path(const std::string& name) { return dir_->path() / name; }
+
+  // python-can's conversion of lptn.log into `name` (its format by extension).
+  static fs::path python_log(const std::string& name) {
+    const std::string cmd = "/usr/bin/python3 " LPTN_PYTHON_CAN_LOGS " convert " + path("lptn.log").string() + " " +
+                            path(name).string() + " 2>" + path("python.err").string();
+    EXPECT_EQ(std::system(cmd.c_str()), 0) << slurp(path("python.err")) << "(tools/setup.sh installs python3-can)";
+    return path(name);
+  }
+
+  static testing::Result replay(const fs::path& log, const fs::path& out) {
+    return run("replay --quiet --log " + log.string() + " --calibration " LPTN_DEFAULT_CALIBRATION " --out " + out.string(),
+               dir_->path());
+  }
+
+  static TempDir* dir_;
+  static fs::path csv_;
+};
+TempDir* FormatsCli::dir_ = nullptr;
+fs::path FormatsCli::csv_;
+
+TEST_F(FormatsCli, TheSameFramesGiveTheSameEstimatesWhateverTheFormat) {
+  const auto ref = replay(path("lptn.log"), path("est-candump.csv"));
+  ASSERT_EQ(ref.code, 0) << ref.err;
+  EXPECT_NE(ref.out.find("(candump)"), std::string::npos) << ref.out;
+  const std::string expected = slurp(path("est-candump.csv"));
+  ASSERT_GT(count_lines(expected), 3000u);  // six minutes at 0.1 s
+  for (const auto& [log, format] : std::vector<std::pair<fs::path, std::string>>{
+           {path("lptn.asc"), "asc"},
+           {path("lptn.blf"), "blf"},
+           {python_log("python.asc"), "asc"},
+           {python_log("python.blf"), "blf"}}) {
+    const fs::path out = path("est-" + log.filename().string() + ".csv");
+    const auto r = replay(log, out);
+    ASSERT_EQ(r.code, 0) << log << ": " << r.err;
+    EXPECT_EQ(r.err, "") << log;
+    EXPECT_NE(r.out.find("(" + format + ")"), std::string::npos) << r.out;
+    EXPECT_TRUE(slurp(out) == expected) << log << " gives other estimates than the candump log";
+  }
+}
+
+TEST_F(FormatsCli, EveryFormatConvertsBackToTheSameCsv) {
+  const auto ref = run("convert --in " + path("lptn.log").string() + " --out " + path("back-candump.csv").string(), dir_->path());
+  ASSERT_EQ(ref.code, 0) << ref.err;
+  const std::string expected = slurp(path("back-candump.csv"));
+  ASSERT_GT(count_lines(expected), 3000u);
+  for (const fs::path& log : {path("lptn.asc"), path("lptn.blf"), python_log("py2.asc"), python_log("py2.blf")}) {
+    const fs::path out = path("back-" + log.filename().string() + ".csv");
+    const auto r = run("convert --in " + log.string() + " --out " + out.string(), dir_->path());
+    ASSERT_EQ(r.code, 0) << log << ": " << r.err;
+    EXPECT_TRUE(slurp(out) == expected) << log << " converts to another CSV than the candump log";
+  }
+}
+
+TEST_F(FormatsCli, AFileInNoFormatIsOneErrorLineAndNothingIsWritten) {
+  std::mt19937 rng(5);
+  std::string junk(200000, '\0');
+  for (char& c : junk) c = static_cast<char>(rng());
+  std::ofstream(path("junk.bin"), std::ios::binary) << junk;
+  const auto r = replay(path("junk.bin"), path("junk-est.csv"));
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(count_lines(r.err), 1u) << r.err.substr(0, 2000);
+  EXPECT_NE(r.err.find("junk.bin: not a CAN log lptn reads"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(path("junk-est.csv")));
+  const auto c = run("convert --in " + path("junk.bin").string() + " --format blf --out " + path("junk.csv").string(),
+                     dir_->path());
+  EXPECT_EQ(c.code, 2);
+  EXPECT_EQ(count_lines(c.err), 1u) << c.err.substr(0, 2000);
+  EXPECT_NE(c.err.find("not a BLF file"), std::string::npos) << c.err;
+  EXPECT_FALSE(fs::exists(path("junk.csv")));
+}
+
+TEST_F(FormatsCli, AFloodOfMalformedLinesIsTenMessagesAndACount) {
+  std::string flood;
+  for (int k = 0; k < 30; ++k) flood += "(1700000000.000000) can0 not-a-frame\n";
+  std::ofstream(path("flood.log")) << flood << slurp(path("lptn.log"));
+  const auto r = replay(path("flood.log"), path("flood-est.csv"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(count_lines(r.err), 11u) << r.err;
+  EXPECT_NE(r.err.find("flood.log:10: "), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("flood.log:11: "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("flood.log: 20 more malformed lines skipped"), std::string::npos) << r.err;
+}
+
+}  // namespace
+}  // namespace lptn

@@ -1,0 +1,100 @@
+#include "tools/canfile/can_log.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cstring>
+
+#include "firmware/linux/candump_log.hpp"
+#include "hostio/line_reader.hpp"
+#include "tools/canfile/internal/formats.hpp"
+
+namespace lptn::canfile {
+
+namespace fs = std::filesystem;
+
+const char* format_name(LogFormat f) {
+  switch (f) {
+    case LogFormat::candump: return "candump";
+    case LogFormat::asc: return "asc";
+    case LogFormat::blf: return "blf";
+  }
+  return "?";
+}
+
+std::optional<LogFormat> format_from_name(std::string_view name) {
+  for (LogFormat f : {LogFormat::candump, LogFormat::asc, LogFormat::blf})
+    if (name == format_name(f)) return f;
+  return std::nullopt;
+}
+
+std::optional<LogFormat> format_from_extension(const fs::path& file) {
+  std::string ext = file.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (ext == ".log") return LogFormat::candump;
+  if (ext == ".asc") return LogFormat::asc;
+  if (ext == ".blf") return LogFormat::blf;
+  return std::nullopt;
+}
+
+namespace {
+
+File open_file(const fs::path& file) {
+  File f(std::fopen(file.c_str(), "rb"), &std::fclose);
+  if (!f) throw LogError(file.string() + ": cannot open for reading");
+  return f;
+}
+
+// How many non-empty lines the content test reads before it gives up.
+constexpr int kLinesToSniff = 10;
+
+std::optional<LogFormat> format_from_content(const fs::path& file) {
+  File f = open_file(file);
+  char magic[4] = {};
+  if (std::fread(magic, 1, 4, f.get()) == 4 && std::memcmp(magic, kBlfMagic, 4) == 0) return LogFormat::blf;
+  std::rewind(f.get());
+  LineReader reader(f.get());
+  std::string_view line;
+  int seen = 0;
+  for (LineReader::Status s; seen < kLinesToSniff && (s = reader.next(line)) != LineReader::Status::end;) {
+    if (s == LineReader::Status::too_long) {
+      ++seen;
+      continue;
+    }
+    while (!line.empty() && std::isspace(static_cast<unsigned char>(line.front()))) line.remove_prefix(1);
+    if (line.empty()) continue;
+    ++seen;
+    fw::CandumpRecord rec;
+    if (fw::parse_candump_line(line, rec) == nullptr) return LogFormat::candump;
+    if (is_asc_header_line(line)) return LogFormat::asc;
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
+LogFormat detect_format(const fs::path& file) {
+  if (const auto f = format_from_content(file)) return *f;
+  if (const auto f = format_from_extension(file)) return *f;
+  throw LogError(file.string() +
+                 ": not a CAN log lptn reads (candump -L, Vector ASC or Vector BLF; --format names one)");
+}
+
+std::unique_ptr<fw::FrameSource> open_log(const fs::path& file, LogFormat format) {
+  switch (format) {
+    case LogFormat::candump: return make_candump_source(open_file(file));
+    case LogFormat::asc: return make_asc_source(open_file(file));
+    case LogFormat::blf: return make_blf_source(open_file(file), file);
+  }
+  throw LogError(file.string() + ": unknown log format");
+}
+
+std::unique_ptr<LogWriter> make_log_writer(LogFormat format, const std::string& interface) {
+  switch (format) {
+    case LogFormat::candump: return make_candump_writer(interface);
+    case LogFormat::asc: return make_asc_writer();
+    case LogFormat::blf: return make_blf_writer();
+  }
+  throw LogError("unknown log format");
+}
+
+}  // namespace lptn::canfile
