@@ -36,6 +36,7 @@ FUZZ=(
   clang libclang-rt-14-dev                              # clang-14; libFuzzer, ASan and UBSan runtimes
   cmake ninja-build python3                             # the fuzz preset's build; python3 generates the CAN codecs
   libtomlplusplus-dev nlohmann-json3-dev                # the fuzzed trainer/ libraries (no libtorch, no Ceres)
+  zlib1g-dev                                            # the fuzzed CAN log readers (BLF's containers)
 )
 
 PACKAGES=()

@@ -108,6 +108,9 @@ const char* parse_id(std::string_view s, int base, CanFrame& f) {
   return nullptr;
 }
 
+// No log spans more (seconds_us reads at most 12 digits of seconds, about 31,700 years).
+constexpr TimeUs kMaxTimeUs = TimeUs{100} * 366 * 86400 * fw::kUsPerS;
+
 bool is_direction(std::string_view s) { return s == "Rx" || s == "Tx"; }
 
 constexpr std::uint8_t kFdLengths[16] = {0, 1, 2, 3, 4, 5, 6, 7, 8, 12, 16, 20, 24, 32, 48, 64};
@@ -178,7 +181,13 @@ class AscSource final : public FrameSource {
         why = "expected a time stamp (seconds) at the start of an ASC event line";
         return Status::bad;
       }
-      if (relative_) t += last_us_;
+      if (relative_) {
+        if (t > kMaxTimeUs - last_us_) {
+          why = "relative time stamps add up to more than a century";
+          return Status::bad;
+        }
+        t += last_us_;
+      }
       last_us_ = t;
       const bool fd = fields[1] == "CANFD";
       std::uint32_t channel;

@@ -44,6 +44,8 @@ enum ObjectType : std::uint32_t {
 constexpr std::uint32_t kExtendedIdFlag = 0x80000000u;
 constexpr std::uint32_t kTimeTenMicroseconds = 1;
 constexpr std::uint32_t kTimeOneNanosecond = 2;
+// No log spans more; beyond it the time stamp is damaged (and the sum with the start would overflow).
+constexpr std::uint64_t kMaxOffsetUs = 100ull * 366 * 86400 * 1000000;
 constexpr std::uint8_t kFdLengths[16] = {0, 1, 2, 3, 4, 5, 6, 7, 8, 12, 16, 20, 24, 32, 48, 64};
 
 template <class T>
@@ -254,12 +256,16 @@ class BlfSource final : public FrameSource {
       }
       const std::uint32_t flags = get<std::uint32_t>(o + 16);
       const std::uint64_t stamp = get<std::uint64_t>(o + 24);
-      const TimeUs offset_us = flags == kTimeTenMicroseconds ? static_cast<TimeUs>(stamp * 10)
-                                                             : static_cast<TimeUs>((stamp + 500) / 1000);
       if (flags != kTimeTenMicroseconds && flags != kTimeOneNanosecond) {
         why = "object time stamp in a unit other than 10 us or 1 ns";
         return Inner::bad;
       }
+      const std::uint64_t offset = flags == kTimeTenMicroseconds ? stamp : stamp / 1000 + (stamp % 1000 >= 500);
+      if (offset > kMaxOffsetUs / (flags == kTimeTenMicroseconds ? 10 : 1)) {
+        why = "object time stamp more than a century after the file's start";
+        return Inner::bad;
+      }
+      const TimeUs offset_us = static_cast<TimeUs>(flags == kTimeTenMicroseconds ? offset * 10 : offset);
       if ((why = decode(type, o + header_size, size - header_size, frame)) != nullptr) return Inner::bad;
       time_us = start_us_ + offset_us;
       return Inner::frame;

@@ -88,6 +88,16 @@ std::unique_ptr<fw::FrameSource> open_log(const fs::path& file, LogFormat format
   throw LogError(file.string() + ": unknown log format");
 }
 
+std::unique_ptr<fw::FrameSource> open_log(std::FILE* stream, LogFormat format, const std::string& name) {
+  File file(stream, &std::fclose);
+  switch (format) {
+    case LogFormat::candump: return make_candump_source(std::move(file));
+    case LogFormat::asc: return make_asc_source(std::move(file));
+    case LogFormat::blf: return make_blf_source(std::move(file), name);
+  }
+  throw LogError(name + ": unknown log format");
+}
+
 std::unique_ptr<LogWriter> make_log_writer(LogFormat format, const std::string& interface) {
   switch (format) {
     case LogFormat::candump: return make_candump_writer(interface);

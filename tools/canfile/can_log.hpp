@@ -3,6 +3,7 @@
 // `lptn replay` and `lptn convert` take any of the three through the same code.
 #pragma once
 
+#include <cstdio>
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -38,6 +39,8 @@ LogFormat detect_format(const std::filesystem::path& file);
 // A reader of `file` in `format`. Throws LogError if it cannot be opened, or a BLF's file header
 // is not one.
 std::unique_ptr<fw::FrameSource> open_log(const std::filesystem::path& file, LogFormat format);
+// The same for an open stream (which the reader closes; BLF's must be seekable), `name` for messages.
+std::unique_ptr<fw::FrameSource> open_log(std::FILE* stream, LogFormat format, const std::string& name);
 
 // Writes a log whole: frames in time order, then the file's bytes (text or binary).
 class LogWriter {
