@@ -47,9 +47,9 @@ std::string messages_help() {
 std::string footer() {
   return "Direction: an input *.csv becomes a log; a log (*.log candump -L, *.asc Vector ASC, *.blf\n"
          "Vector BLF) becomes a CSV; a file named otherwise is a log with --format or if its content is one\n"
-         "(BLF's \"LOGG\", a candump line, an ASC header among its first lines), else a CSV. A directory converts every\n"
-         "*.csv in it into OUT/NAME.log (.asc, .blf with --format), or every log into OUT/NAME.csv (not\n"
-         "both kinds at once).\n"
+         "(BLF's \"LOGG\", a candump line, an ASC header among its first lines), else a CSV. A\n"
+         "directory converts every *.csv in it into OUT/NAME.log (.asc, .blf with --format), or every\n"
+         "log into OUT/NAME.csv (not both kinds at once).\n"
          "\n"
          "Formats: --format, else the extension of --out (CSV -> log) or the log's content (log -> CSV).\n"
          "candump lines carry --interface; ASC and BLF carry channel 1, every frame received (Rx), time\n"
