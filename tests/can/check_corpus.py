@@ -135,7 +135,7 @@ def check_file(dbc, args):
                               capture_output=True, text=True, check=False)
     if compiled.returncode != 0:
         return warnings, f"the header does not compile:\n{compiled.stderr[:4000]}", len(structs)
-    ran = subprocess.run([binary], capture_output=True, text=True, check=False)
+    ran = subprocess.run([*args.emulator.split(), binary], capture_output=True, text=True, check=False)
     if ran.returncode != 0:
         return warnings, f"the program failed:\n{ran.stdout[:4000]}", len(structs)
     return warnings, None, len(structs)
@@ -147,6 +147,8 @@ def main():
     parser.add_argument("--compiler", required=True)
     parser.add_argument("--corpus", required=True)
     parser.add_argument("--work", required=True)
+    parser.add_argument("--emulator", default="",
+                        help="what runs the compiled programs, e.g. 'qemu-aarch64-static -L /usr/aarch64-linux-gnu' (cross builds)")
     parser.add_argument("--jobs", type=int, default=1)
     parser.add_argument("--verbose", action="store_true", help="print every warning")
     args = parser.parse_args()

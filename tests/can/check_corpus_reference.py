@@ -218,7 +218,7 @@ def run_jobs(args, jobs):
                                binary], capture_output=True, text=True, check=False)
     if compiled.returncode != 0:
         raise SystemExit(f"the reference program does not compile:\n{compiled.stderr[:6000]}")
-    output = subprocess.run([binary], capture_output=True, text=True, check=True).stdout
+    output = subprocess.run([*args.emulator.split(), binary], capture_output=True, text=True, check=True).stdout
     results = []
     for block in re.split(r"^job \d+ ", output, flags=re.M)[1:]:
         head, *lines = block.strip().splitlines()
@@ -236,6 +236,8 @@ def main():
     parser.add_argument("--compiler", required=True)
     parser.add_argument("--corpus", required=True)
     parser.add_argument("--work", required=True)
+    parser.add_argument("--emulator", default="",
+                        help="what runs the compiled programs, e.g. 'qemu-aarch64-static -L /usr/aarch64-linux-gnu' (cross builds)")
     args = parser.parse_args()
     os.makedirs(os.path.join(args.work, "include", "reference"), exist_ok=True)
     headers = {dbc: generate(args, dbc) for dbc in sorted({dbc for dbc, _ in MODEL_MESSAGES})}
