@@ -25,6 +25,9 @@ class FrameSource {
   virtual std::size_t record() const = 0;
   // What a record is called in a message: "line" or "object".
   virtual const char* record_name() const = 0;
+  // The bus the frame last returned came from: candump's interface name ("can0"), ASC's and BLF's
+  // channel number ("1"). Valid until the next call of next().
+  virtual std::string_view channel() const = 0;
 };
 
 // candump -L, one frame per line (candump_log.hpp). Allocates nothing.
@@ -43,15 +46,18 @@ class CandumpSource final : public FrameSource {
       if ((why = parse_candump_line(line, rec)) != nullptr) return Status::bad;
       time_us = rec.time_us;
       frame = rec.frame;
+      channel_ = rec.interface;
       return Status::frame;
     }
     return Status::end;
   }
   std::size_t record() const override { return reader_.line_number(); }
   const char* record_name() const override { return "line"; }
+  std::string_view channel() const override { return channel_; }
 
  private:
   LineReader reader_;
+  std::string_view channel_;
 };
 
 }  // namespace lptn::fw

@@ -126,5 +126,42 @@ TEST_F(FormatsCli, AFloodOfMalformedLinesIsTenMessagesAndACount) {
   EXPECT_NE(r.err.find("flood.log: 20 more malformed lines skipped"), std::string::npos) << r.err;
 }
 
+// A log of two buses, the second carrying the converter's ids with other values (a second
+// converter): read as one they would mix; --channel takes one, and says when the asked one is absent.
+TEST_F(FormatsCli, ALogOfTwoBusesIsReadOneChannelAtATime) {
+  std::ifstream in(path("lptn.asc"));
+  std::string two;
+  for (std::string line; std::getline(in, line);) {
+    two += line + "\n";
+    const std::size_t at = line.find(" 1  101 ");  // TC_Electrical on channel 1: a copy on channel 2
+    if (at == std::string::npos) continue;
+    std::string copy = line;
+    copy.replace(at, 8, " 2  101 ");
+    copy.replace(copy.size() - 2, 2, "7F");  // another alive counter and pulses: other values
+    two += copy + "\n";
+  }
+  std::ofstream(path("two.asc")) << two;
+  const auto ref = replay(path("lptn.asc"), path("est-one-bus.csv"));
+  ASSERT_EQ(ref.code, 0) << ref.err;
+
+  const auto mixed = replay(path("two.asc"), path("est-mixed.csv"));
+  ASSERT_EQ(mixed.code, 0) << mixed.err;
+  EXPECT_NE(mixed.err.find("two.asc: frames of channels 1, 2 read as one bus; --channel picks one"), std::string::npos)
+      << mixed.err;
+
+  const auto one = run("replay --quiet --channel 1 --log " + path("two.asc").string() + " --calibration " +
+                           LPTN_DEFAULT_CALIBRATION " --out " + path("est-channel-1.csv").string(), dir_->path());
+  ASSERT_EQ(one.code, 0) << one.err;
+  EXPECT_EQ(one.err, "");
+  EXPECT_TRUE(slurp(path("est-channel-1.csv")) == slurp(path("est-one-bus.csv")));
+
+  const auto absent = run("convert --channel 3 --in " + path("two.asc").string() + " --out " + path("two.csv").string(),
+                          dir_->path());
+  EXPECT_EQ(absent.code, 2);
+  EXPECT_EQ(count_lines(absent.err), 1u) << absent.err;
+  EXPECT_NE(absent.err.find("two.asc: no frame on channel 3 (the log's channels: 1, 2)"), std::string::npos) << absent.err;
+  EXPECT_FALSE(fs::exists(path("two.csv")));
+}
+
 }  // namespace
 }  // namespace lptn

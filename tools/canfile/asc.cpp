@@ -205,6 +205,7 @@ class AscSource final : public FrameSource {
         continue;  // statistics, chip status, a transmit request, ...
       }
       if (why) return Status::bad;
+      channel_ = fd ? fields[2] : fields[1];
       time_us = t;
       frame = f;
       return Status::frame;
@@ -213,6 +214,7 @@ class AscSource final : public FrameSource {
   }
   std::size_t record() const override { return reader_.line_number(); }
   const char* record_name() const override { return "line"; }
+  std::string_view channel() const override { return channel_; }
 
  private:
   // The header's lines; "base" sets how ids and data and time stamps are read.
@@ -229,6 +231,7 @@ class AscSource final : public FrameSource {
   LineReader reader_;
   int base_ = 16;
   bool relative_ = false;
+  std::string_view channel_;
   TimeUs last_us_ = 0;
 };
 

@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <ctime>
 #include <string>
@@ -131,6 +132,7 @@ class BlfSource final : public FrameSource {
   }
   std::size_t record() const override { return objects_; }
   const char* record_name() const override { return "object"; }
+  std::string_view channel() const override { return std::string_view(channel_, channel_length_); }
 
  private:
   enum class Inner { frame, bad, need_more };
@@ -267,6 +269,10 @@ class BlfSource final : public FrameSource {
       }
       const TimeUs offset_us = static_cast<TimeUs>(flags == kTimeTenMicroseconds ? offset * 10 : offset);
       if ((why = decode(type, o + header_size, size - header_size, frame)) != nullptr) return Inner::bad;
+      // Every CAN object starts with its channel: 16 bits, but one byte in CAN_FD_MESSAGE_64.
+      const std::uint8_t* body = o + header_size;
+      const unsigned channel = type == kCanFdMessage64 ? body[0] : get<std::uint16_t>(body);
+      channel_length_ = static_cast<std::size_t>(std::snprintf(channel_, sizeof channel_, "%u", channel));
       time_us = start_us_ + offset_us;
       return Inner::frame;
     }
@@ -332,6 +338,8 @@ class BlfSource final : public FrameSource {
 
   File file_;
   TimeUs start_us_ = 0;
+  char channel_[8] = "";
+  std::size_t channel_length_ = 0;
   std::vector<std::uint8_t> body_, pending_;
   std::size_t offset_ = 0;   // into pending_
   std::size_t objects_ = 0;  // read so far, outer and inner

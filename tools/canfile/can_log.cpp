@@ -98,6 +98,40 @@ std::unique_ptr<fw::FrameSource> open_log(std::FILE* stream, LogFormat format, c
   throw LogError(name + ": unknown log format");
 }
 
+fw::FrameSource::Status ChannelFilter::next(fw::TimeUs& time_us, fw::CanFrame& frame, const char*& why) {
+  for (;;) {
+    const Status s = source_->next(time_us, frame, why);
+    if (s != Status::frame) return s;
+    const std::string_view channel = source_->channel();
+    if (std::find(channels_.begin(), channels_.end(), channel) == channels_.end()) channels_.emplace_back(channel);
+    if (wanted_.empty() || channel == wanted_) return s;
+  }
+}
+
+std::string ChannelFilter::channel_list() const {
+  std::string s;
+  for (const std::string& c : channels_) s += (s.empty() ? "" : ", ") + c;
+  return s;
+}
+
+OpenedLog open_log(const fs::path& file, const LogSelection& selection) {
+  const LogFormat format = selection.format ? *selection.format : detect_format(file);
+  return {format, std::make_unique<ChannelFilter>(open_log(file, format), selection.channel)};
+}
+
+std::string channel_problem(const fs::path& file, const ChannelFilter& frames, const LogSelection& selection,
+                            bool& fatal) {
+  const auto& seen = frames.channels();
+  fatal = !selection.channel.empty() && std::find(seen.begin(), seen.end(), selection.channel) == seen.end();
+  if (fatal)
+    return file.string() + ": no frame on channel " + selection.channel +
+           (seen.empty() ? std::string(" (no frame at all)") : " (the log's channels: " + frames.channel_list() + ")");
+  if (selection.channel.empty() && seen.size() > 1)
+    return file.string() + ": frames of channels " + frames.channel_list() +
+           " read as one bus; --channel picks one";
+  return "";
+}
+
 std::unique_ptr<LogWriter> make_log_writer(LogFormat format, const std::string& interface) {
   switch (format) {
     case LogFormat::candump: return make_candump_writer(interface);

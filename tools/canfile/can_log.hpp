@@ -10,6 +10,7 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "firmware/linux/frame_source.hpp"
 #include "lptn/firmware/can_frame.hpp"
@@ -41,6 +42,49 @@ LogFormat detect_format(const std::filesystem::path& file);
 std::unique_ptr<fw::FrameSource> open_log(const std::filesystem::path& file, LogFormat format);
 // The same for an open stream (which the reader closes; BLF's must be seekable), `name` for messages.
 std::unique_ptr<fw::FrameSource> open_log(std::FILE* stream, LogFormat format, const std::string& name);
+
+// The frames of one channel of a log ("" for all of them), and which channels the log holds: a
+// recorder's log may hold several buses, and two that both carry the converter's ids must not be
+// read as one.
+class ChannelFilter final : public fw::FrameSource {
+ public:
+  ChannelFilter(std::unique_ptr<fw::FrameSource> source, std::string wanted)
+      : source_(std::move(source)), wanted_(std::move(wanted)) {}
+  Status next(fw::TimeUs& time_us, fw::CanFrame& frame, const char*& why) override;
+  std::size_t record() const override { return source_->record(); }
+  const char* record_name() const override { return source_->record_name(); }
+  std::string_view channel() const override { return source_->channel(); }
+
+  // The channels that carried frames, in the order they first did.
+  const std::vector<std::string>& channels() const { return channels_; }
+  // "1, 2": for messages.
+  std::string channel_list() const;
+
+ private:
+  std::unique_ptr<fw::FrameSource> source_;
+  std::string wanted_;
+  std::vector<std::string> channels_;
+};
+
+// Which log to read and how: the format (none: detect_format) and the channel ("": all).
+struct LogSelection {
+  std::optional<LogFormat> format;
+  std::string channel;
+};
+
+struct OpenedLog {
+  LogFormat format;
+  std::unique_ptr<ChannelFilter> frames;
+};
+
+// open_log with the selection's format, or the detected one, and its channel filter.
+OpenedLog open_log(const std::filesystem::path& file, const LogSelection& selection);
+
+// After reading: "" if the channels were as they should be; else one line naming the file, and
+// `fatal` says whether it is an error (the channel asked for carried no frame) or a warning
+// (frames of several channels read as one bus).
+std::string channel_problem(const std::filesystem::path& file, const ChannelFilter& frames,
+                            const LogSelection& selection, bool& fatal);
 
 // Writes a log whole: frames in time order, then the file's bytes (text or binary).
 class LogWriter {

@@ -14,6 +14,7 @@ class OwningCandumpSource final : public fw::FrameSource {
   }
   std::size_t record() const override { return source_.record(); }
   const char* record_name() const override { return source_.record_name(); }
+  std::string_view channel() const override { return source_.channel(); }
 
  private:
   File file_;

@@ -47,6 +47,8 @@ Converted log_from_csv(const std::filesystem::path& csv, const LogOptions& optio
 // the estimator's outputs, error, remote, CAN FD, wrong length) are counted in one summary warning.
 // Columns whose message never appeared are left out. Throws ConvertError if the log cannot be
 // opened, no frame could be taken or a required column's message never appeared.
-Converted csv_from_log(const std::filesystem::path& log, canfile::LogFormat format);
+// `select`: the log's format (none: detected) and channel ("": all, with a warning where there are
+// several; none on the channel asked for is an error).
+Converted csv_from_log(const std::filesystem::path& log, const canfile::LogSelection& select);
 
 }  // namespace lptn::canlog

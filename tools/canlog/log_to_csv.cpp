@@ -230,22 +230,28 @@ class CsvBuilder {
 
 }  // namespace
 
-Converted csv_from_log(const fs::path& log, canfile::LogFormat format) {
-  std::unique_ptr<fw::FrameSource> source;
+Converted csv_from_log(const fs::path& log, const canfile::LogSelection& select) {
+  canfile::OpenedLog opened;
   try {
-    source = canfile::open_log(log, format);
+    opened = canfile::open_log(log, select);
   } catch (const canfile::LogError& e) {
     throw ConvertError(e.what());
   }
-  CsvBuilder builder(log, source->record_name());
+  canfile::ChannelFilter& source = *opened.frames;
+  CsvBuilder builder(log, source.record_name());
   TimeUs t = 0;
   fw::CanFrame frame;
   const char* why = nullptr;
-  for (fw::FrameSource::Status s; (s = source->next(t, frame, why)) != fw::FrameSource::Status::end;) {
-    if (s == fw::FrameSource::Status::bad) builder.bad(source->record(), why);
-    else builder.frame(t, frame, source->record());
+  for (fw::FrameSource::Status s; (s = source.next(t, frame, why)) != fw::FrameSource::Status::end;) {
+    if (s == fw::FrameSource::Status::bad) builder.bad(source.record(), why);
+    else builder.frame(t, frame, source.record());
   }
-  return builder.finish();
+  bool fatal = false;
+  const std::string channels = canfile::channel_problem(log, source, select, fatal);
+  if (fatal) throw ConvertError(channels);
+  Converted out = builder.finish();
+  if (!channels.empty()) out.warnings.push_back(channels);
+  return out;
 }
 
 }  // namespace lptn::canlog

@@ -23,7 +23,7 @@ namespace {
 namespace fs = std::filesystem;
 
 struct Args {
-  std::string in, out, interface = "can0", format;
+  std::string in, out, interface = "can0", format, channel;
   double start_time_s = 0;
   bool force = false;
 };
@@ -66,7 +66,8 @@ std::string footer() {
          "written).\n"
          "\n"
          "log -> CSV: one row per frame time, time_s counted from the first input frame, each frame\n"
-         "filling the columns it carries, from every channel of an ASC or BLF. Malformed lines (BLF:\n"
+         "filling the columns it carries; --channel takes one bus of a log that holds several (without\n"
+         "it they are read as one, with a warning). Malformed lines (BLF:\n"
          "objects) and frames going back in time are reported (FILE:LINE, the first ten, then a count)\n"
          "and dropped; unknown ids, LPTN_* outputs, error, remote, CAN FD and wrong-length\n"
          "frames are skipped and counted. Columns whose message never appears are left out; the ones the\n"
@@ -99,10 +100,7 @@ bool is_log(const fs::path& file, const Args& args) {
 
 canlog::Converted convert(const fs::path& in, const fs::path& out, bool from_log, const Args& args) {
   try {
-    if (from_log) {
-      const auto given = given_format(args);
-      return canlog::csv_from_log(in, given ? *given : canfile::detect_format(in));
-    }
+    if (from_log) return canlog::csv_from_log(in, {given_format(args), args.channel});
     canlog::LogOptions options;
     options.format = given_format(args).value_or(canfile::format_from_extension(out).value_or(canfile::LogFormat::candump));
     options.interface = args.interface;
@@ -125,6 +123,11 @@ void reject_log_options(const CLI::App& cmd, const fs::path& in) {
     throw BadInput("--interface and --start-time apply to CSV -> log only; " + in.string() + " converts log -> CSV");
 }
 
+// --channel picks frames of a log; a CSV has none.
+void reject_channel(const CLI::App& cmd, const fs::path& in) {
+  if (cmd.count("--channel")) throw BadInput("--channel applies to log -> CSV only; " + in.string() + " converts CSV -> log");
+}
+
 // Only candump lines name an interface.
 void reject_interface(const CLI::App& cmd, canfile::LogFormat format) {
   if (cmd.count("--interface") && format != canfile::LogFormat::candump)
@@ -138,8 +141,12 @@ void convert_file(const CLI::App& cmd, const Args& args) {
   if (fs::is_directory(out)) throw BadInput(args.out + ": is a directory (one input file makes one output file)");
   refuse_overwrite(args.out, args.force);
   const bool from_log = is_log(in, args);
-  if (from_log) reject_log_options(cmd, in);
-  else reject_interface(cmd, given_format(args).value_or(canfile::format_from_extension(out).value_or(canfile::LogFormat::candump)));
+  if (from_log) {
+    reject_log_options(cmd, in);
+  } else {
+    reject_channel(cmd, in);
+    reject_interface(cmd, given_format(args).value_or(canfile::format_from_extension(out).value_or(canfile::LogFormat::candump)));
+  }
   const canlog::Converted c = convert(in, out, from_log, args);
   print_warnings(c);
   write_file_atomically(out, c.text);
@@ -167,8 +174,12 @@ void convert_directory(const CLI::App& cmd, const Args& args) {
   if (fs::exists(args.out) && fs::equivalent(in, args.out)) throw BadInput(args.out + ": is the input directory");
   const bool from_log = !logs.empty();
   const canfile::LogFormat log_format = given_format(args).value_or(canfile::LogFormat::candump);
-  if (from_log) reject_log_options(cmd, in);
-  else reject_interface(cmd, log_format);
+  if (from_log) {
+    reject_log_options(cmd, in);
+  } else {
+    reject_channel(cmd, in);
+    reject_interface(cmd, log_format);
+  }
   const std::vector<fs::path>& files = from_log ? logs : csvs;
   const std::string out_ext = from_log ? ".csv" : "." + std::string(log_format == canfile::LogFormat::candump ? "log" : canfile::format_name(log_format));
 
@@ -210,6 +221,8 @@ void add_convert(CLI::App& app) {
   cmd->add_option("--out", args->out, "The log or CSV to write; a directory if --in is one")->required();
   cmd->add_option("--format", args->format, "The log's format: candump, asc or blf (default: by extension or content)")
       ->check(CLI::IsMember({"candump", "asc", "blf"}));
+  cmd->add_option("--channel", args->channel,
+                  "log -> CSV: only the frames of this channel (candump: an interface name; ASC, BLF: a number)");
   cmd->add_option("--interface", args->interface, "CSV -> candump log: interface name on every line")
       ->capture_default_str()
       ->check(CLI::Validator(check_interface, "NAME"));

@@ -25,11 +25,11 @@ void add_replay(CLI::App& app) {
       "columns, so the CSV loads as a cycle), the four node estimates (est_*_c) and their standard deviations "
       "(std_*_k), the limiting node's margin, mode, stator sensor state, innovation and test ratio, input masks. "
       "The log's format is --format, else its content's (BLF's \"LOGG\", a candump line, an ASC header), else its "
-      "extension's (.log candump, .asc, .blf); a file in none is one error line. ASC and BLF: the frames of "
-      "every channel. Malformed lines (BLF: objects) are reported with their number and skipped, the first ten "
+      "extension's (.log candump, .asc, .blf); a file in none is one error line. --channel picks one bus of a "
+      "log that holds several; without it every channel's frames are read as one bus, with a warning. Malformed lines (BLF: objects) are reported with their number and skipped, the first ten "
       "of them one by one, then as a count.");
   struct Args {
-    std::string log, calibration, out, format;
+    std::string log, calibration, out, format, channel;
     bool open_loop = false, use_actor = false, force = false, quiet = false;
   };
   auto args = std::make_shared<Args>();
@@ -37,6 +37,8 @@ void add_replay(CLI::App& app) {
       ->required();
   cmd->add_option("--format", args->format, "The log's format: candump, asc or blf (default: detected)")
       ->check(CLI::IsMember({"candump", "asc", "blf"}));
+  cmd->add_option("--channel", args->channel,
+                  "Only the frames of this channel (candump: an interface name; ASC, BLF: a number); default all");
   cmd->add_option("--calibration", args->calibration, "calibration.json (from lptn calibrate)")->required();
   cmd->add_option("--out", args->out, "CSV of estimates and status to write")->required();
   cmd->add_flag("--open-loop", args->open_loop, "Do not fuse the stator winding sensor (the model alone)");
@@ -54,7 +56,7 @@ void add_replay(CLI::App& app) {
     ReplaySummary r;
     try {
       r = replay_to_csv(args->log, cal->config, args->out, args->quiet,
-                        args->format.empty() ? std::nullopt : canfile::format_from_name(args->format));
+                        {args->format.empty() ? std::nullopt : canfile::format_from_name(args->format), args->channel});
     } catch (const std::invalid_argument& e) {
       throw BadInput(e.what());
     }

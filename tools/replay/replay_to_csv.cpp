@@ -21,12 +21,13 @@ constexpr std::size_t kMaxBadRecordMessages = 10;
 }  // namespace
 
 ReplaySummary replay_to_csv(const std::string& log_path, const fw::EstimatorConfig<double>& config,
-                              const std::string& csv_path, bool quiet, std::optional<canfile::LogFormat> format) {
+                              const std::string& csv_path, bool quiet, const canfile::LogSelection& select) {
   ReplaySummary summary;
-  std::unique_ptr<fw::FrameSource> log;
+  std::unique_ptr<canfile::ChannelFilter> log;
   try {
-    summary.format = format ? *format : canfile::detect_format(log_path);
-    log = canfile::open_log(log_path, summary.format);
+    canfile::OpenedLog opened = canfile::open_log(log_path, select);
+    summary.format = opened.format;
+    log = std::move(opened.frames);
   } catch (const canfile::LogError& e) {
     throw std::invalid_argument(e.what());
   }
@@ -70,6 +71,10 @@ ReplaySummary replay_to_csv(const std::string& log_path, const fw::EstimatorConf
                  log->record_name());
   if (summary.stator_samples) summary.rmse_stator_k = std::sqrt(sum_stator / static_cast<double>(summary.stator_samples));
   if (summary.rotor_samples) summary.rmse_rotor_k = std::sqrt(sum_rotor / static_cast<double>(summary.rotor_samples));
+  bool fatal = false;
+  const std::string channels = canfile::channel_problem(log_path, *log, select, fatal);
+  if (fatal) throw std::invalid_argument(channels);
+  if (!channels.empty()) std::fprintf(stderr, "lptn: warning: %s\n", channels.c_str());
   if (summary.stats.frames == 0)
     throw std::invalid_argument(log_path + ": no CAN frame could be read (as " + canfile::format_name(summary.format) +
                                 "; --format names another)");

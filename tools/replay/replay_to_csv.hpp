@@ -22,10 +22,11 @@ struct ReplaySummary {
   canfile::LogFormat format = canfile::LogFormat::candump;  // what the log was read as
 };
 
-// `format`: as given, else detected (canfile::detect_format). Throws std::invalid_argument (bad
-// input: a log that cannot be read, is in no format lptn reads, or holds no frame) or
+// `select`: the log's format (none: detected) and channel ("": all; frames of several channels are
+// read as one bus, with a warning). Throws std::invalid_argument (bad input: a log that cannot be
+// read, is in no format lptn reads, holds no frame, or none on the channel asked for) or
 // std::runtime_error (the output could not be written); nothing is left at `csv` then.
 ReplaySummary replay_to_csv(const std::string& log, const fw::EstimatorConfig<double>& config, const std::string& csv,
-                              bool quiet, std::optional<canfile::LogFormat> format = std::nullopt);
+                              bool quiet, const canfile::LogSelection& select = {});
 
 }  // namespace lptn
