@@ -6,7 +6,7 @@
 #include <cstdio>
 #include <string_view>
 
-#include "candump_log.hpp"
+#include "lptn/firmware/candump_line.hpp"
 #include "hostio/line_reader.hpp"
 #include "lptn/firmware/can_frame.hpp"
 #include "lptn/firmware/input.hpp"
@@ -30,7 +30,7 @@ class FrameSource {
   virtual std::string_view channel() const = 0;
 };
 
-// candump -L, one frame per line (candump_log.hpp). Allocates nothing.
+// candump -L, one frame per line (lptn/firmware/candump_line.hpp). Allocates nothing.
 class CandumpSource final : public FrameSource {
  public:
   explicit CandumpSource(std::FILE* log) : reader_(log) {}

@@ -1,6 +1,5 @@
 // Replay of a CAN log through the estimator, as fast as the CPU allows: the frames' time
-// stamps drive the ticks. Frames at or before a tick's time reach the estimator before that tick;
-// ticks run every dt from the first frame's time. Shared by `lptn replay` (calibration from JSON)
+// stamps drive the ticks (lptn/firmware/replay_clock.hpp says how). Shared by `lptn replay` (calibration from JSON)
 // and `lptn-daemon --replay` (calibration compiled in), so the two differ in nothing else.
 #pragma once
 
@@ -9,9 +8,10 @@
 #include <functional>
 #include <string>
 
-#include "candump_log.hpp"
+#include "lptn/firmware/candump_line.hpp"
 #include "frame_source.hpp"
 #include "lptn/firmware/estimator.hpp"
+#include "lptn/firmware/replay_clock.hpp"
 
 namespace lptn::fw {
 
@@ -34,10 +34,6 @@ struct ReplaySinks {
   std::function<void(const ReplayStats&)> progress;
   std::size_t progress_every = 1000000;
 };
-
-// A forward jump in the time stamps longer than this is not ticked through: the ticks restart at
-// the next frame (the estimator reports the jump in its status).
-inline constexpr TimeUs kMaxTickedGapUs = 3600 * kUsPerS;
 
 ReplayStats replay_frames(FrameSource& log, Estimator<double>& estimator, const ReplaySinks& sinks);
 

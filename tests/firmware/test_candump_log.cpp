@@ -4,7 +4,7 @@
 #include <cstring>
 #include <string>
 
-#include "firmware/linux/candump_log.hpp"
+#include "lptn/firmware/candump_line.hpp"
 
 namespace lptn::fw {
 namespace {

@@ -1,4 +1,4 @@
-// Fuzz target: one line of a candump log (firmware/linux/candump_log.hpp), as the daemon and
+// Fuzz target: one line of a candump log (lptn/firmware/candump_line.hpp), as the daemon and
 // `lptn replay` read them. Input: the line's bytes.
 //
 // Parsing must reject or accept without reading past the line; what it accepts must be a frame
@@ -10,7 +10,7 @@
 #include <string_view>
 #include <vector>
 
-#include "firmware/linux/candump_log.hpp"
+#include "lptn/firmware/candump_line.hpp"
 #include "fuzz_check.hpp"
 
 namespace {

@@ -22,7 +22,7 @@
 #include <vector>
 
 #include "../cli/temp_dir.hpp"
-#include "firmware/linux/candump_log.hpp"
+#include "lptn/firmware/candump_line.hpp"
 #include "lptn/can/lptn_frames.hpp"
 #include "trainer/calibrate/calibration_file.hpp"
 #include "trainer/data/dataset.hpp"

@@ -4,7 +4,7 @@
 #include <cctype>
 #include <cstring>
 
-#include "firmware/linux/candump_log.hpp"
+#include "lptn/firmware/candump_line.hpp"
 #include "hostio/line_reader.hpp"
 #include "tools/canfile/internal/formats.hpp"
 

@@ -1,6 +1,6 @@
 // candump -L logs: the reader is the firmware's own (firmware/linux/frame_source.hpp), which owns
-// no file; the writer formats lines as candump_log.hpp does.
-#include "firmware/linux/candump_log.hpp"
+// no file; the writer formats lines as lptn/firmware/candump_line.hpp does.
+#include "lptn/firmware/candump_line.hpp"
 #include "tools/canfile/internal/formats.hpp"
 
 namespace lptn::canfile {

@@ -25,7 +25,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "firmware/linux/candump_log.hpp"
+#include "lptn/firmware/candump_line.hpp"
 #include "lptn/can/lptn_frames.hpp"
 #include "tools/replay/calibrated_estimator.hpp"
 #include "tools/replay/replay_to_csv.hpp"

@@ -1,12 +1,34 @@
-#include "candump_log.hpp"
+// candump's log format (`candump -L`, what canplayer plays): one frame per line,
+//     (1700000000.123456) can0 101#0A1B2C3D00000005
+//   id: 3 hex digits standard, 8 extended; with bit 29 (0x20000000) set, an error frame
+//   data: hex bytes; `R` (optionally a length digit) for a remote frame;
+//   CAN FD: `##` then one flags nibble, then the data;
+//   optionally a direction after the frame, ` R` (received) or ` T` (sent), as newer can-utils and
+//   python-can write it.
+// Parsing takes a string_view and allocates nothing, so the daemon and the bare-metal replay image
+// read logs on the target.
+#pragma once
 
+#include <cstddef>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <string_view>
+
+#include "lptn/firmware/can_frame.hpp"
+#include "lptn/firmware/input.hpp"
 
 namespace lptn::fw {
-namespace {
 
-int hex_value(char c) {
+struct CandumpRecord {
+  TimeUs time_us = 0;
+  std::string_view interface;  // points into the parsed line
+  CanFrame frame;
+};
+
+namespace candump_detail {
+
+inline int hex_value(char c) {
   if (c >= '0' && c <= '9') return c - '0';
   if (c >= 'a' && c <= 'f') return c - 'a' + 10;
   if (c >= 'A' && c <= 'F') return c - 'A' + 10;
@@ -14,7 +36,7 @@ int hex_value(char c) {
 }
 
 // Digits only, at most `max_digits`, into an integer; false on anything else or an empty field.
-bool decimal(std::string_view s, std::size_t max_digits, long long& out) {
+inline bool decimal(std::string_view s, std::size_t max_digits, long long& out) {
   if (s.empty() || s.size() > max_digits) return false;
   out = 0;
   for (char c : s) {
@@ -26,9 +48,12 @@ bool decimal(std::string_view s, std::size_t max_digits, long long& out) {
 
 constexpr std::uint32_t kErrorFlag = 0x20000000u;
 
-}  // namespace
+}  // namespace candump_detail
 
-const char* parse_candump_line(std::string_view line, CandumpRecord& out) {
+// Parses one line (without its newline; a trailing '\r' is accepted). Returns nullptr on success,
+// otherwise a static string saying what is wrong (for "FILE:LINE: reason").
+inline const char* parse_candump_line(std::string_view line, CandumpRecord& out) {
+  using namespace candump_detail;
   if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
   // (sec.usec)
   if (line.size() < 3 || line.front() != '(') return "expected '(seconds.microseconds)' at the start";
@@ -102,10 +127,22 @@ const char* parse_candump_line(std::string_view line, CandumpRecord& out) {
   return nullptr;
 }
 
-std::size_t format_candump_line(char* buf, std::size_t size, TimeUs time_us, std::string_view interface,
-                                const CanFrame& f) {
+// Writes one line (no newline) into buf; returns its length, or 0 if buf is too small (120 bytes
+// always suffice for classic CAN, 200 for FD).
+inline std::size_t format_candump_line(char* buf, std::size_t size, TimeUs time_us, std::string_view interface,
+                                       const CanFrame& f) {
+  using candump_detail::kErrorFlag;
   const long long sec = time_us / kUsPerS, usec = time_us % kUsPerS;
+  // A buffer too small is the caller's to find out from the 0 this returns: inlined into a caller
+  // that passes one on purpose, GCC would warn about the truncation it checks for.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wformat-truncation"
+#endif
   const int n = std::snprintf(buf, size, "(%010lld.%06lld) ", sec, usec);
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic pop
+#endif
   if (n < 0 || static_cast<std::size_t>(n) >= size) return 0;
   std::size_t at = static_cast<std::size_t>(n);
   // The name's bytes as they are, then a space: "%.*s" would stop at a NUL byte, which a parsed
