@@ -3,7 +3,7 @@
 # the same tests built with AddressSanitizer and UndefinedBehaviorSanitizer (all but libtorch),
 # the fuzz smoke run, the firmware-only build (no libtorch, no Ceres), the firmware cross-compiled
 # for aarch64 Linux with its tests under qemu, the Cortex-M7 image checked for heap and exception
-# code, and the vcan bench.
+# code and its replay twin run under qemu's mps2-an500 against the host, and the vcan bench.
 # Installs what each step is missing first. Any failing step fails the script.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -40,10 +40,12 @@ cmake --preset aarch64 -DLPTN_WERROR=ON >/dev/null
 cmake --build --preset aarch64 -j"$jobs"
 ctest --preset aarch64 -j"$jobs"
 
-step "Cortex-M7 image (preset cortex-m7): sizes, no heap, no exceptions"
+step "Cortex-M7 image (preset cortex-m7): sizes, no heap, no exceptions; the replay image under qemu against the host"
 cmake --preset cortex-m7 -DLPTN_WERROR=ON >/dev/null
 cmake --build --preset cortex-m7 -j"$jobs"
 tools/check-m7-image.sh build/cortex-m7/firmware/baremetal/lptn_m7_image.elf
+tools/check-m7-image.sh build/cortex-m7/firmware/baremetal/lptn_m7_replay.elf
+tools/check-m7-golden.sh
 
 step "vcan bench: lptn-daemon on vcan0 in a qemu guest against the in-process replay"
 tools/setup.sh bench

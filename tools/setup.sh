@@ -24,6 +24,7 @@ HOST=(
 CROSS=(
   g++-aarch64-linux-gnu qemu-user-static                # aarch64 Linux; tests run under qemu-aarch64-static
   gcc-arm-none-eabi libstdc++-arm-none-eabi-newlib libnewlib-arm-none-eabi  # Cortex-M7 bare metal
+  qemu-system-arm                                       # the Cortex-M7 replay image on mps2-an500
 )
 BENCH=(
   python3-can can-utils                                 # CAN logs and the bench's tools

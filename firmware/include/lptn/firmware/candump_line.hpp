@@ -48,6 +48,13 @@ inline bool decimal(std::string_view s, std::size_t max_digits, long long& out) 
 
 constexpr std::uint32_t kErrorFlag = 0x20000000u;
 
+// s[pos, pos + n) for pos <= s.size(): string_view::substr would check pos and, without
+// exceptions, reach abort() and with it newlib's heap (the bare-metal image has none).
+inline std::string_view part(std::string_view s, std::size_t pos, std::size_t n = std::string_view::npos) {
+  const std::size_t left = s.size() - pos;
+  return std::string_view(s.data() + pos, n < left ? n : left);
+}
+
 }  // namespace candump_detail
 
 // Parses one line (without its newline; a trailing '\r' is accepted). Returns nullptr on success,
@@ -59,22 +66,22 @@ inline const char* parse_candump_line(std::string_view line, CandumpRecord& out)
   if (line.size() < 3 || line.front() != '(') return "expected '(seconds.microseconds)' at the start";
   const std::size_t close = line.find(')');
   if (close == std::string_view::npos) return "time stamp has no closing ')'";
-  const std::string_view stamp = line.substr(1, close - 1);
+  const std::string_view stamp = part(line, 1, close - 1);
   const std::size_t dot = stamp.find('.');
   long long sec = 0, usec = 0;
-  if (dot == std::string_view::npos || !decimal(stamp.substr(0, dot), 12, sec) || stamp.size() - dot - 1 != 6 ||
-      !decimal(stamp.substr(dot + 1), 6, usec))
+  if (dot == std::string_view::npos || !decimal(part(stamp, 0, dot), 12, sec) || stamp.size() - dot - 1 != 6 ||
+      !decimal(part(stamp, dot + 1), 6, usec))
     return "time stamp is not seconds.microseconds (six digits)";
   out.time_us = static_cast<TimeUs>(sec) * kUsPerS + static_cast<TimeUs>(usec);
 
   // interface
-  std::string_view rest = line.substr(close + 1);
+  std::string_view rest = part(line, close + 1);
   if (rest.empty() || rest.front() != ' ') return "expected a space after the time stamp";
   rest.remove_prefix(1);
   const std::size_t space = rest.find(' ');
   if (space == std::string_view::npos || space == 0) return "expected an interface name and a frame";
-  out.interface = rest.substr(0, space);
-  std::string_view frame = rest.substr(space + 1);
+  out.interface = part(rest, 0, space);
+  std::string_view frame = part(rest, space + 1);
   while (!frame.empty() && frame.back() == ' ') frame.remove_suffix(1);
   // can-utils' and python-can's newer logs end with the direction: " R" received, " T" sent.
   if (frame.size() > 2 && frame[frame.size() - 2] == ' ' && (frame.back() == 'R' || frame.back() == 'T')) {
@@ -85,7 +92,7 @@ inline const char* parse_candump_line(std::string_view line, CandumpRecord& out)
   // id#data
   const std::size_t hash = frame.find('#');
   if (hash == std::string_view::npos) return "frame has no '#' between id and data";
-  const std::string_view id = frame.substr(0, hash);
+  const std::string_view id = part(frame, 0, hash);
   if (id.size() != 3 && id.size() != 8) return "frame id must have 3 (standard) or 8 (extended) hex digits";
   std::uint32_t value = 0;
   for (char c : id) {
@@ -98,7 +105,7 @@ inline const char* parse_candump_line(std::string_view line, CandumpRecord& out)
   f.error = f.extended && (value & kErrorFlag) != 0;
   f.id = f.extended ? (value & 0x1FFFFFFFu) : value;
   if (!f.extended && value > 0x7FF) return "standard frame id above 7FF";
-  std::string_view data = frame.substr(hash + 1);
+  std::string_view data = part(frame, hash + 1);
   std::size_t max_len = 8;
   if (!data.empty() && data.front() == '#') {  // CAN FD: flags nibble, then data
     if (data.size() < 2 || hex_value(data[1]) < 0) return "CAN FD frame has no flags digit after '##'";
