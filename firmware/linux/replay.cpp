@@ -8,15 +8,7 @@ ReplayStats replay_frames(FrameSource& log, Estimator<double>& estimator, const 
   auto row = [&](const EstimatorOutput<double>& out, TimeUs first_us) {
     if (sinks.row) sinks.row(out, first_us);
   };
-  auto copy_counts = [&] {
-    const ReplayCounts& c = clock.counts();
-    stats.frames = c.frames;
-    stats.ticks = c.ticks;
-    stats.rows = c.rows;
-    stats.re_anchored = c.re_anchored;
-    stats.first_us = c.first_us;
-    stats.last_us = c.last_us;
-  };
+  auto copy_counts = [&] { static_cast<ReplayCounts&>(stats) = clock.counts(); };
   TimeUs time_us = 0;
   CanFrame frame;
   const char* why = nullptr;

@@ -15,14 +15,10 @@
 
 namespace lptn::fw {
 
-struct ReplayStats {
+// The clock's counts (frames, ticks, rows, ...) and the log's records.
+struct ReplayStats : ReplayCounts {
   std::size_t records = 0;     // lines of a text log, objects of a BLF, as far as read
-  std::size_t frames = 0;      // well-formed frames handed to the estimator
   std::size_t bad_records = 0; // malformed, reported and skipped
-  std::size_t ticks = 0;
-  std::size_t rows = 0;        // ticks with an initialized estimate
-  std::size_t re_anchored = 0; // forward jumps too long to tick through
-  TimeUs first_us = 0, last_us = 0;
 };
 
 struct ReplaySinks {

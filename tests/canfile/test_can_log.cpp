@@ -130,19 +130,10 @@ std::vector<std::string> python_can(const std::string& args, const fs::path& scr
 
 class EveryFormat : public ::testing::TestWithParam<LogFormat> {};
 
-const char* extension(LogFormat f) {
-  switch (f) {
-    case LogFormat::candump: return ".log";
-    case LogFormat::asc: return ".asc";
-    case LogFormat::blf: return ".blf";
-  }
-  return "";
-}
-
 TEST_P(EveryFormat, WhatLptnWritesItReadsBackFrameForFrame) {
   TempDir t;
   const auto frames = sample_frames();
-  const Read r = read_log(write_log(t.path() / (std::string("a") + extension(GetParam())), GetParam(), frames), GetParam());
+  const Read r = read_log(write_log(t.path() / (std::string("a") + format_extension(GetParam())), GetParam(), frames), GetParam());
   EXPECT_TRUE(r.bad.empty()) << r.bad.front();
   ASSERT_EQ(r.frames.size(), frames.size());
   EXPECT_EQ(canonical(r.frames), canonical(frames));
@@ -156,7 +147,7 @@ TEST_P(EveryFormat, WhatLptnWritesItReadsBackFrameForFrame) {
 TEST_P(EveryFormat, WhatLptnWritesPythonCanReadsTheSame) {
   TempDir t;
   const auto frames = sample_frames();
-  const fs::path log = write_log(t.path() / (std::string("lptn") + extension(GetParam())), GetParam(), frames);
+  const fs::path log = write_log(t.path() / (std::string("lptn") + format_extension(GetParam())), GetParam(), frames);
   EXPECT_EQ(python_can("dump " + log.string(), t.path()), canonical(frames));
 }
 
@@ -164,7 +155,7 @@ TEST_P(EveryFormat, WhatPythonCanWritesLptnReadsTheSame) {
   TempDir t;
   const auto frames = sample_frames();
   const fs::path candump = write_log(t.path() / "source.log", LogFormat::candump, frames);
-  const fs::path log = t.path() / (std::string("python") + extension(GetParam()));
+  const fs::path log = t.path() / (std::string("python") + format_extension(GetParam()));
   python_can("convert " + candump.string() + " " + log.string(), t.path());
   ASSERT_TRUE(fs::exists(log));
   EXPECT_EQ(detect_format(log), GetParam());

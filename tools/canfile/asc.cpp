@@ -113,8 +113,6 @@ constexpr TimeUs kMaxTimeUs = TimeUs{100} * 366 * 86400 * fw::kUsPerS;
 
 bool is_direction(std::string_view s) { return s == "Rx" || s == "Tx"; }
 
-constexpr std::uint8_t kFdLengths[16] = {0, 1, 2, 3, 4, 5, 6, 7, 8, 12, 16, 20, 24, 32, 48, 64};
-
 const char* parse_data(const Fields& fields, std::size_t first, std::size_t count, int base, CanFrame& f) {
   if (fields.n < first + count) return "fewer data bytes than its length says";
   for (std::size_t i = 0; i < count; ++i) {
@@ -270,8 +268,7 @@ class AscWriter final : public LogWriter {
     if (f.error) {
       n += std::snprintf(at(), room(), f.fd ? "CANFD   1 Rx   ErrorFrame" : "1  ErrorFrame");
     } else if (f.fd) {
-      std::uint8_t dlc = 0;
-      while (dlc < 15 && kFdLengths[dlc] < f.len) ++dlc;
+      const std::uint8_t dlc = fd_length_code(f.len);
       n += std::snprintf(at(), room(), "CANFD   1 Rx   %8s  %32s 1 0 %x %2u", id, "", dlc, f.remote ? 0u : f.len);
       if (!f.remote)
         for (unsigned i = 0; i < f.len; ++i) n += std::snprintf(at(), room(), " %02X", f.data[i]);

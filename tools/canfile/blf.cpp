@@ -47,7 +47,6 @@ constexpr std::uint32_t kTimeTenMicroseconds = 1;
 constexpr std::uint32_t kTimeOneNanosecond = 2;
 // No log spans more; beyond it the time stamp is damaged (and the sum with the start would overflow).
 constexpr std::uint64_t kMaxOffsetUs = 100ull * 366 * 86400 * 1000000;
-constexpr std::uint8_t kFdLengths[16] = {0, 1, 2, 3, 4, 5, 6, 7, 8, 12, 16, 20, 24, 32, 48, 64};
 
 template <class T>
 T get(const std::uint8_t* p) {
@@ -366,8 +365,7 @@ class BlfWriter final : public LogWriter {
       body.append(2 + 8, '\0');
     } else if (f.fd) {
       type = kCanFdMessage;
-      std::uint8_t dlc = 0;
-      while (dlc < 15 && kFdLengths[dlc] < f.len) ++dlc;
+      const std::uint8_t dlc = fd_length_code(f.len);
       put<std::uint16_t>(body, 1);
       body.push_back(static_cast<char>(f.remote ? 0x80 : 0));
       body.push_back(static_cast<char>(dlc));

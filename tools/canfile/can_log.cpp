@@ -27,13 +27,27 @@ std::optional<LogFormat> format_from_name(std::string_view name) {
   return std::nullopt;
 }
 
+const char* format_extension(LogFormat f) {
+  switch (f) {
+    case LogFormat::candump: return ".log";
+    case LogFormat::asc: return ".asc";
+    case LogFormat::blf: return ".blf";
+  }
+  return "";
+}
+
 std::optional<LogFormat> format_from_extension(const fs::path& file) {
   std::string ext = file.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  if (ext == ".log") return LogFormat::candump;
-  if (ext == ".asc") return LogFormat::asc;
-  if (ext == ".blf") return LogFormat::blf;
+  for (LogFormat f : {LogFormat::candump, LogFormat::asc, LogFormat::blf})
+    if (ext == format_extension(f)) return f;
   return std::nullopt;
+}
+
+std::string record_message(const fs::path& file, const fw::FrameSource& source, std::size_t record,
+                           std::string_view reason) {
+  const bool line = std::string_view(source.record_name()) == "line";
+  return file.string() + (line ? ":" : ": object ") + std::to_string(record) + ": " + std::string(reason);
 }
 
 namespace {

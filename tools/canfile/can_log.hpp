@@ -25,6 +25,15 @@ const char* format_name(LogFormat f);
 std::optional<LogFormat> format_from_name(std::string_view name);
 // The format a file of this name is written in: *.log candump, *.asc, *.blf; else none.
 std::optional<LogFormat> format_from_extension(const std::filesystem::path& file);
+// ".log", ".asc", ".blf".
+const char* format_extension(LogFormat f);
+
+// Readers report a log's malformed records one by one up to this many, then as a count.
+inline constexpr std::size_t kRecordMessagesShown = 10;
+
+// "FILE:LINE: reason" for a text log's line, "FILE: object N: reason" for a BLF's object.
+std::string record_message(const std::filesystem::path& file, const fw::FrameSource& source, std::size_t record,
+                           std::string_view reason);
 
 // A log that cannot be opened or is in no format lptn reads: one line naming the file.
 class LogError : public std::runtime_error {

@@ -26,8 +26,6 @@ using Values = std::array<double, kNumChannels>;  // NaN: no cell
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-// A garbage file should not bury the terminal; the count says how many more there were.
-constexpr std::size_t kMaxLineWarnings = 10;
 
 // Frames that are well formed but carry no column.
 enum class Skip { unknown_id, output_frame, error_frame, remote_frame, fd_frame, wrong_length };
@@ -100,7 +98,7 @@ struct Row {
 // Collects rows and what was left out, then writes the CSV with the columns that occurred.
 class CsvBuilder {
  public:
-  CsvBuilder(const fs::path& log, const char* record_name) : log_(log), record_name_(record_name) {}
+  CsvBuilder(const fs::path& log, const fw::FrameSource& source) : log_(log), source_(source) {}
 
   void frame(TimeUs t, const fw::CanFrame& f, std::size_t number) {
     const Decoded d = decode(f);
@@ -125,9 +123,9 @@ class CsvBuilder {
     out.frames = frames_;
     out.duration_s = static_cast<double>(rows_.back().t - rows_.front().t) / fw::kUsPerS;
     out.warnings = std::move(warnings_);
-    if (bad_lines_ > kMaxLineWarnings)
-      out.warnings.push_back(log_.string() + ": " + std::to_string(bad_lines_ - kMaxLineWarnings) +
-                             " more " + record_name_ + "s dropped (malformed or going back in time)");
+    if (bad_lines_ > canfile::kRecordMessagesShown)
+      out.warnings.push_back(log_.string() + ": " + std::to_string(bad_lines_ - canfile::kRecordMessagesShown) +
+                             " more " + source_.record_name() + "s dropped (malformed or going back in time)");
     if (skipped_total() > 0)
       out.warnings.push_back(log_.string() + ": skipped frames that carry no column: " + skipped_summary());
     out.text = csv_text();
@@ -135,11 +133,11 @@ class CsvBuilder {
   }
 
  private:
-  // "FILE:LINE: reason", or "FILE: object N: reason" for a BLF.
+  // "FILE:LINE: reason", or "FILE: object N: reason" for a BLF; after the first few, only counted
+  // (a garbage file should not bury the terminal).
   void record_warning(std::size_t number, const char* reason) {
-    if (++bad_lines_ > kMaxLineWarnings) return;
-    const bool line = std::string_view(record_name_) == "line";
-    warnings_.push_back(log_.string() + (line ? ":" : ": object ") + std::to_string(number) + ": " + reason);
+    if (++bad_lines_ > canfile::kRecordMessagesShown) return;
+    warnings_.push_back(canfile::record_message(log_, source_, number, reason));
   }
 
   void count_skip(Skip why, std::size_t number) {
@@ -219,7 +217,7 @@ class CsvBuilder {
   }
 
   const fs::path& log_;
-  const char* record_name_;
+  const fw::FrameSource& source_;
   std::vector<Row> rows_;
   std::array<bool, kNumChannels> present_{};
   TimeUs last_us_ = 0;
@@ -238,7 +236,7 @@ Converted csv_from_log(const fs::path& log, const canfile::LogSelection& select)
     throw ConvertError(e.what());
   }
   canfile::ChannelFilter& source = *opened.frames;
-  CsvBuilder builder(log, source.record_name());
+  CsvBuilder builder(log, source);
   TimeUs t = 0;
   fw::CanFrame frame;
   const char* why = nullptr;

@@ -98,11 +98,16 @@ bool is_log(const fs::path& file, const Args& args) {
   }
 }
 
+// CSV -> log: --format, else the extension of the log to write, else candump.
+canfile::LogFormat output_format(const Args& args, const fs::path& out) {
+  return given_format(args).value_or(canfile::format_from_extension(out).value_or(canfile::LogFormat::candump));
+}
+
 canlog::Converted convert(const fs::path& in, const fs::path& out, bool from_log, const Args& args) {
   try {
     if (from_log) return canlog::csv_from_log(in, {given_format(args), args.channel});
     canlog::LogOptions options;
-    options.format = given_format(args).value_or(canfile::format_from_extension(out).value_or(canfile::LogFormat::candump));
+    options.format = output_format(args, out);
     options.interface = args.interface;
     options.start_us = std::llround(args.start_time_s * 1e6);
     return canlog::log_from_csv(in, options);
@@ -145,7 +150,7 @@ void convert_file(const CLI::App& cmd, const Args& args) {
     reject_log_options(cmd, in);
   } else {
     reject_channel(cmd, in);
-    reject_interface(cmd, given_format(args).value_or(canfile::format_from_extension(out).value_or(canfile::LogFormat::candump)));
+    reject_interface(cmd, output_format(args, out));
   }
   const canlog::Converted c = convert(in, out, from_log, args);
   print_warnings(c);
@@ -181,7 +186,7 @@ void convert_directory(const CLI::App& cmd, const Args& args) {
     reject_interface(cmd, log_format);
   }
   const std::vector<fs::path>& files = from_log ? logs : csvs;
-  const std::string out_ext = from_log ? ".csv" : "." + std::string(log_format == canfile::LogFormat::candump ? "log" : canfile::format_name(log_format));
+  const std::string out_ext = from_log ? ".csv" : canfile::format_extension(log_format);
 
   AtomicDirectory out(args.out, args.force);
   std::size_t frames = 0;

@@ -13,13 +13,6 @@
 
 namespace lptn {
 
-namespace {
-
-// A garbage file should not bury the terminal; the count at the end says how many more there were.
-constexpr std::size_t kMaxBadRecordMessages = 10;
-
-}  // namespace
-
 ReplaySummary replay_to_csv(const std::string& log_path, const fw::EstimatorConfig<double>& config,
                               const std::string& csv_path, bool quiet, const canfile::LogSelection& select) {
   ReplaySummary summary;
@@ -49,13 +42,13 @@ ReplaySummary replay_to_csv(const std::string& log_path, const fw::EstimatorConf
       ++summary.rotor_samples;
     }
   };
-  const bool lines = std::string_view(log->record_name()) == "line";
+  // A garbage file should not bury the terminal; the count at the end says how many more there were.
   std::size_t bad = 0;
   sinks.bad_record = [&](std::size_t record, const char* why) {
-    if (++bad > kMaxBadRecordMessages) return;
+    if (++bad > canfile::kRecordMessagesShown) return;
     progress.finish();
-    if (lines) std::fprintf(stderr, "%s:%zu: %s (line skipped)\n", log_path.c_str(), record, why);
-    else std::fprintf(stderr, "%s: object %zu: %s (skipped)\n", log_path.c_str(), record, why);
+    std::fprintf(stderr, "%s (%s skipped)\n", canfile::record_message(log_path, *log, record, why).c_str(),
+                 log->record_name());
   };
   sinks.progress_every = 200000;
   sinks.progress = [&](const fw::ReplayStats& s) {
@@ -66,8 +59,8 @@ ReplaySummary replay_to_csv(const std::string& log_path, const fw::EstimatorConf
   summary.stats = fw::replay_frames(*log, *estimator, sinks);
   summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   progress.finish();
-  if (bad > kMaxBadRecordMessages)
-    std::fprintf(stderr, "%s: %zu more malformed %ss skipped\n", log_path.c_str(), bad - kMaxBadRecordMessages,
+  if (bad > canfile::kRecordMessagesShown)
+    std::fprintf(stderr, "%s: %zu more malformed %ss skipped\n", log_path.c_str(), bad - canfile::kRecordMessagesShown,
                  log->record_name());
   if (summary.stator_samples) summary.rmse_stator_k = std::sqrt(sum_stator / static_cast<double>(summary.stator_samples));
   if (summary.rotor_samples) summary.rmse_rotor_k = std::sqrt(sum_rotor / static_cast<double>(summary.rotor_samples));

@@ -1,6 +1,7 @@
 // The readers and writers behind can_log.hpp, one file per format.
 #pragma once
 
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -25,6 +26,16 @@ std::unique_ptr<LogWriter> make_blf_writer();
 
 // For detecting the format: a line of an ASC file's header (date, base, Begin Triggerblock, ...).
 bool is_asc_header_line(std::string_view line);
+
+// CAN FD's data length codes 0..15 and the lengths they stand for.
+inline constexpr std::uint8_t kFdLengths[16] = {0, 1, 2, 3, 4, 5, 6, 7, 8, 12, 16, 20, 24, 32, 48, 64};
+
+// The smallest code whose length holds `length` bytes.
+inline std::uint8_t fd_length_code(std::uint8_t length) {
+  std::uint8_t code = 0;
+  while (code < 15 && kFdLengths[code] < length) ++code;
+  return code;
+}
 
 // BLF files begin with these four bytes.
 inline constexpr char kBlfMagic[] = "LOGG";
