@@ -18,13 +18,14 @@ import os
 import re
 import sys
 
-# Longest prefix first wins. The generated headers (lptn/can/*, lptn/version.hpp) belong to the
+# Longest prefix first wins. The generated headers (lptn/can/*, lptn/bus/*, lptn/version.hpp) belong to the
 # modules that generate them.
 MODULES = [
     "common", "can-dbc", "hostio",
     "firmware/include", "firmware/linux", "firmware/baremetal", "firmware/calibration", "firmware/bench",
     "trainer/data", "trainer/model", "trainer/calibrate", "trainer/calibrate/lm*", "trainer/td3", "trainer/diagnose",
-    "tools/plant", "tools/generate", "tools/export", "tools/canfile", "tools/canlog", "tools/replay", "tools/report",
+    "tools/plant", "tools/generate", "tools/export", "tools/dbc", "tools/bus", "tools/canfile", "tools/canlog",
+    "tools/replay", "tools/report",
     "tools/cli", "tools/vcan-bench",
     "tests",
 ]
@@ -51,13 +52,16 @@ DEPENDS = {
     "tools/plant": ["common"],
     "tools/generate": ["tools/plant", "trainer/model"],
     "tools/export": ["trainer/calibrate"],
+    "tools/dbc": [],
+    # A bus map read at run time: the firmware's decoder interface over a DBC read at run time.
+    "tools/bus": ["firmware/include", "tools/dbc"],
     "tools/canfile": ["firmware/linux"],
-    "tools/canlog": ["trainer/data", "tools/canfile"],
+    "tools/canlog": ["trainer/data", "tools/canfile", "tools/bus"],
     "tools/replay": ["trainer/calibrate", "tools/canfile", "firmware/calibration"],
     "tools/report": ["trainer/diagnose"],
-    "tools/cli": ["tools/generate", "tools/export", "tools/canfile", "tools/canlog", "tools/replay", "tools/report", "trainer/td3",
-                  "trainer/diagnose"],
-    "tools/vcan-bench": ["tools/replay"],
+    "tools/cli": ["tools/generate", "tools/export", "tools/bus", "tools/canfile", "tools/canlog", "tools/replay",
+                  "tools/report", "trainer/td3", "trainer/diagnose"],
+    "tools/vcan-bench": ["tools/replay", "tools/bus"],
     "tests": [m for m in MODULES if m not in ("tests", "firmware/bench")],
 }
 
@@ -67,7 +71,7 @@ INTERNAL_FOR_TESTS = {"common", "trainer/calibrate", "trainer/diagnose", "traine
 # Module roots a quoted include may be relative to, and headers generated into the build tree.
 ROOTS = ["", "common", "firmware/include"]
 # thermal_calibration.hpp: headers the tests export at build time.
-GENERATED = {"lptn/version.hpp": "common", "lptn/can/": "can-dbc", "thermal_calibration.hpp": "tests"}
+GENERATED = {"lptn/version.hpp": "common", "lptn/can/": "can-dbc", "lptn/bus/": "can-dbc", "thermal_calibration.hpp": "tests"}
 SOURCE_EXTENSIONS = (".hpp", ".cpp", ".h", ".cc")
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"')
 

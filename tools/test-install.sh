@@ -17,7 +17,7 @@ fail() { echo "test-install: $*" >&2; exit 1; }
 
 cmake --install "$build" --prefix "$prefix" >/dev/null
 for f in bin/lptn bin/lptn-daemon include/lptn/model.hpp include/lptn/version.hpp include/lptn/firmware/estimator.hpp \
-         include/lptn/can/lptn_frames.hpp; do
+         include/lptn/can/lptn_frames.hpp include/lptn/bus/bus_glue.hpp include/lptn/bus/bus_glue_codecs.hpp; do
   [ -e "$prefix/$f" ] || fail "$f was not installed"
 done
 [ -e "$prefix/bin/lptn-vcan-bench" ] && fail "the bench was installed"

@@ -215,7 +215,7 @@ int run_live(const Options& o) {
   std::FILE* log = nullptr;
   if (!o.interface.empty()) {
     std::string error;
-    if (!socket.open(o.interface, lptn::can::kReceivedIds, std::size(lptn::can::kReceivedIds), error)) {
+    if (!socket.open(o.interface, lptn::bus::kFilterIds, std::size(lptn::bus::kFilterIds), error)) {
       std::fprintf(stderr, "lptn-daemon: error: %s\n", error.c_str());
       return 1;
     }

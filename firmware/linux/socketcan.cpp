@@ -31,7 +31,8 @@ bool CanSocket::open(const std::string& interface, const std::uint32_t* ids, std
   if (count > 16) count = 16;
   for (std::size_t i = 0; i < count; ++i) {
     filters[i].can_id = ids[i];
-    filters[i].can_mask = CAN_SFF_MASK | CAN_EFF_FLAG | CAN_RTR_FLAG;  // exactly this standard data frame
+    // Exactly this data frame: a standard id, or an extended one (CAN_EFF_FLAG set in ids[i]).
+    filters[i].can_mask = ((ids[i] & CAN_EFF_FLAG) ? CAN_EFF_MASK : CAN_SFF_MASK) | CAN_EFF_FLAG | CAN_RTR_FLAG;
   }
   if (::setsockopt(fd_, SOL_CAN_RAW, CAN_RAW_FILTER, filters, static_cast<socklen_t>(count * sizeof(can_filter))) < 0)
     return fail("CAN_RAW_FILTER");

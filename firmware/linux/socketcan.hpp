@@ -17,8 +17,8 @@ class CanSocket {
   CanSocket& operator=(const CanSocket&) = delete;
   ~CanSocket();
 
-  // Opens and binds; only `ids` (standard ids) and error frames pass the kernel's filter. On
-  // failure returns false with a one-line reason in `error`.
+  // Opens and binds; only `ids` (SocketCAN ids: extended ones with CAN_EFF_FLAG) and error frames
+  // pass the kernel's filter. On failure returns false with a one-line reason in `error`.
   bool open(const std::string& interface, const std::uint32_t* ids, std::size_t count, std::string& error);
   int fd() const { return fd_; }
 

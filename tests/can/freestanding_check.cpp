@@ -14,8 +14,8 @@ constexpr bool status_round_trips() {
   status.status_counter = 5;
   std::uint8_t frame[8]{};
   lptn::can::LptnStatus decoded;
-  return status.pack(frame, sizeof frame) && decoded.unpack(frame, sizeof frame) && frame[0] == 0xFF &&
-         frame[7] == 0x50 && decoded.stale_inputs == 0x1FF && decoded.rejected_readings == 0xC3;
+  return status.pack(frame, sizeof frame) && decoded.unpack(frame, sizeof frame) && frame[1] == 0xF5 &&
+         frame[2] == 0x1F && decoded.stale_inputs == 0x1FF && decoded.rejected_readings == 0xC3;
 }
 
 constexpr bool motorola_round_trips() {

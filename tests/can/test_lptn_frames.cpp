@@ -48,47 +48,55 @@ TEST(LptnFrames, TcElectricalPacksLittleEndianSignedAndUnsigned) {
 
 TEST(LptnFrames, LptnStatusPacksFieldsThatCrossBytes) {
   LptnStatus message;
-  message.stale_inputs = 0x1FF;        // bits 0..8
-  message.implausible_inputs = 0x0AA;  // bits 9..17
-  message.substituted_inputs = 0x155;  // bits 18..26
-  message.stator_sensor_state = static_cast<std::uint8_t>(LptnStatus::StatorSensorState::unavailable);  // 2, bits 27..28
-  message.mode = static_cast<std::uint8_t>(LptnStatus::Mode::degraded);  // 1, bits 29..30
-  message.torque_route_active = 1;     // bit 31
-  message.voltage_route_active = 0;    // bit 32
-  message.actor_scheduling = 1;        // bit 33
-  message.rejected_readings = 0xC3;    // bits 34..41
-  message.bus_events = 0x2A;           // bits 42..47
-  message.status_counter = 5;          // bits 60..63
+  message.crc = 0x3C;                  // bits 0..7
+  message.status_counter = 5;          // bits 8..11
+  message.stale_inputs = 0x1FF;        // bits 12..20
+  message.implausible_inputs = 0x0AA;  // bits 21..29
+  message.substituted_inputs = 0x155;  // bits 30..38
+  message.stator_sensor_state = static_cast<std::uint8_t>(LptnStatus::StatorSensorState::unavailable);  // 2, bits 39..40
+  message.mode = static_cast<std::uint8_t>(LptnStatus::Mode::degraded);  // 1, bits 41..42
+  message.torque_route_active = 1;     // bit 43
+  message.voltage_route_active = 0;    // bit 44
+  message.actor_scheduling = 1;        // bit 45
+  message.rejected_readings = 0xC3;    // bits 46..53
+  message.bus_events = 0x55;           // bits 54..60
   const std::vector<std::uint8_t> expected{
-      0xFF,  // stale bits 0..7
-      0x55,  // stale bit 8 (1) | implausible bits 0..6 (0x2A) << 1 = 0x01 | 0x54
-      0x55,  // implausible bits 7..8 (0xAA >> 7 = 1) | substituted bits 0..5 (0x15) << 2 = 0x01 | 0x54
-      0xB5,  // substituted bits 6..8 (0x155 >> 6 = 5) | 2 << 3 | 1 << 5 | 1 << 7 = 0x05 | 0x10 | 0x20 | 0x80
-      0x0E,  // voltage 0 | actor 1 << 1 | rejected bits 0..5 (0x03) << 2 = 0x02 | 0x0C
-      0xAB,  // rejected bits 6..7 (0xC3 >> 6 = 3) | bus events 0x2A << 2 = 0x03 | 0xA8
-      0x00,  // unused
-      0x50,  // status counter 5 << 4
+      0x3C,  // crc
+      0xF5,  // counter 5 | stale bits 0..3 (0xF) << 4
+      0x5F,  // stale bits 4..8 (0x1F) | implausible bits 0..2 (0x2) << 5 = 0x1F | 0x40
+      0x55,  // implausible bits 3..8 (0xAA >> 3 = 0x15) | substituted bits 0..1 (0x1) << 6 = 0x15 | 0x40
+      0x55,  // substituted bits 2..8 (0x155 >> 2 = 0x55) | state bit 0 (0) << 7
+      0xEB,  // state bit 1 (1) | mode 1 << 1 | torque 1 << 3 | voltage 0 | actor 1 << 5 | rejected bits 0..1 (3) << 6
+      0x70,  // rejected bits 2..7 (0xC3 >> 2 = 0x30) | bus events bits 0..1 (0x55 & 3 = 1) << 6 = 0x30 | 0x40
+      0x15,  // bus events bits 2..6 (0x55 >> 2 = 0x15)
   };
   EXPECT_EQ(packed(message), expected);
 
   LptnStatus decoded;
   ASSERT_TRUE(decoded.unpack(expected.data(), expected.size()));
+  EXPECT_EQ(decoded.crc, 0x3C);
   EXPECT_EQ(decoded.stale_inputs, 0x1FF);
   EXPECT_EQ(decoded.implausible_inputs, 0x0AA);
   EXPECT_EQ(decoded.substituted_inputs, 0x155);
   EXPECT_EQ(decoded.stator_sensor_state, 2);
   EXPECT_EQ(decoded.mode, 1);
   EXPECT_EQ(decoded.rejected_readings, 0xC3);
-  EXPECT_EQ(decoded.bus_events, 0x2A);
+  EXPECT_EQ(decoded.bus_events, 0x55);
   EXPECT_EQ(decoded.status_counter, 5);
 }
 
-TEST(LptnFrames, NegativeTemperaturesAreTwosComplement) {
+TEST(LptnFrames, TemperaturesAreOffsetUnsigned13BitFields) {
   LptnTemperatures message;
-  message.stator_winding_temp = LptnTemperatures::stator_winding_temp_encode(-60.0);  // -6000 = 0xE890
-  message.rotor_core_temp = LptnTemperatures::rotor_core_temp_encode(320.0);  // 32000 = 0x7D00
-  const std::vector<std::uint8_t> expected{0x90, 0xE8, 0x00, 0x00, 0x00, 0x00, 0x00, 0x7D};
+  message.crc = 0x3C;
+  message.counter = 7;
+  message.stator_winding_temp = LptnTemperatures::stator_winding_temp_encode(-60.0);  // (-60 + 60) / 0.05 = 0
+  message.rotor_core_temp = LptnTemperatures::rotor_core_temp_encode(320.0);  // (320 + 60) / 0.05 = 7600 = 0x1DB0
+  EXPECT_EQ(message.rotor_core_temp, 7600);
+  // 7600 << 51: bits 51..63, i.e. byte 6 bits 3..7 (0x1DB0 & 0x1F = 0x10 -> 0x80), byte 7 (0x1DB0 >> 5 = 0xED)
+  const std::vector<std::uint8_t> expected{0x3C, 0x07, 0x00, 0x00, 0x00, 0x00, 0x80, 0xED};
   EXPECT_EQ(packed(message), expected);
+  EXPECT_DOUBLE_EQ(LptnTemperatures::rotor_core_temp_decode(message.rotor_core_temp), 320.0);
+  EXPECT_EQ(LptnTemperatures::stator_winding_temp_encode(400.0), 8191) << "saturates at the 13-bit field (349.55 C)";
 }
 
 TEST(LptnFrames, EncodeRoundsToNearestWithHalvesAwayFromZero) {
@@ -123,8 +131,9 @@ TEST(LptnFrames, ConstantsComeFromTheDbc) {
   EXPECT_TRUE(speed.is_signed);
   EXPECT_FALSE(speed.big_endian);
   EXPECT_EQ(std::string_view(TcCooling::kSignals[0].unit), "m3/s");
-  EXPECT_EQ(std::string_view(LptnStatus::kSignals[10].name), "StatusCounter");  // DBC order
-  static_assert(LptnStatus::kNumSignals == 11 && TcElectrical::kNumSignals == 5);
+  EXPECT_EQ(std::string_view(LptnStatus::kSignals[1].name), "StatusCounter");  // DBC order
+  EXPECT_EQ(LptnStatus::kNumSignals, 12u);
+  static_assert(TcElectrical::kNumSignals == 5);
 }
 
 TEST(LptnFrames, ValueTablesBecomeEnums) {
@@ -171,35 +180,39 @@ TEST(LptnFramesEveryMessage, BenchRotorTemp) {
 }
 
 TEST(LptnFramesEveryMessage, LptnTemperatures) {
-  check_message(LPTN_CAN_SIGNAL(LptnTemperatures, stator_winding_temp),
+  check_message(LPTN_CAN_SIGNAL(LptnTemperatures, crc), LPTN_CAN_SIGNAL(LptnTemperatures, counter),
+                LPTN_CAN_SIGNAL(LptnTemperatures, stator_winding_temp),
                 LPTN_CAN_SIGNAL(LptnTemperatures, stator_core_temp),
                 LPTN_CAN_SIGNAL(LptnTemperatures, rotor_winding_temp),
                 LPTN_CAN_SIGNAL(LptnTemperatures, rotor_core_temp));
 }
 
 TEST(LptnFramesEveryMessage, LptnTemperatureStd) {
-  check_message(LPTN_CAN_SIGNAL(LptnTemperatureStd, stator_winding_std),
+  check_message(LPTN_CAN_SIGNAL(LptnTemperatureStd, crc), LPTN_CAN_SIGNAL(LptnTemperatureStd, counter),
+                LPTN_CAN_SIGNAL(LptnTemperatureStd, stator_winding_std),
                 LPTN_CAN_SIGNAL(LptnTemperatureStd, stator_core_std),
                 LPTN_CAN_SIGNAL(LptnTemperatureStd, rotor_winding_std),
                 LPTN_CAN_SIGNAL(LptnTemperatureStd, rotor_core_std));
 }
 
 TEST(LptnFramesEveryMessage, LptnMargin) {
-  check_message(LPTN_CAN_SIGNAL(LptnMargin, limiting_node), LPTN_CAN_SIGNAL(LptnMargin, margin),
+  check_message(LPTN_CAN_SIGNAL(LptnMargin, crc), LPTN_CAN_SIGNAL(LptnMargin, counter),
+                LPTN_CAN_SIGNAL(LptnMargin, limiting_node), LPTN_CAN_SIGNAL(LptnMargin, margin),
                 LPTN_CAN_SIGNAL(LptnMargin, margin_conservative), LPTN_CAN_SIGNAL(LptnMargin, limiting_node_limit));
 }
 
 TEST(LptnFramesEveryMessage, LptnStatus) {
-  check_message(LPTN_CAN_SIGNAL(LptnStatus, stale_inputs), LPTN_CAN_SIGNAL(LptnStatus, implausible_inputs),
+  check_message(LPTN_CAN_SIGNAL(LptnStatus, crc), LPTN_CAN_SIGNAL(LptnStatus, status_counter),
+                LPTN_CAN_SIGNAL(LptnStatus, stale_inputs), LPTN_CAN_SIGNAL(LptnStatus, implausible_inputs),
                 LPTN_CAN_SIGNAL(LptnStatus, substituted_inputs), LPTN_CAN_SIGNAL(LptnStatus, stator_sensor_state),
                 LPTN_CAN_SIGNAL(LptnStatus, mode), LPTN_CAN_SIGNAL(LptnStatus, torque_route_active),
                 LPTN_CAN_SIGNAL(LptnStatus, voltage_route_active), LPTN_CAN_SIGNAL(LptnStatus, actor_scheduling),
-                LPTN_CAN_SIGNAL(LptnStatus, rejected_readings), LPTN_CAN_SIGNAL(LptnStatus, bus_events),
-                LPTN_CAN_SIGNAL(LptnStatus, status_counter));
+                LPTN_CAN_SIGNAL(LptnStatus, rejected_readings), LPTN_CAN_SIGNAL(LptnStatus, bus_events));
 }
 
 TEST(LptnFramesEveryMessage, LptnInnovation) {
-  check_message(LPTN_CAN_SIGNAL(LptnInnovation, innovation), LPTN_CAN_SIGNAL(LptnInnovation, innovation_std),
+  check_message(LPTN_CAN_SIGNAL(LptnInnovation, crc), LPTN_CAN_SIGNAL(LptnInnovation, counter),
+                LPTN_CAN_SIGNAL(LptnInnovation, innovation), LPTN_CAN_SIGNAL(LptnInnovation, innovation_std),
                 LPTN_CAN_SIGNAL(LptnInnovation, test_ratio), LPTN_CAN_SIGNAL(LptnInnovation, observer_ticks));
 }
 

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <memory>
 #include <random>
 
@@ -414,15 +415,83 @@ TEST(Estimator, OutputFramesCarryTheEstimate) {
   ASSERT_TRUE(s.unpack(frames[1].data, frames[1].len));
   ASSERT_TRUE(m.unpack(frames[2].data, frames[2].len));
   ASSERT_TRUE(in.unpack(frames[4].data, frames[4].len));
-  EXPECT_NEAR(can::LptnTemperatures::stator_winding_temp_decode(t.stator_winding_temp), b.out().node_c[0], 0.005);
-  EXPECT_NEAR(can::LptnTemperatures::rotor_core_temp_decode(t.rotor_core_temp), b.out().node_c[3], 0.005);
-  EXPECT_NEAR(can::LptnTemperatureStd::rotor_winding_std_decode(s.rotor_winding_std), b.out().node_std_k[2], 0.0005);
+  // Within half a step of each signal's resolution (the DBC's factor): the encoders round.
+  const double half_temp = can::LptnTemperatures::kSignals[2].factor / 2;
+  const double half_std = can::LptnTemperatureStd::kSignals[2].factor / 2;
+  const double half_margin = can::LptnMargin::kSignals[3].factor / 2;
+  EXPECT_NEAR(can::LptnTemperatures::stator_winding_temp_decode(t.stator_winding_temp), b.out().node_c[0], half_temp + 1e-12);
+  EXPECT_NEAR(can::LptnTemperatures::rotor_core_temp_decode(t.rotor_core_temp), b.out().node_c[3], half_temp + 1e-12);
+  EXPECT_NEAR(can::LptnTemperatureStd::rotor_winding_std_decode(s.rotor_winding_std), b.out().node_std_k[2], half_std + 1e-12);
   EXPECT_EQ(m.limiting_node, b.out().limiting_node);
-  EXPECT_NEAR(can::LptnMargin::margin_decode(m.margin), b.out().margin_k, 0.005);
+  EXPECT_NEAR(can::LptnMargin::margin_decode(m.margin), b.out().margin_k, half_margin + 1e-12);
   EXPECT_LT(can::LptnMargin::margin_conservative_decode(m.margin_conservative), can::LptnMargin::margin_decode(m.margin));
   EXPECT_EQ(in.observer_ticks, b.out().ticks & 0xFFFF);
   EXPECT_EQ(frames[0].id, 0x200u);
   EXPECT_EQ(frames[4].id, 0x204u);
+}
+
+// End-to-end protection of the outputs (e2e.hpp): every frame's CRC checks over its data id (the
+// DBC's id) and the other bytes, a changed byte or another data id fails it, and each message's
+// counter counts its frames.
+TEST(Estimator, EveryOutputFrameIsEndToEndProtected) {
+  Bench b(config_with(testing::true_params()));
+  b.run(60.0);
+  CanFrame before[kMaxOutputFrames], after[kMaxOutputFrames];
+  ASSERT_EQ(pack_outputs(b.out(), before), 5);
+  b.run(0.1);
+  ASSERT_EQ(pack_outputs(b.out(), after), 5);
+  for (int i = 0; i < 5; ++i) {
+    const CanFrame& f = after[i];
+    const auto id = static_cast<std::uint16_t>(f.id);
+    EXPECT_EQ(f.data[0], e2e::frame_crc(id, f.data, f.len, 0)) << "frame " << f.id;
+    CanFrame bad = f;
+    bad.data[5] ^= 0x10;
+    EXPECT_NE(bad.data[0], e2e::frame_crc(id, bad.data, bad.len, 0)) << "frame " << f.id;
+    EXPECT_NE(f.data[0], e2e::frame_crc(static_cast<std::uint16_t>(id + 1), f.data, f.len, 0)) << "frame " << f.id;
+    // The counter: byte 1's low nibble in every LPTN_* frame, one up from the tick before.
+    EXPECT_EQ(f.data[1] & 0xF, (before[i].data[1] + 1) & 0xF) << "frame " << f.id;
+  }
+  can::LptnStatus status;
+  ASSERT_TRUE(status.unpack(after[3].data, after[3].len));
+  EXPECT_EQ(status.status_counter, b.out().status_counter);
+}
+
+// A bus map's [outputs] moves the frames to other CAN ids; the payload, and the CRC over the
+// DBC's id as data id, stay what they were.
+TEST(Estimator, OutputFramesGoOutOnTheIdsGiven) {
+  Bench b(config_with(testing::true_params()));
+  b.run(60.0);
+  const OutputId moved[kMaxOutputFrames] = {{0x18FF4027u, true}, {0x18FF4127u, true}, {0x300u, false},
+                                            {0x301u, false}, {0x7FFu, false}};
+  CanFrame dbc_ids[kMaxOutputFrames], other_ids[kMaxOutputFrames];
+  ASSERT_EQ(pack_outputs(b.out(), dbc_ids), 5);
+  ASSERT_EQ(pack_outputs(b.out(), other_ids, moved), 5);
+  for (int i = 0; i < 5; ++i) {
+    EXPECT_EQ(dbc_ids[i].id, kOutputFrames[i].dbc.id);
+    EXPECT_EQ(other_ids[i].id, moved[i].id);
+    EXPECT_EQ(other_ids[i].extended, moved[i].extended);
+    EXPECT_EQ(other_ids[i].len, dbc_ids[i].len);
+    EXPECT_EQ(0, std::memcmp(other_ids[i].data, dbc_ids[i].data, dbc_ids[i].len)) << kOutputFrames[i].name;
+    EXPECT_EQ(other_ids[i].data[0],
+              e2e::frame_crc(static_cast<std::uint16_t>(kOutputFrames[i].dbc.id), other_ids[i].data, other_ids[i].len, 0));
+  }
+}
+
+TEST(E2E, Crc8SaeJ1850HasItsCatalogueCheckValue) {
+  const std::uint8_t check[] = {'1', '2', '3', '4', '5', '6', '7', '8', '9'};
+  EXPECT_EQ(e2e::crc8_j1850(check, 9), 0x4B);  // reveng's catalogue: CRC-8/SAE-J1850, check=0x4b
+  EXPECT_EQ(e2e::crc8_j1850(check, 0), 0x00);  // init 0xFF, xorout 0xFF
+}
+
+TEST(E2E, CountersTolerateLostFramesUpToMaxDelta) {
+  e2e::CounterState c;
+  EXPECT_EQ(c.step(14, 16, 2), e2e::CounterCheck::first);
+  EXPECT_EQ(c.step(15, 16, 2), e2e::CounterCheck::ok);
+  EXPECT_EQ(c.step(1, 16, 2), e2e::CounterCheck::lost);      // 0 lost, wrapping
+  EXPECT_EQ(c.step(1, 16, 2), e2e::CounterCheck::repeated);  // the same frame again
+  EXPECT_EQ(c.step(4, 16, 2), e2e::CounterCheck::jumped);    // two lost: beyond MaxDeltaCounter 2
+  EXPECT_EQ(c.step(5, 16, 2), e2e::CounterCheck::ok);        // back in step after the jump
+  EXPECT_EQ(c.step(8, 16, 3), e2e::CounterCheck::lost);      // two lost: within MaxDeltaCounter 3
 }
 
 // A hand-made actor (2 -> 4 -> 4 -> 1) that drives lambda_1s from speed: the schedule follows

@@ -206,19 +206,18 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                    LPTN_SIGNAL(TcCooling, alive_counter)});
   check(std::tuple{LPTN_SIGNAL(TcStatorTemp, stator_winding_temp), LPTN_SIGNAL(TcStatorTemp, alive_counter)});
   check(std::tuple{LPTN_SIGNAL(BenchRotorTemp, rotor_temp), LPTN_SIGNAL(BenchRotorTemp, alive_counter)});
-  check(std::tuple{LPTN_SIGNAL(LptnTemperatures, stator_winding_temp), LPTN_SIGNAL(LptnTemperatures, stator_core_temp),
+  check(std::tuple{LPTN_SIGNAL(LptnTemperatures, crc), LPTN_SIGNAL(LptnTemperatures, counter), LPTN_SIGNAL(LptnTemperatures, stator_winding_temp), LPTN_SIGNAL(LptnTemperatures, stator_core_temp),
                    LPTN_SIGNAL(LptnTemperatures, rotor_winding_temp), LPTN_SIGNAL(LptnTemperatures, rotor_core_temp)});
-  check(std::tuple{LPTN_SIGNAL(LptnTemperatureStd, stator_winding_std), LPTN_SIGNAL(LptnTemperatureStd, stator_core_std),
+  check(std::tuple{LPTN_SIGNAL(LptnTemperatureStd, crc), LPTN_SIGNAL(LptnTemperatureStd, counter), LPTN_SIGNAL(LptnTemperatureStd, stator_winding_std), LPTN_SIGNAL(LptnTemperatureStd, stator_core_std),
                    LPTN_SIGNAL(LptnTemperatureStd, rotor_winding_std), LPTN_SIGNAL(LptnTemperatureStd, rotor_core_std)});
-  check(std::tuple{LPTN_SIGNAL(LptnMargin, limiting_node), LPTN_SIGNAL(LptnMargin, margin),
+  check(std::tuple{LPTN_SIGNAL(LptnMargin, crc), LPTN_SIGNAL(LptnMargin, counter), LPTN_SIGNAL(LptnMargin, limiting_node), LPTN_SIGNAL(LptnMargin, margin),
                    LPTN_SIGNAL(LptnMargin, margin_conservative), LPTN_SIGNAL(LptnMargin, limiting_node_limit)});
-  check(std::tuple{LPTN_SIGNAL(LptnStatus, stale_inputs), LPTN_SIGNAL(LptnStatus, implausible_inputs),
+  check(std::tuple{LPTN_SIGNAL(LptnStatus, crc), LPTN_SIGNAL(LptnStatus, status_counter), LPTN_SIGNAL(LptnStatus, stale_inputs), LPTN_SIGNAL(LptnStatus, implausible_inputs),
                    LPTN_SIGNAL(LptnStatus, substituted_inputs), LPTN_SIGNAL(LptnStatus, stator_sensor_state),
                    LPTN_SIGNAL(LptnStatus, mode), LPTN_SIGNAL(LptnStatus, torque_route_active),
                    LPTN_SIGNAL(LptnStatus, voltage_route_active), LPTN_SIGNAL(LptnStatus, actor_scheduling),
-                   LPTN_SIGNAL(LptnStatus, rejected_readings), LPTN_SIGNAL(LptnStatus, bus_events),
-                   LPTN_SIGNAL(LptnStatus, status_counter)});
-  check(std::tuple{LPTN_SIGNAL(LptnInnovation, innovation), LPTN_SIGNAL(LptnInnovation, innovation_std),
+                   LPTN_SIGNAL(LptnStatus, rejected_readings), LPTN_SIGNAL(LptnStatus, bus_events)});
+  check(std::tuple{LPTN_SIGNAL(LptnInnovation, crc), LPTN_SIGNAL(LptnInnovation, counter), LPTN_SIGNAL(LptnInnovation, innovation), LPTN_SIGNAL(LptnInnovation, innovation_std),
                    LPTN_SIGNAL(LptnInnovation, test_ratio), LPTN_SIGNAL(LptnInnovation, observer_ticks)});
   return 0;
 }

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "lptn/firmware/input.hpp"
+#include "tools/bus/bus_map.hpp"
 #include "tools/canfile/can_log.hpp"
 
 namespace lptn::canlog {
@@ -31,6 +32,9 @@ struct LogOptions {
   canfile::LogFormat format = canfile::LogFormat::candump;
   std::string interface = "can0";  // candump's; ASC and BLF write channel 1
   fw::TimeUs start_us = 0;  // time stamp of the first grid point the loader kept
+  // The converter's frames (bus.toml, read at run time); none: our own TC_* frames, through the
+  // codecs generated from lptn.dbc.
+  const lptn::bus::BusMap* bus = nullptr;
 };
 
 // CSV -> log. The CSV is loaded as every command loads it (resampled onto the 0.1 s grid, gaps
@@ -38,7 +42,9 @@ struct LogOptions {
 // at a fixed phase after its grid point, carrying the grid values there, wherever all of its
 // columns have one; each message's alive counter counts the frames of it actually sent.
 // Throws data::DataError for a CSV the loader refuses, ConvertError for a value outside its DBC
-// signal's range.
+// signal's range. With a bus map, each message goes out every cycle time the map or its DBC gives
+// (a whole number of grid steps), a multiplexed one as one frame per multiplexor value its mapped
+// signals need; signals the map does not name are sent as raw 0, inputs it leaves out not at all.
 Converted log_from_csv(const std::filesystem::path& csv, const LogOptions& options);
 
 // log -> CSV. One row per frame time (frames with the same time stamp share a row), time_s counted
@@ -49,6 +55,8 @@ Converted log_from_csv(const std::filesystem::path& csv, const LogOptions& optio
 // opened, no frame could be taken or a required column's message never appeared.
 // `select`: the log's format (none: detected) and channel ("": all, with a warning where there are
 // several; none on the channel asked for is an error).
-Converted csv_from_log(const std::filesystem::path& log, const canfile::LogSelection& select);
+// `bus`: the converter's frames (bus.toml); none: our own TC_* frames.
+Converted csv_from_log(const std::filesystem::path& log, const canfile::LogSelection& select,
+                       const lptn::bus::BusMap* bus = nullptr);
 
 }  // namespace lptn::canlog

@@ -28,9 +28,10 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 
 // Frames that are well formed but carry no column.
-enum class Skip { unknown_id, output_frame, error_frame, remote_frame, fd_frame, wrong_length };
-constexpr std::array<const char*, 6> kSkipNames{"unknown id",    "estimator output (LPTN_*)", "error frame",
-                                                "remote frame",  "CAN FD",                    "wrong length"};
+enum class Skip { unknown_id, output_frame, error_frame, remote_frame, fd_frame, wrong_length, unmapped_page };
+constexpr std::array<const char*, 7> kSkipNames{"unknown id",   "estimator output (LPTN_*)", "error frame",
+                                                "remote frame", "CAN FD",                    "wrong length",
+                                                "multiplexor value with no mapped signal"};
 
 // The columns an input frame carries (NaN elsewhere), or why it carries none.
 struct Decoded {
@@ -90,6 +91,57 @@ std::string message_of(Channel c) {
   return name;
 }
 
+// The same three for a bus map read at run time (lptn convert --bus).
+class MappedColumns {
+ public:
+  explicit MappedColumns(const lptn::bus::BusMap& map) : map_(map), decoder_(map.decoder()) {
+    for (const lptn::bus::MappedMessage& m : map.messages())
+      for (const lptn::bus::MappedInput& in : m.inputs) {
+        const std::optional<Channel> c = data::channel_from_name(in.column);
+        if (!c) throw std::logic_error("bus vocabulary column is no fleet-dump column: " + in.column);
+        channel_[fw::index_of(in.input)] = *c;
+      }
+  }
+
+  Decoded decode(const fw::CanFrame& f) const {
+    Decoded d{std::nullopt, {}};
+    d.values.fill(kNaN);
+    if (f.error) return {Skip::error_frame, d.values};
+    if (f.remote) return {Skip::remote_frame, d.values};
+    fw::BusReading r;
+    if (!decoder_.decode(decoder_.context, f, r))
+      return {is_output_frame(f.id, f.extended) ? Skip::output_frame : Skip::unknown_id, d.values};
+    if (r.malformed) return {f.fd ? Skip::fd_frame : Skip::wrong_length, d.values};
+    if (r.n == 0) return {Skip::unmapped_page, d.values};
+    for (int k = 0; k < r.n; ++k) d.values[data::index_of(channel_[fw::index_of(r.input[k])])] = r.value[k];
+    return d;
+  }
+
+  std::array<int, kNumChannels> decimals() const {
+    std::array<int, kNumChannels> out{};
+    for (const lptn::bus::MappedMessage& m : map_.messages())
+      for (const lptn::bus::MappedInput& in : m.inputs)
+        out[data::index_of(channel_[fw::index_of(in.input)])] = decimals_of(std::fabs(in.signal->factor * in.scale));
+    return out;
+  }
+
+  std::string message_of(Channel c) const {
+    for (const lptn::bus::MappedMessage& m : map_.messages())
+      for (const lptn::bus::MappedInput& in : m.inputs) {
+        if (channel_[fw::index_of(in.input)] != c) continue;
+        char id[16];
+        std::snprintf(id, sizeof id, " (0x%03X)", static_cast<unsigned>(m.message->id));
+        return m.message->name + id;
+      }
+    return "a message of " + map_.file().string() + " (it maps no signal to " + std::string(data::channel_name(c)) + ")";
+  }
+
+ private:
+  const lptn::bus::BusMap& map_;
+  fw::BusDecoder decoder_;
+  Channel channel_[fw::kNumInputs]{};
+};
+
 struct Row {
   TimeUs t;
   Values values;
@@ -98,10 +150,13 @@ struct Row {
 // Collects rows and what was left out, then writes the CSV with the columns that occurred.
 class CsvBuilder {
  public:
-  CsvBuilder(const fs::path& log, const fw::FrameSource& source) : log_(log), source_(source) {}
+  CsvBuilder(const fs::path& log, const fw::FrameSource& source, const lptn::bus::BusMap* map)
+      : log_(log), source_(source) {
+    if (map) mapped_.emplace(*map);
+  }
 
   void frame(TimeUs t, const fw::CanFrame& f, std::size_t number) {
-    const Decoded d = decode(f);
+    const Decoded d = mapped_ ? mapped_->decode(f) : decode(f);
     if (d.skip) return count_skip(*d.skip, number);
     if (!rows_.empty() && t < last_us_) {
       char reason[128];
@@ -183,7 +238,7 @@ class CsvBuilder {
     std::string missing_messages, missing_columns;
     for (Channel c : data::kAllChannels) {
       if (!data::channel_info(c).required || present_[data::index_of(c)]) continue;
-      const std::string message = message_of(c);
+      const std::string message = mapped_ ? mapped_->message_of(c) : message_of(c);
       if (missing_messages.find(message) == std::string::npos)
         missing_messages += (missing_messages.empty() ? "" : ", ") + message;
       missing_columns += (missing_columns.empty() ? "" : ", ") + std::string(data::channel_name(c));
@@ -194,7 +249,7 @@ class CsvBuilder {
   }
 
   std::string csv_text() const {
-    const std::array<int, kNumChannels> decimals = column_decimals();
+    const std::array<int, kNumChannels> decimals = mapped_ ? mapped_->decimals() : column_decimals();
     std::string s(data::kTimeColumn);
     for (Channel c : data::kAllChannels)
       if (present_[data::index_of(c)]) s.append(",").append(data::channel_name(c));
@@ -218,6 +273,7 @@ class CsvBuilder {
 
   const fs::path& log_;
   const fw::FrameSource& source_;
+  std::optional<MappedColumns> mapped_;
   std::vector<Row> rows_;
   std::array<bool, kNumChannels> present_{};
   TimeUs last_us_ = 0;
@@ -228,7 +284,7 @@ class CsvBuilder {
 
 }  // namespace
 
-Converted csv_from_log(const fs::path& log, const canfile::LogSelection& select) {
+Converted csv_from_log(const fs::path& log, const canfile::LogSelection& select, const lptn::bus::BusMap* map) {
   canfile::OpenedLog opened;
   try {
     opened = canfile::open_log(log, select);
@@ -236,7 +292,7 @@ Converted csv_from_log(const fs::path& log, const canfile::LogSelection& select)
     throw ConvertError(e.what());
   }
   canfile::ChannelFilter& source = *opened.frames;
-  CsvBuilder builder(log, source);
+  CsvBuilder builder(log, source, map);
   TimeUs t = 0;
   fw::CanFrame frame;
   const char* why = nullptr;

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <optional>
 #include <string>
 #include <type_traits>
@@ -14,6 +15,7 @@
 #include "tools/canfile/can_log.hpp"
 #include "tools/canlog/bus_channels.hpp"
 #include "tools/canlog/convert.hpp"
+#include "tools/cli/bus_option.hpp"
 #include "tools/cli/commands.hpp"
 #include "hostio/atomic_file.hpp"
 
@@ -23,9 +25,10 @@ namespace {
 namespace fs = std::filesystem;
 
 struct Args {
-  std::string in, out, interface = "can0", format, channel;
+  std::string in, out, interface = "can0", format, channel, bus;
   double start_time_s = 0;
   bool force = false;
+  std::shared_ptr<const bus::BusMap> map;  // --bus, read once for every file of a directory
 };
 
 // The message table as the help shows it, so that the help cannot disagree with the code.
@@ -71,7 +74,12 @@ std::string footer() {
          "objects) and frames going back in time are reported (FILE:LINE, the first ten, then a count)\n"
          "and dropped; unknown ids, LPTN_* outputs, error, remote, CAN FD and wrong-length\n"
          "frames are skipped and counted. Columns whose message never appears are left out; the ones the\n"
-         "contract requires must appear.\n";
+         "contract requires must appear.\n"
+         "\n"
+         "--bus bus.toml: the converter's own frames instead of ours, as its map names them (README.md,\n"
+         "\"Your converter's bus\"): each mapped message every cycle time, 1 ms apart within a grid step, a\n"
+         "multiplexed one as a frame per multiplexor value, each with its alive counter; signals the map\n"
+         "does not name are sent as 0.\n";
 }
 
 std::string lower_extension(const fs::path& p) {
@@ -105,11 +113,12 @@ canfile::LogFormat output_format(const Args& args, const fs::path& out) {
 
 canlog::Converted convert(const fs::path& in, const fs::path& out, bool from_log, const Args& args) {
   try {
-    if (from_log) return canlog::csv_from_log(in, {given_format(args), args.channel});
+    if (from_log) return canlog::csv_from_log(in, {given_format(args), args.channel}, args.map.get());
     canlog::LogOptions options;
     options.format = output_format(args, out);
     options.interface = args.interface;
     options.start_us = std::llround(args.start_time_s * 1e6);
+    options.bus = args.map.get();
     return canlog::log_from_csv(in, options);
   } catch (const canlog::ConvertError& e) {
     throw BadInput(e.what());
@@ -234,9 +243,13 @@ void add_convert(CLI::App& app) {
   cmd->add_option("--start-time", args->start_time_s, "CSV -> log: time stamp of the first frame, s (e.g. epoch seconds)")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 9999999999.0));
+  cmd->add_option("--bus", args->bus,
+                  "Bus map (bus.toml): the converter DBC's messages and signals for each column (default: our own "
+                  "TC_* frames of lptn.dbc)");
   cmd->add_flag("--force", args->force, "Replace --out if it exists");
   cmd->footer(footer());
   cmd->callback([cmd, args] {
+    if (!args->bus.empty()) args->map = read_bus_map(args->bus);
     if (fs::is_directory(args->in)) {
       convert_directory(*cmd, *args);
     } else {

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <string>
 
+#include "tools/cli/bus_option.hpp"
 #include "tools/cli/commands.hpp"
 #include "hostio/progress_line.hpp"
 #include "tools/replay/calibrated_estimator.hpp"
@@ -29,7 +30,7 @@ void add_replay(CLI::App& app) {
       "log that holds several; without it every channel's frames are read as one bus, with a warning. Malformed lines (BLF: objects) are reported with their number and skipped, the first ten "
       "of them one by one, then as a count.");
   struct Args {
-    std::string log, calibration, out, format, channel;
+    std::string log, calibration, out, format, channel, bus;
     bool open_loop = false, use_actor = false, force = false, quiet = false;
   };
   auto args = std::make_shared<Args>();
@@ -40,6 +41,9 @@ void add_replay(CLI::App& app) {
   cmd->add_option("--channel", args->channel,
                   "Only the frames of this channel (candump: an interface name; ASC, BLF: a number); default all");
   cmd->add_option("--calibration", args->calibration, "calibration.json (from lptn calibrate)")->required();
+  cmd->add_option("--bus", args->bus,
+                  "Bus map (bus.toml) naming the converter DBC's messages and signals that carry each input "
+                  "(default: our own TC_* frames, can-dbc/bus.toml)");
   cmd->add_option("--out", args->out, "CSV of estimates and status to write")->required();
   cmd->add_flag("--open-loop", args->open_loop, "Do not fuse the stator winding sensor (the model alone)");
   cmd->add_flag("--use-actor", args->use_actor, "Let the calibration's TD3 actor schedule the parameters");
@@ -47,8 +51,10 @@ void add_replay(CLI::App& app) {
   cmd->add_flag("--quiet", args->quiet, "No progress line");
   cmd->callback([args] {
     refuse_overwrite(args->out, args->force);
-    // A bad calibration file is bad input (main.cpp reports CalibrationFileError as such).
-    const auto cal = estimator_config_from(load_calibration(args->calibration), args->calibration);
+    // A bad map or calibration file is bad input (main.cpp reports CalibrationFileError as such).
+    const std::unique_ptr<bus::BusMap> map = args->bus.empty() ? nullptr : read_bus_map(args->bus);
+    const auto cal = estimator_config_from(load_calibration(args->calibration), args->calibration,
+                                           map ? map->decoder() : lptn::bus::decoder());
     if (args->use_actor && !cal->config.actor.actor)
       throw BadInput(args->calibration + ": --use-actor: this calibration has no actor");
     cal->config.fuse_stator_sensor = !args->open_loop;

@@ -4,10 +4,11 @@
 
 namespace lptn {
 
-std::unique_ptr<CalibratedEstimatorConfig> estimator_config_from(const CalibrationResult& c, const std::string& shown_as) {
+std::unique_ptr<CalibratedEstimatorConfig> estimator_config_from(const CalibrationResult& c, const std::string& shown_as,
+                                                                  const fw::BusDecoder& bus) {
   auto out = std::make_unique<CalibratedEstimatorConfig>();
   const MotorConstants<double> motor = parse_motor_file(c.motor_text, shown_as + ": motor.text").constants;
-  out->config = fw::default_config<double>(motor, c.effects, c.values());
+  out->config = fw::default_config<double>(motor, c.effects, c.values(), bus);
   if (!c.has_actor) return out;
 
   const ActorExport& a = c.actor;

@@ -26,8 +26,10 @@
 #include <CLI/CLI.hpp>
 
 #include "lptn/firmware/candump_line.hpp"
+#include "lptn/firmware/output_frames.hpp"
 #include "lptn/can/lptn_frames.hpp"
 #include "tools/replay/calibrated_estimator.hpp"
+#include "tools/bus/bus_map.hpp"
 #include "tools/replay/replay_to_csv.hpp"
 #include "trainer/calibrate/calibration_file.hpp"
 
@@ -90,8 +92,10 @@ struct Comparison {
 
 // The daemon's recording: each tick sends temperatures, ..., innovation (whose ObserverTicks
 // counts the ticks since its start), in that order; a tick's temperatures pair with its ticks.
+// `ids`: the CAN ids the daemon sends its frames on (the bus map's [outputs]), in
+// fw::kOutputFrames' order; a recorded frame on one of them is read as that frame.
 Comparison compare(const fs::path& recording, const std::vector<ReplayRow>& replay, double tolerance_k,
-                   double tolerance_sigma) {
+                   double tolerance_sigma, const std::array<fw::OutputId, fw::kMaxOutputFrames>& ids) {
   Comparison c;
   std::ifstream in(recording);
   std::array<double, kNumNodes> temps{};
@@ -101,7 +105,12 @@ Comparison compare(const fs::path& recording, const std::vector<ReplayRow>& repl
   for (std::string line; std::getline(in, line);) {
     fw::CandumpRecord rec;
     if (fw::parse_candump_line(line, rec)) continue;
-    const fw::CanFrame& f = rec.frame;
+    fw::CanFrame& f = rec.frame;
+    for (int k = 0; k < fw::kMaxOutputFrames; ++k)
+      if (f.id == ids[static_cast<std::size_t>(k)].id && f.extended == ids[static_cast<std::size_t>(k)].extended) {
+        f.id = fw::kOutputFrames[k].dbc.id;  // the DBC's id, which the codecs know it by
+        break;
+      }
     if (f.id == can::LptnStatus::kId) ++c.status_frames;
     if (f.id == can::LptnTemperatures::kId) {
       can::LptnTemperatures t;
@@ -156,7 +165,7 @@ void add_options(CLI::App& app) {
       "while the filter converges its gain on the unmeasured nodes is large, so the two runs of one filter differ by "
       "a fraction of its own uncertainty. With --open-loop the sensor is not fused and only the inputs' phase remains.");
   struct Args {
-    std::string out, log, calibration = LPTN_DEFAULT_CALIBRATION, daemon = LPTN_DAEMON_PATH;
+    std::string out, log, calibration = LPTN_DEFAULT_CALIBRATION, daemon = LPTN_DAEMON_PATH, bus;
     std::string cache = LPTN_VCAN_CACHE;
     double minutes = 12, time_scale = 10, tolerance_k = 0.1, tolerance_sigma = 0.5;
     bool open_loop = false;
@@ -169,6 +178,9 @@ void add_options(CLI::App& app) {
   cmd->add_option("--calibration", args->calibration,
                   "calibration.json for the replay: the one the daemon has compiled in")->capture_default_str();
   cmd->add_option("--daemon", args->daemon, "lptn-daemon to run in the guest")->capture_default_str();
+  cmd->add_option("--bus", args->bus,
+                  "Bus map (bus.toml) for the replay and the generated log: the one the daemon was built with "
+                  "(-DLPTN_BUS); default our own TC_* frames");
   cmd->add_option("--time-scale", args->time_scale, "Play and tick this many times faster than real time")->capture_default_str();
   cmd->add_option("--tolerance-k", args->tolerance_k, "Difference allowed between daemon and replay (K), plus...")
       ->capture_default_str();
@@ -180,9 +192,32 @@ void add_options(CLI::App& app) {
   cmd->callback([args] {
     if (!(args->time_scale >= 1 && args->time_scale <= 100)) throw BadInput("--time-scale: between 1 and 100");
     if (!fs::exists(args->daemon)) throw BadInput(args->daemon + ": no such daemon (build lptn-daemon)");
+    std::unique_ptr<bus::BusMap> map;
+    try {
+      if (!args->bus.empty()) map = bus::BusMap::read(args->bus);
+    } catch (const bus::MapError& e) {
+      throw BadInput(e.what());
+    }
+    // The ids the daemon sends on: the map's [outputs], or the compiled-in bus's.
+    std::array<fw::OutputId, fw::kMaxOutputFrames> outputs{};
+    if (map)
+      outputs = map->output_ids();
+    else
+      std::copy(std::begin(lptn::bus::kOutputIds), std::end(lptn::bus::kOutputIds), outputs.begin());
+    // candump records exactly those (an 8-digit id is an extended one, candump(1)).
+    std::string recorded;
+    for (const fw::OutputId& o : outputs) {
+      char filter[32];
+      std::snprintf(filter, sizeof filter, o.extended ? ",%08X:1FFFFFFF" : ",%03X:7FF", o.id);
+      recorded += filter;
+    }
+    // The daemon filters the map's messages, candump the estimator's outputs.
+    const std::size_t filters =
+        (map ? map->messages().size() : std::size(lptn::bus::kFilterIds)) + static_cast<std::size_t>(fw::kMaxOutputFrames);
     std::unique_ptr<CalibratedEstimatorConfig> cal;
     try {
-      cal = estimator_config_from(load_calibration(args->calibration), args->calibration);
+      cal = estimator_config_from(load_calibration(args->calibration), args->calibration,
+                                  map ? map->decoder() : lptn::bus::decoder());
     } catch (const CalibrationFileError& e) {
       throw BadInput(e.what());
     }
@@ -201,7 +236,8 @@ void add_options(CLI::App& app) {
       fs::path csv;
       for (const auto& e : fs::directory_iterator(out / "data"))
         if (e.path().extension() == ".csv") csv = e.path();
-      shell("lptn convert", quote(self) + " convert --in " + quote(csv) + " --out " + quote(log) + " --force >/dev/null");
+      shell("lptn convert", quote(self) + " convert --in " + quote(csv) + " --out " + quote(log) +
+                                (map ? " --bus " + quote(args->bus) : std::string()) + " --force >/dev/null");
     }
     std::printf("== replay %s in-process\n", log.c_str());
     const fs::path replay_csv = out / "replay.csv";
@@ -228,11 +264,12 @@ void add_options(CLI::App& app) {
           << "lptn-daemon --interface vcan0 --time-scale " << scale << (args->open_loop ? " --open-loop" : "")
           << " 2>daemon.err &\n"
           << "daemon=$!\n"
-          << "candump -L vcan0,200:7F8 >recording.log &\n"
+          << "candump -L vcan0" << recorded << " >recording.log &\n"
           << "candump=$!\n"
-          // Play only once both listen: the daemon's six id filters and candump's one show in
+          // Play only once both listen: the daemon's id filters and candump's show in
           // rcvlist_fil (filtered sockets are not in rcvlist_all).
-          << "n=0; until [ $(grep -c '^ *vcan0 ' /proc/net/can/rcvlist_fil) -ge 7 ] || [ $n -ge 200 ]; do sleep 0.05; n=$((n+1)); done\n"
+          << "n=0; until [ $(grep -c '^ *vcan0 ' /proc/net/can/rcvlist_fil) -ge " << filters
+          << " ] || [ $n -ge 200 ]; do sleep 0.05; n=$((n+1)); done\n"
           << "canplayer -I play.log vcan0=can0\n"
           << "sleep 1\n"
           << "kill -TERM $daemon\n"
@@ -248,7 +285,7 @@ void add_options(CLI::App& app) {
                            " --timeout " + std::to_string(args->timeout_s));
 
     const auto replay = replay_estimates(replay_csv);
-    const Comparison c = compare(share / "recording.log", replay, args->tolerance_k, args->tolerance_sigma);
+    const Comparison c = compare(share / "recording.log", replay, args->tolerance_k, args->tolerance_sigma, outputs);
     const char* names[kNumNodes] = {"stator winding", "stator core", "rotor winding", "rotor core"};
     std::printf("== daemon on vcan0 vs in-process replay: %zu ticks with estimates (replay %zu), %zu compared\n", c.ticks,
                 replay.size(), c.compared);

@@ -1,8 +1,8 @@
 // The on-board estimator: CAN frames in, conditioned inputs, the observer ticking at a fixed step,
 // estimates and health out. What the Linux daemon, the replay and a bare-metal port all run.
 //
-//   receive(frame, t)  decode through the DBC's codecs, check length and alive counter, hand
-//                      the values to signal conditioning
+//   receive(frame, t)  decode through the bus map's decoder (config.bus), check length and
+//                      alive counter, hand the values to signal conditioning
 //   tick(t)            once per step: predict from the inputs sampled at the previous tick, fuse
 //                      a new stator reading, sample the inputs for the next step, publish
 //
@@ -14,8 +14,8 @@
 #include <cmath>
 #include <cstdint>
 
-#include "lptn/can/lptn_frames.hpp"
 #include "lptn/firmware/can_frame.hpp"
+#include "lptn/firmware/e2e.hpp"
 #include "lptn/firmware/estimator_config.hpp"
 
 namespace lptn::fw {
@@ -31,6 +31,7 @@ inline constexpr std::uint8_t kErrorFrame = 1u << 2;
 inline constexpr std::uint8_t kTimeBackwards = 1u << 3;
 inline constexpr std::uint8_t kTimeForwards = 1u << 4;
 inline constexpr std::uint8_t kOverrun = 1u << 5;
+inline constexpr std::uint8_t kE2EFault = 1u << 6;  // an input frame dropped: its CRC failed, its counter repeated or jumped
 }  // namespace bus_event
 
 template <class T>
@@ -81,49 +82,28 @@ class Estimator {
       events_ |= bus_event::kErrorFrame;
       return;
     }
-    switch (f.id) {
-      case can::TcElectrical::kId: {
-        can::TcElectrical m;
-        if (!accept(f, m, counters_[0], kElectrical)) return;
-        inputs_.receive(Input::speed, T(can::TcElectrical::motor_speed_decode(m.motor_speed)), now);
-        inputs_.receive(Input::frequency, T(can::TcElectrical::stator_frequency_decode(m.stator_frequency)), now);
-        inputs_.receive(Input::current, T(can::TcElectrical::stator_current_decode(m.stator_current)), now);
-        return;
-      }
-      case can::TcTorque::kId: {
-        can::TcTorque m;
-        if (accept(f, m, counters_[1], bit(Input::torque)))
-          inputs_.receive(Input::torque, T(can::TcTorque::motor_torque_decode(m.motor_torque)), now);
-        return;
-      }
-      case can::TcVoltage::kId: {
-        can::TcVoltage m;
-        if (accept(f, m, counters_[2], bit(Input::voltage)))
-          inputs_.receive(Input::voltage, T(can::TcVoltage::stator_voltage_decode(m.stator_voltage)), now);
-        return;
-      }
-      case can::TcCooling::kId: {
-        can::TcCooling m;
-        if (!accept(f, m, counters_[3], bit(Input::airflow) | bit(Input::ambient))) return;
-        inputs_.receive(Input::airflow, T(can::TcCooling::cooling_airflow_decode(m.cooling_airflow)), now);
-        inputs_.receive(Input::ambient, T(can::TcCooling::ambient_temp_decode(m.ambient_temp)), now);
-        return;
-      }
-      case can::TcStatorTemp::kId: {
-        can::TcStatorTemp m;
-        if (accept(f, m, counters_[4], bit(Input::stator_sensor)))
-          inputs_.receive(Input::stator_sensor, T(can::TcStatorTemp::stator_winding_temp_decode(m.stator_winding_temp)), now);
-        return;
-      }
-      case can::BenchRotorTemp::kId: {
-        can::BenchRotorTemp m;
-        if (accept(f, m, counters_[5], bit(Input::rotor_sensor)))
-          inputs_.receive(Input::rotor_sensor, T(can::BenchRotorTemp::rotor_temp_decode(m.rotor_temp)), now);
-        return;
-      }
-      default:
-        events_ |= bus_event::kUnknownId;
+    BusReading r;
+    if (config_.bus.decode == nullptr || !config_.bus.decode(config_.bus.context, f, r)) {
+      events_ |= bus_event::kUnknownId;
+      return;
     }
+    if (r.malformed || r.message < 0 || r.message >= kMaxBusMessages) {
+      events_ |= bus_event::kWrongLength;
+      return;
+    }
+    // E2E: the CRC first, so that a corrupted frame's counter does not move the count.
+    bool dropped = r.has_crc && !r.crc_ok;
+    if (!dropped && r.has_counter) {
+      const e2e::CounterCheck c = counters_[r.message].step(r.counter, r.counter_modulo, r.max_delta_counter);
+      dropped = c == e2e::CounterCheck::repeated || c == e2e::CounterCheck::jumped;
+    }
+    if (dropped) {
+      events_ |= bus_event::kE2EFault;
+      for (int i = 0; i < kNumInputs; ++i)
+        if (r.carried & bit(static_cast<Input>(i))) inputs_.counter_fault(static_cast<Input>(i));
+      return;
+    }
+    for (int k = 0; k < r.n; ++k) inputs_.receive(r.input[k], T(r.value[k]), now);
   }
 
   // The receiving driver lost frames (socket buffer overrun).
@@ -151,33 +131,6 @@ class Estimator {
   }
 
  private:
-  static constexpr InputMask kElectrical = bit(Input::speed) | bit(Input::frequency) | bit(Input::current);
-
-  // Alive counter, 4 bits, +1 per frame: a repeated value (frozen sender) or a jump (lost or
-  // replayed frames) marks the frame's inputs stale and its content unused.
-  struct AliveCounter {
-    bool seen = false;
-    std::uint8_t last = 0;
-    bool step(std::uint8_t c) {
-      const bool ok = !seen || ((c - last) & 0xF) == 1;
-      if (!seen || c != last) last = c;
-      seen = true;
-      return ok;
-    }
-  };
-
-  template <class Msg>
-  bool accept(const CanFrame& f, Msg& m, AliveCounter& counter, InputMask carried) {
-    if (f.extended != Msg::kExtended || f.remote || f.fd || f.len != Msg::kLength || !m.unpack(f.data, f.len)) {
-      events_ |= bus_event::kWrongLength;
-      return false;
-    }
-    if (counter.step(m.alive_counter)) return true;
-    for (int i = 0; i < kNumInputs; ++i)
-      if (carried & bit(static_cast<Input>(i))) inputs_.counter_fault(static_cast<Input>(i));
-    return false;
-  }
-
   bool required_fresh(TimeUs t) const {
     for (int i = 0; i < kNumInputs; ++i) {
       const Input in = static_cast<Input>(i);
@@ -352,7 +305,9 @@ class Estimator {
   Observer<T> observer_;
   SensorMonitor<T> monitor_;
   InputConditioner<T> inputs_;
-  AliveCounter counters_[6];
+  // Alive counters: a repeated value (frozen sender) or a jump beyond the map's MaxDeltaCounter
+  // (too many frames lost, or replayed ones) marks the frame's inputs stale and its content unused.
+  e2e::CounterState counters_[kMaxBusMessages];
   ParamVector<T> params_{};
   Inputs<T> next_inputs_{};
   EstimatorOutput<T> out_{};

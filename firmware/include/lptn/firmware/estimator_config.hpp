@@ -4,7 +4,8 @@
 #pragma once
 
 #include "lptn/actor.hpp"
-#include "lptn/can/lptn_frames.hpp"
+#include "lptn/bus/bus_glue.hpp"
+#include "lptn/firmware/bus_decoder.hpp"
 #include "lptn/firmware/input_conditioner.hpp"
 #include "lptn/firmware/observer.hpp"
 #include "lptn/firmware/sensor_monitor.hpp"
@@ -29,6 +30,7 @@ template <class T>
 struct EstimatorConfig {
   MotorConstants<T> motor{};
   EffectSet effects = 0;
+  BusDecoder bus{};         // the converter's frames (the bus map's decoder)
   ParamVector<T> params{};  // the constant set (model order)
   ActorSchedule actor{};
   bool use_actor = false;  // schedule the actor's parameters (needs torque on the bus)
@@ -46,7 +48,12 @@ struct EstimatorConfig {
 
 namespace internal {
 
-constexpr TimeUs cycle_us(std::uint32_t cycle_ms) { return static_cast<TimeUs>(cycle_ms) * 1000; }
+// An input's freshness timeout: 3 cycle times of its message (1 s for an input not on the bus,
+// which never arrives).
+constexpr TimeUs timeout_us(const BusDecoder& bus, Input i) {
+  const std::uint32_t cycle_ms = bus.input_cycle_ms[index_of(i)];
+  return 3 * static_cast<TimeUs>(cycle_ms ? cycle_ms : 1000) * 1000;
+}
 
 // The stator frequency at which the frequency-driven losses (stray, iron on the nominal V/f
 // profile, harmonic) are largest at the given current: the conservative stand-in for a lost
@@ -71,7 +78,7 @@ T worst_frequency(const MotorConstants<T>& m, T current_a) {
 }  // namespace internal
 
 // The documented defaults. Ranges follow the nameplate; timeouts are 3 cycle times of the input's
-// frame (from the DBC); grace periods are what the trainer's loader bridges (lptn/grace_periods.hpp;
+// message (from the bus map and its DBC); grace periods are what the trainer's loader bridges (lptn/grace_periods.hpp;
 // the sensors' readings are fused as they come, none held). Conservative values, each one that can
 // only raise the estimate:
 //   speed       0 rpm: no speed-driven cooling (effects); the rotor loss is taken from the
@@ -83,31 +90,30 @@ T worst_frequency(const MotorConstants<T>& m, T current_a) {
 //   torque      not used after its grace: rotor loss from the currents (the nameplate route)
 //   voltage     not used after its grace: flux from the nominal V/f profile
 template <class T>
-EstimatorConfig<T> default_config(const MotorConstants<T>& m, EffectSet effects, const ParamVector<T>& params) {
+EstimatorConfig<T> default_config(const MotorConstants<T>& m, EffectSet effects, const ParamVector<T>& params,
+                                  const BusDecoder& bus = lptn::bus::decoder()) {
   EstimatorConfig<T> c;
   c.motor = m;
   c.effects = effects;
+  c.bus = bus;
   c.params = params;
   constexpr T kPi = T(3.14159265358979);
   const T rated_torque = m.rated_power_w / (T(2) * kPi * m.base_speed_rpm() / T(60));
-  const TimeUs electrical = 3 * internal::cycle_us(can::TcElectrical::kCycleTimeMs);
-  const TimeUs cooling = 3 * internal::cycle_us(can::TcCooling::kCycleTimeMs);
   const T current_limit = T(2) * m.rated_current_a;
-  auto set = [&](Input i, T lo, T hi, TimeUs timeout, T grace_s, T conservative) {
-    c.inputs[index_of(i)] = InputLimits<T>{lo, hi, timeout, static_cast<TimeUs>(grace_s * T(kUsPerS)), conservative};
+  auto set = [&](Input i, T lo, T hi, T grace_s, T conservative) {
+    c.inputs[index_of(i)] = InputLimits<T>{lo, hi, internal::timeout_us(bus, i),
+                                           static_cast<TimeUs>(grace_s * T(kUsPerS)), conservative};
   };
-  set(Input::speed, -T(3) * m.base_speed_rpm(), T(3) * m.base_speed_rpm(), electrical, T(grace::kElectricalS), T(0));
-  set(Input::current, T(0), T(4) * m.rated_current_a, electrical, T(grace::kElectricalS), current_limit);
-  set(Input::frequency, -T(3.2) * m.rated_frequency_hz, T(3.2) * m.rated_frequency_hz, electrical,
-      T(grace::kElectricalS), internal::worst_frequency(m, current_limit));
-  set(Input::airflow, T(0), T(5) * m.nominal_airflow_m3s, cooling, T(grace::kAirflowS), T(0));
-  set(Input::ambient, T(-50), T(60), cooling, T(grace::kAmbientS), T(45));
-  set(Input::torque, -T(4) * rated_torque, T(4) * rated_torque, 3 * internal::cycle_us(can::TcTorque::kCycleTimeMs),
-      T(grace::kElectricalS), T(0));
-  set(Input::voltage, T(0), T(1.3) * m.rated_voltage_v, 3 * internal::cycle_us(can::TcVoltage::kCycleTimeMs),
-      T(grace::kElectricalS), T(0));
-  set(Input::stator_sensor, T(-50), T(250), 3 * internal::cycle_us(can::TcStatorTemp::kCycleTimeMs), T(0), T(0));
-  set(Input::rotor_sensor, T(-50), T(300), 3 * internal::cycle_us(can::BenchRotorTemp::kCycleTimeMs), T(0), T(0));
+  set(Input::speed, -T(3) * m.base_speed_rpm(), T(3) * m.base_speed_rpm(), T(grace::kElectricalS), T(0));
+  set(Input::current, T(0), T(4) * m.rated_current_a, T(grace::kElectricalS), current_limit);
+  set(Input::frequency, -T(3.2) * m.rated_frequency_hz, T(3.2) * m.rated_frequency_hz, T(grace::kElectricalS),
+      internal::worst_frequency(m, current_limit));
+  set(Input::airflow, T(0), T(5) * m.nominal_airflow_m3s, T(grace::kAirflowS), T(0));
+  set(Input::ambient, T(-50), T(60), T(grace::kAmbientS), T(45));
+  set(Input::torque, -T(4) * rated_torque, T(4) * rated_torque, T(grace::kElectricalS), T(0));
+  set(Input::voltage, T(0), T(1.3) * m.rated_voltage_v, T(grace::kElectricalS), T(0));
+  set(Input::stator_sensor, T(-50), T(250), T(0), T(0));
+  set(Input::rotor_sensor, T(-50), T(300), T(0), T(0));
   return c;
 }
 
