@@ -5,7 +5,9 @@
 # (10 channels of 4-byte floats per 0.1 s step: 14.4 MB per hour), and CPU time should be about
 # twice the wall time (work split over cycles on both cores).
 #
-#   tools/bench-scale.sh [HOURS...]    default: 50 200; work in build/bench-scale (about 1 GB per 100 h)
+#   tools/bench-scale.sh [HOURS...]    default: 50 200; work in build/bench-scale (about 1 GB per 100 h);
+#                                      then a fleet of FLEET_MOTORS (default 20) motors, 3 cycles each
+#   tools/bench-scale.sh fleet         the fleet alone
 #   LPTN=build/ci/tools/cli/lptn tools/bench-scale.sh   an lptn already built (the ci preset has
 #                                                       the host preset's Release flags)
 set -euo pipefail
@@ -21,6 +23,7 @@ fi
 work=build/bench-scale
 mkdir -p "$work"
 (($# > 0)) || set -- 50 200
+if [[ $1 == fleet ]]; then set --; fi  # the fleet's row alone
 
 # Runs a step under GNU time; prints one table row: step, hours, wall s, CPU s, peak RSS MB.
 measure() {
@@ -49,4 +52,17 @@ for hours in "$@"; do
     --out "$work/calibration-$hours.json" --force
   measure diagnose "$hours" "$lptn" diagnose --data "$fleet" --calibration "$work/calibration-$hours.json" --quiet
 done
+# A fleet of ${FLEET_MOTORS:=20} motors, 3 cycles each (one motor weak): the type over all of them, each
+# motor's cooling factor, the outliers (lptn calibrate --fleet). Its hours are counted from truth.json.
+motors="$work/motors-$FLEET_MOTORS"
+if [ ! -f "$motors/truth.json" ]; then
+  "$lptn" generate --fleet --motors "$FLEET_MOTORS" --cycles 3 --seed 7 --minutes-min 60 --minutes-max 90 --out "$motors" \
+    --force > "$work/generate-motors-$FLEET_MOTORS.log" 2>&1
+fi
+fleet_hours=$(python3 -c 'import json, sys
+t = json.load(open(sys.argv[1]))
+print(round(sum(c["duration_s"] for m in t["motors"] for c in json.load(open(sys.argv[2] + "/" + m + "/truth.json"))["cycles"]) / 3600))' \
+  "$motors/truth.json" "$motors")
+measure fleet "$fleet_hours" "$lptn" calibrate --fleet "$motors" --motor "$motors/motor.toml" --method lm --seed 1 \
+  --out "$work/fleet-$FLEET_MOTORS.json" --force
 echo "signals in memory: 14.4 MB per hour of data (10 channels, float, 10 Hz); lptn's own baseline: about 80 MB (libtorch is lptn-td3's alone)"

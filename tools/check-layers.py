@@ -24,6 +24,7 @@ MODULES = [
     "common", "can-dbc", "hostio",
     "firmware/include", "firmware/linux", "firmware/baremetal", "firmware/calibration", "firmware/bench",
     "trainer/data", "trainer/model", "trainer/calibrate", "trainer/calibrate/lm*", "trainer/td3", "trainer/diagnose",
+    "trainer/fleet",
     "tools/plant", "tools/generate", "tools/export", "tools/dbc", "tools/bus", "tools/canfile", "tools/canlog",
     "tools/replay", "tools/report",
     "tools/cli", "tools/vcan-bench",
@@ -49,6 +50,7 @@ DEPENDS = {
     "trainer/calibrate/lm*": ["trainer/calibrate"],
     "trainer/td3": ["trainer/calibrate"],
     "trainer/diagnose": ["trainer/calibrate/lm*"],
+    "trainer/fleet": ["trainer/calibrate/lm*"],
     "tools/plant": ["common"],
     "tools/generate": ["tools/plant", "trainer/model"],
     "tools/export": ["trainer/calibrate"],
@@ -58,15 +60,15 @@ DEPENDS = {
     "tools/canfile": ["firmware/linux"],
     "tools/canlog": ["trainer/data", "tools/canfile", "tools/bus"],
     "tools/replay": ["trainer/calibrate", "tools/canfile", "firmware/calibration"],
-    "tools/report": ["trainer/diagnose"],
+    "tools/report": ["trainer/diagnose", "trainer/fleet"],
     "tools/cli": ["tools/generate", "tools/export", "tools/bus", "tools/canfile", "tools/canlog", "tools/replay",
-                  "tools/report", "trainer/td3", "trainer/diagnose"],
+                  "tools/report", "trainer/td3", "trainer/diagnose", "trainer/fleet"],
     "tools/vcan-bench": ["tools/replay", "tools/bus"],
     "tests": [m for m in MODULES if m not in ("tests", "firmware/bench")],
 }
 
 # Internal headers the tests of a module may reach (its own tests, beside the code).
-INTERNAL_FOR_TESTS = {"common", "trainer/calibrate", "trainer/diagnose", "trainer/data", "trainer/td3"}
+INTERNAL_FOR_TESTS = {"common", "trainer/calibrate", "trainer/diagnose", "trainer/data", "trainer/td3", "trainer/fleet"}
 
 # Module roots a quoted include may be relative to, and headers generated into the build tree.
 ROOTS = ["", "common", "firmware/include"]

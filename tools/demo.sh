@@ -5,7 +5,8 @@
 # replay a test cycle as CAN frames through the firmware's estimator; then the engineer's loop on a
 # second fleet whose motor has physics nobody wrote into the library (an eddy-current loss in the
 # stator winding): compare, diagnose (the model is not adequate; a term of the dictionary explains
-# it), add the term the diagnosis names, recalibrate, and a report before and after.
+# it), add the term the diagnosis names, recalibrate, and a report before and after; last, a fleet of
+# six motors calibrated whole, the one with a clogged filter named, and the fleet's page.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 tools/setup.sh
@@ -63,12 +64,19 @@ echo "-- 8d. diagnose again, and the report after"
   --json-out "$loop/diagnosis-2.json" --force --quiet | tee "$loop/diagnosis-2.txt" | grep -E "^  (stator|rotor):|^no drift|^drift|^best|^No"
 "$lptn" report --data "$loop/fleet" --calibration "$loop/calibrations/2-$effect.json" \
   --diagnosis "$loop/diagnosis-2.json" --history "$loop/calibrations" --out "$loop/report.html" --force
+echo "== 9. a fleet: six motors of this type (seed 5), two cycles each; one cools 30 % worse (a clogged filter), and"
+echo "      only $out/motors/truth.json says which"
+"$lptn" generate --fleet --motors 6 --cycles 2 --seed 5 --minutes-min 40 --minutes-max 50 --out "$out/motors" --force
+"$lptn" calibrate --fleet "$out/motors" --motor "$out/motors/motor.toml" --method lm --out "$out/fleet.json" --force
+"$lptn" report --fleet "$out/fleet.json" --out "$out/fleet.html" --force
 
 echo
 echo "demo output in $out/: fleet/ (cycle CSVs, motor.toml, truth.json, truth/), inspect.txt, simulation/ (traces,"
 echo "metrics.json), calibration-lm.json, calibration-td3.json, td3-checkpoints/, thermal_calibration.hpp, thermal_calibration_td3.hpp,"
 echo "onboard/ (the CAN log and the firmware's estimates, one CSV row per 100 ms tick), loop/ (the second fleet, its"
-echo "calibrations before and after adding $effect, the diagnoses, report-before.html)"
+echo "calibrations before and after adding $effect, the diagnoses, report-before.html), motors/ (the fleet of six),"
+echo "fleet.json (its calibration: the type, each motor's cooling factor, the outliers), fleet.html"
 echo
-echo "The report after adding $effect (open it in a browser; it needs no network):"
+echo "The report after adding $effect, and the fleet's page (open them in a browser; they need no network):"
 echo "  $(cd "$loop" && pwd)/report.html"
+echo "  $(cd "$out" && pwd)/fleet.html"

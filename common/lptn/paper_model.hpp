@@ -46,6 +46,10 @@ enum PaperParam : int {
   kNumPaperParams
 };
 
+// The conductances to the cooling air: what a motor's cooling factor scales (a clogged filter, a
+// weaker blower, a fleet's scatter), in the synthetic plant, the fleet calibration and its tests.
+inline constexpr int kConductancesToAir[] = {kLambda1s, kLambda2s, kLambda1r, kLambda2r};
+
 inline constexpr ParamSpec kPaperParams[kNumPaperParams] = {
     {"lambda_1s", "W/K", 40.0, 1.0, 1000.0, 40.0, "stator winding to cooling air, at nominal airflow"},
     {"lambda_2s", "W/K", 100.0, 1.0, 2000.0, 100.0, "stator core to cooling air, at nominal airflow"},

@@ -14,7 +14,7 @@ namespace lptn::cli {
 
 struct CalibrateArgs {
   std::vector<std::string> data;
-  std::string motor, method = "lm", out, config, checkpoint_dir;
+  std::string motor, method = "lm", out, config, checkpoint_dir, fleet;
   std::vector<std::string> test_cycles, effects;
   double test_fraction = 1.0 / 3.0;
   std::uint64_t seed = 1;

@@ -15,6 +15,7 @@
 #include "trainer/calibrate/calibration_result.hpp"
 #include "trainer/calibrate/lm.hpp"
 #include "trainer/calibrate/lm_result.hpp"
+#include "trainer/fleet/fleet_file.hpp"
 #include "trainer/model/motor_effects.hpp"
 
 namespace lptn::cli {
@@ -53,6 +54,47 @@ void run_lm(const CalibrateArgs& a, const MotorFile& motor, const data::Dataset&
 }
 #endif
 
+void print_metrics(const char* side, const SplitMetrics& m);
+
+// --fleet: the motor type over every motor, each motor's cooling factor, the outliers (fleet.json).
+void run_fleet(const CalibrateArgs& a, const MotorFile& motor) {
+  const FleetDump fleet = load_fleet(a.fleet);
+  const Split split = split_cycles(fleet.dataset, a.test_cycles, a.test_fraction, a.seed);
+  CalibrationResult r = new_calibration(motor, a.motor, fleet.dataset, split);
+  if (!a.quiet)
+    std::printf("calibrating %s over a fleet of %zu motors: the type on %zu cycles (testing on %zu, %s), each motor's "
+                "cooling on all of its own\n",
+                motor.name.c_str(), fleet.motor_ids.size(), split.train.size(), split.test.size(), split.rule.c_str());
+  std::fflush(stdout);
+  FleetSettings settings;
+  ProgressLine line(a.quiet);
+  const FleetFit fit = fit_fleet(motor, fleet, split.train, settings, [&](const std::string& s) { line.update(s, true); });
+  line.finish();
+  record_lm_fit(r, fit.shared, FreeParameters::from_motor(motor), r.train_cycles, to_json(settings.lm));
+  r.seconds = fit.seconds;
+  score_calibration(r, motor, fleet.dataset, split);
+  save_fleet(a.out, r, fit, settings);
+  if (a.quiet) return;
+  std::vector<ErrorMetrics> stator, rotor;
+  for (const FleetMotorResult& m : fit.motors) {
+    stator.push_back(m.metrics.stator);
+    rotor.push_back(m.metrics.rotor);
+  }
+  const ErrorMetrics all_stator = pool(stator), all_rotor = pool(rotor);
+  std::printf("each motor with its own cooling factor, all %zu cycles: stator rmse %.3f K", fleet.dataset.cycles.size(),
+              all_stator.rmse_k);
+  if (all_rotor.samples) std::printf(", rotor rmse %.3f K", all_rotor.rmse_k);
+  std::printf("\nthe type as if one motor had driven every cycle:\n");
+  print_metrics("train", r.train);
+  if (!r.test.cycles.empty()) print_metrics("test", r.test);
+  std::printf("%-10s %8s %8s %7s %10s  %s\n", "motor", "cooling", "+-", "cycles", "stator", "verdict");
+  for (const FleetMotorResult& m : fit.motors)
+    std::printf("%-10s %8.3f %8.3f %7zu %8.3f K  %s%s\n", m.id.c_str(), m.cooling_factor, m.cooling_factor_std,
+                m.metrics.cycles.size(), m.metrics.stator.rmse_k, m.verdict.outlier ? "OUTLIER: " : "",
+                m.verdict.reason.c_str());
+  std::printf("%s written (%d rounds, %.1f s)\n", a.out.c_str(), fit.rounds, fit.seconds);
+}
+
 void print_metrics(const char* side, const SplitMetrics& m) {
   std::printf("%-6s stator rmse %.3f K  max %.3f K  bias %+.3f K", side, m.stator.rmse_k, m.stator.max_abs_k, m.stator.bias_k);
   if (m.rotor.samples) std::printf(" | rotor rmse %.3f K  max %.3f K", m.rotor.rmse_k, m.rotor.max_abs_k);
@@ -72,6 +114,7 @@ void run(const CalibrateArgs& a, Td3Calibrator td3) {
   for (const std::string& name : a.effects) added.push_back(effect_by_name(name, "--effect"));
   MotorFile motor = load_motor_file(a.motor);
   for (int e : added) enable_effect(motor, e);
+  if (!a.fleet.empty()) return run_fleet(a, motor);
   std::vector<std::filesystem::path> paths(a.data.begin(), a.data.end());
   const data::Dataset dataset = data::load_fleet_dump(paths);
   const Split split = split_cycles(dataset, a.test_cycles, a.test_fraction, a.seed);
@@ -107,7 +150,11 @@ void run(const CalibrateArgs& a, Td3Calibrator td3) {
 void add_calibrate(CLI::App& app, Td3Calibrator td3) {
   auto* cmd = app.add_subcommand("calibrate", "Fit the model's parameters to a fleet dump (LM or TD3) and write calibration.json");
   auto a = std::make_shared<CalibrateArgs>();
-  cmd->add_option("--data", a->data, "Directories of cycle CSVs, or CSV files")->required()->expected(1, -1);
+  auto* data = cmd->add_option("--data", a->data, "Directories of cycle CSVs, or CSV files")->expected(1, -1);
+  auto* fleet = cmd->add_option("--fleet", a->fleet,
+                                "A fleet: FLEET/<motor_id>/*.csv, one motor type; writes fleet.json (docs/fleet.md), --method lm");
+  data->excludes(fleet);
+  fleet->excludes(data);
   cmd->add_option("--motor", a->motor, "Motor file: constants, effects, which parameters to calibrate and their bounds")->required();
   cmd->add_option("--method", a->method, "lm (Levenberg-Marquardt, Ceres), td3 (the paper's per-step agent) or td3-episode (one action per episode)")
       ->check(CLI::IsMember({"lm", "td3", "td3-episode"}));
@@ -126,6 +173,9 @@ void add_calibrate(CLI::App& app, Td3Calibrator td3) {
   cmd->add_flag("--quiet", a->quiet, "No progress output");
   cmd->callback([a, seed, td3] {
     a->seed_given = seed->count() > 0;
+    if (a->data.empty() && a->fleet.empty()) throw BadInput("calibrate: give --data (one motor) or --fleet (many)");
+    if (!a->fleet.empty() && a->method != "lm")
+      throw BadInput("--fleet: only --method lm calibrates a fleet (its per-motor factors are LM fits)");
     run(*a, td3);
   });
 }

@@ -6,6 +6,7 @@
 #include "tools/cli/commands.hpp"
 #include "tools/export/export_header.hpp"
 #include "trainer/calibrate/calibration_file.hpp"
+#include "trainer/fleet/fleet_file.hpp"
 #include "hostio/atomic_file.hpp"
 
 namespace lptn::cli {
@@ -13,21 +14,32 @@ namespace lptn::cli {
 void add_export(CLI::App& app) {
   auto* cmd = app.add_subcommand("export", "Write a calibration as a C++ header for the firmware");
   struct Args {
-    std::string calibration, out;
+    std::string calibration, out, fleet, motor_id;
     bool actor = false, force = false;
   };
   auto args = std::make_shared<Args>();
-  cmd->add_option("--calibration", args->calibration, "calibration.json (from lptn calibrate)")->required();
+  auto* calibration_option = cmd->add_option("--calibration", args->calibration, "calibration.json (from lptn calibrate)");
+  auto* fleet = cmd->add_option("--fleet", args->fleet, "fleet.json (from lptn calibrate --fleet): one motor's header, with --motor-id");
+  auto* motor_id = cmd->add_option("--motor-id", args->motor_id, "The fleet's motor to export (its subdirectory's name)");
+  calibration_option->excludes(fleet);
+  fleet->excludes(calibration_option);
+  fleet->needs(motor_id);
+  motor_id->needs(fleet);
   cmd->add_option("--out", args->out, "Header to write, e.g. thermal_calibration.hpp")->required();
   cmd->add_flag("--actor", args->actor, "Also export the TD3 actor's weights (needs a calibration with an actor)");
   cmd->add_flag("--force", args->force, "Replace --out if it exists");
   cmd->callback([args] {
     // Checked before any work, so that a mistaken --out costs nothing and overwrites nothing.
+    if (args->calibration.empty() && args->fleet.empty())
+      throw BadInput("export: give --calibration, or --fleet with --motor-id");
     refuse_overwrite(args->out, args->force);
     try {
-      const CalibrationResult calibration = load_calibration(args->calibration);
+      const CalibrationResult calibration = args->fleet.empty()
+                                                ? load_calibration(args->calibration)
+                                                : motor_calibration(load_fleet_file(args->fleet), args->motor_id);
       ExportOptions options;
-      options.source_name = std::filesystem::path(args->calibration).filename().string();
+      options.source_name = std::filesystem::path(args->fleet.empty() ? args->calibration : args->fleet).filename().string();
+      if (!args->fleet.empty()) options.source_name += ", motor " + args->motor_id;
       options.actor = args->actor;
       write_file_atomically(args->out, export_header(calibration, options));
       std::printf("wrote %s (%s calibration of %s%s)\n", args->out.c_str(), calibration.method.c_str(),
@@ -35,6 +47,8 @@ void add_export(CLI::App& app) {
     } catch (const CalibrationFileError& e) {
       throw BadInput(e.what());
     } catch (const ExportError& e) {
+      throw BadInput(e.what());
+    } catch (const std::invalid_argument& e) {
       throw BadInput(e.what());
     }
   });

@@ -79,11 +79,23 @@ void add_generate(CLI::App& app) {
     std::vector<std::string> truth;
     gen::GenerateOptions options;
     double minutes_min = 60, minutes_max = 90;
-    bool no_rotor = false, force = false;
+    bool no_rotor = false, force = false, fleet = false;
+    gen::FleetOptions fleet_options;
   };
   auto args = std::make_shared<Args>();
   cmd->add_option("--out", args->out, "Output directory (cycle CSVs, motor.toml, truth.json, truth/)")->required();
-  cmd->add_option("--cycles", args->options.cycles, "Number of driving cycles")->capture_default_str()->check(CLI::Range(1, 10000));
+  auto* cycles = cmd->add_option("--cycles", args->options.cycles, "Number of driving cycles (with --fleet: per motor, default 3)")
+                     ->capture_default_str()->check(CLI::Range(1, 10000));
+  auto* fleet = cmd->add_flag("--fleet", args->fleet,
+                              "A fleet of one motor type: OUT/<motor_id>/ per motor, each with its own cooling factor");
+  cmd->add_option("--motors", args->fleet_options.motors, "--fleet: number of motors")
+      ->capture_default_str()->check(CLI::Range(1, 1000))->needs(fleet);
+  cmd->add_option("--weak-motors", args->fleet_options.weak_motors,
+                  "--fleet: motors whose cooling is 30 % below nominal (a clogged filter), drawn by the seed")
+      ->capture_default_str()->check(CLI::Range(0, 1000))->needs(fleet);
+  cmd->add_option("--cooling-scatter", args->fleet_options.cooling_scatter,
+                  "--fleet: standard deviation of the healthy motors' log cooling factor")
+      ->capture_default_str()->check(CLI::Range(0.0, 0.5))->needs(fleet);
   cmd->add_option("--seed", args->options.seed, "Random seed: the same seed gives the same data")->capture_default_str();
   cmd->add_option("--hidden", args->hidden, "Effects the plant has and the paper's model lacks, comma-separated");
   std::string plant_names;
@@ -99,7 +111,7 @@ void add_generate(CLI::App& app) {
   cmd->add_flag("--no-rotor", args->no_rotor, "Leave out the rotor temperature (as most fleet data does)");
   cmd->add_flag("--long-gaps", args->options.long_gaps, "Add gaps too long to bridge (to exercise the loader)");
   cmd->add_flag("--force", args->force, "Replace the output directory if it exists");
-  cmd->callback([args] {
+  cmd->callback([args, cycles] {
     if (args->minutes_max < args->minutes_min) throw BadInput("--minutes-max must not be below --minutes-min");
     args->options.hidden = parse_effects(args->hidden);
     args->options.plant = parse_plant(args->plant);
@@ -107,6 +119,23 @@ void add_generate(CLI::App& app) {
     args->options.min_duration_s = 60 * args->minutes_min;
     args->options.max_duration_s = 60 * args->minutes_max;
     args->options.rotor_sensor = !args->no_rotor;
+    if (args->fleet) {
+      if (args->fleet_options.weak_motors > args->fleet_options.motors)
+        throw BadInput("--weak-motors must not exceed --motors");
+      if (cycles->count() == 0) args->options.cycles = 3;
+      args->fleet_options.motor = args->options;
+      AtomicDirectory out(args->out, args->force);
+      double hours = 0;
+      gen::generate_fleet(args->fleet_options, out.path(), [&](int i, int n, const gen::FleetMotorSummary& m) {
+        for (const gen::CycleSummary& c : m.cycles) hours += c.duration_s / 3600;
+        std::fprintf(stderr, "[%d/%d] %s: %zu cycles, cooling factor %.3f%s\n", i, n, m.id.c_str(), m.cycles.size(),
+                     m.cooling_factor, m.weak ? " (weak)" : "");
+      });
+      out.commit();
+      std::printf("wrote a fleet of %d motors, %d cycles each (%.1f h of 10 Hz data), to %s (motor.toml, truth.json)\n",
+                  args->fleet_options.motors, args->options.cycles, hours, args->out.c_str());
+      return;
+    }
     AtomicDirectory out(args->out, args->force);
     double hours = 0;
     gen::generate(args->options, out.path(), [&](int i, int n, const gen::CycleSummary& s) {

@@ -16,12 +16,17 @@ void add_report(CLI::App& app) {
   auto* cmd = app.add_subcommand("report", "Write an HTML report: model against measurements, where it fails, "
                                            "what lptn diagnose says is missing, the calibration history");
   struct Args {
-    std::string data, calibration, out, diagnosis, history;
+    std::string data, calibration, out, diagnosis, history, fleet;
     bool force = false;
   };
   auto a = std::make_shared<Args>();
-  cmd->add_option("--data", a->data, "Fleet dump: a directory of cycle CSVs, or one CSV")->required();
-  cmd->add_option("--calibration", a->calibration, "calibration.json (lptn calibrate)")->required();
+  auto* data_option = cmd->add_option("--data", a->data, "Fleet dump: a directory of cycle CSVs, or one CSV");
+  auto* calibration_option = cmd->add_option("--calibration", a->calibration, "calibration.json (lptn calibrate)");
+  data_option->needs(calibration_option);
+  calibration_option->needs(data_option);
+  cmd->add_option("--fleet", a->fleet,
+                  "fleet.json (lptn calibrate --fleet): adds the Fleet section (each motor's cooling factor, the "
+                  "outliers); alone, a page of the fleet only");
   cmd->add_option("--out", a->out, "The report, one HTML file that opens offline")->required();
   cmd->add_option("--diagnosis", a->diagnosis, "lptn diagnose --json output, for the 'What is missing' section");
   cmd->add_option("--history", a->history,
@@ -29,14 +34,16 @@ void add_report(CLI::App& app) {
   cmd->add_flag("--force", a->force, "Replace --out if it exists");
   cmd->callback([a] {
     refuse_overwrite(a->out, a->force);
-    if (!std::filesystem::exists(a->calibration)) throw BadInput(a->calibration + ": no such file");
+    if (a->data.empty() && a->fleet.empty()) throw BadInput("report: give --data and --calibration, or --fleet");
+    if (!a->calibration.empty() && !std::filesystem::exists(a->calibration)) throw BadInput(a->calibration + ": no such file");
+    if (!a->fleet.empty() && !std::filesystem::exists(a->fleet)) throw BadInput(a->fleet + ": no such file");
     if (!a->history.empty() && !std::filesystem::is_directory(a->history))
       throw BadInput(a->history + ": not a directory");
     const auto start = std::chrono::steady_clock::now();
     std::string html;
     {
       ProgressLine progress;
-      const nlohmann::json data = report::report_data({a->data, a->calibration, a->diagnosis, a->history},
+      const nlohmann::json data = report::report_data({a->data, a->calibration, a->diagnosis, a->history, a->fleet},
                                                       [&](const std::string& s) { progress.update("report: " + s); });
       html = report::render_html(data);
     }

@@ -1,5 +1,6 @@
 #include "tools/generate/generate.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <fstream>
@@ -7,6 +8,7 @@
 #include <stdexcept>
 
 #include "tools/generate/plant_truth.hpp"
+#include "trainer/model/cooling_factor.hpp"
 #include "tools/plant/blower.hpp"
 #include "tools/plant/cycle_kind.hpp"
 #include "tools/plant/driving_cycle.hpp"
@@ -117,8 +119,9 @@ std::vector<CycleSummary> generate(const GenerateOptions& options, const std::fi
     const double soak = drive.front().ambient_c + rng.uniform(0.0, 25.0);
     plant_model.initial_state(x, soak, soak);
     PlantExtraState extra = initial_extra_state(soak);
-    const ParamVector<double> cycle_truth = cycle_parameters(options.plant, truth, i, options.cycles);
-    summary.cooling_factor = cooling_factor(options.plant, i, options.cycles);
+    const ParamVector<double> cycle_truth =
+        with_cooling_factor(cycle_parameters(options.plant, truth, i, options.cycles), options.cooling_factor);
+    summary.cooling_factor = options.cooling_factor * cooling_factor(options.plant, i, options.cycles);
 
     const std::vector<Span> lost_rows = dropouts(rng, duration, 1200.0, 1.0);
     const std::vector<Span> lost_stator = dropouts(rng, duration, 1800.0, 5.0);
@@ -228,8 +231,51 @@ std::vector<CycleSummary> generate(const GenerateOptions& options, const std::fi
                            {"min_ambient_c", s.min_ambient_c}, {"max_ambient_c", s.max_ambient_c},
                            {"cooling_factor", s.cooling_factor}});
   }
+  j["cooling_factor"] = options.cooling_factor;
   write_file(dir / "truth.json", j.dump(2) + "\n");
   return summaries;
+}
+
+std::vector<FleetMotorSummary> generate_fleet(const FleetOptions& options, const std::filesystem::path& dir,
+                                              const std::function<void(int, int, const FleetMotorSummary&)>& progress) {
+  if (options.motors < 1) throw std::invalid_argument("--motors must be at least 1");
+  if (options.weak_motors < 0 || options.weak_motors > options.motors)
+    throw std::invalid_argument("--weak-motors must be between 0 and --motors");
+  std::filesystem::create_directories(dir);
+  plant::Rng rng(plant::derive_seed(options.motor.seed, 7000));
+  // Which motors are weak: a seeded draw without replacement.
+  std::vector<int> order(static_cast<std::size_t>(options.motors));
+  for (int m = 0; m < options.motors; ++m) order[static_cast<std::size_t>(m)] = m;
+  for (int m = options.motors - 1; m > 0; --m)
+    std::swap(order[static_cast<std::size_t>(m)],
+              order[static_cast<std::size_t>(std::min(m, static_cast<int>(rng.uniform(0.0, m + 1.0))))]);
+  std::vector<bool> weak(static_cast<std::size_t>(options.motors), false);
+  for (int w = 0; w < options.weak_motors; ++w) weak[static_cast<std::size_t>(order[static_cast<std::size_t>(w)])] = true;
+
+  std::vector<FleetMotorSummary> out;
+  nlohmann::json j;
+  j["seed"] = options.motor.seed;
+  j["cooling_scatter"] = options.cooling_scatter;
+  j["weak_factor"] = options.weak_factor;
+  for (int m = 0; m < options.motors; ++m) {
+    FleetMotorSummary s;
+    char id[32];
+    std::snprintf(id, sizeof id, "motor_%02d", m + 1);
+    s.id = id;
+    s.weak = weak[static_cast<std::size_t>(m)];
+    const double scatter = std::exp(options.cooling_scatter * rng.normal());  // drawn for every motor alike
+    s.cooling_factor = s.weak ? options.weak_factor : scatter;
+    GenerateOptions motor = options.motor;
+    motor.seed = plant::derive_seed(options.motor.seed, 7001 + static_cast<std::uint64_t>(m));
+    motor.cooling_factor = s.cooling_factor;
+    s.cycles = generate(motor, dir / s.id);
+    j["motors"][s.id] = {{"cooling_factor", s.cooling_factor}, {"weak", s.weak}};
+    out.push_back(s);
+    if (progress) progress(m + 1, options.motors, out.back());
+  }
+  write_file(dir / "motor.toml", format_motor_file(example_motor_file()));
+  write_file(dir / "truth.json", j.dump(2) + "\n");
+  return out;
 }
 
 }  // namespace lptn::gen

@@ -38,6 +38,8 @@ struct GenerateOptions {
   // True values by parameter name, over the built-in truth (plant_truth.hpp): for an effect of
   // one's own, whose parameters the built-in truth leaves at their initial values.
   std::vector<std::pair<std::string, double>> truth_overrides;
+  // This motor's factor on every conductance to air (cooling_factor.hpp): a fleet's scatter.
+  double cooling_factor = 1;
 };
 
 struct CycleSummary {
@@ -49,7 +51,7 @@ struct CycleSummary {
   double max_rotor_c = 0;
   double min_ambient_c = 0;
   double max_ambient_c = 0;
-  double cooling_factor = 1;  // on every conductance to air (cooling_fouling)
+  double cooling_factor = 1;  // on every conductance to air (the motor's, times cooling_fouling's)
 };
 
 // Writes DIR/<cycle>.csv (the data contract), DIR/motor.toml (what the user knows: the paper's
@@ -58,5 +60,28 @@ struct CycleSummary {
 // `progress(i, n, summary)` is called after each cycle. Deterministic for a given seed.
 std::vector<CycleSummary> generate(const GenerateOptions& options, const std::filesystem::path& dir,
                                    const std::function<void(int, int, const CycleSummary&)>& progress = {});
+
+// A fleet of one motor type: motors that differ in their cooling (a few per cent of scatter),
+// some of them with a clogged filter or a weak blower.
+struct FleetOptions {
+  int motors = 6;
+  int weak_motors = 1;           // drawn at random (by the seed) among the motors
+  double cooling_scatter = 0.03;  // standard deviation of the healthy motors' log cooling factor
+  double weak_factor = 0.7;       // a weak motor's cooling factor (30 % below nominal)
+  GenerateOptions motor;          // each motor's cycles; the seed is the fleet's
+};
+
+struct FleetMotorSummary {
+  std::string id;  // "motor_01", ...: its subdirectory
+  double cooling_factor = 1;
+  bool weak = false;
+  std::vector<CycleSummary> cycles;
+};
+
+// Writes DIR/motor.toml (the motor type), DIR/truth.json (each motor's true cooling factor and
+// whether it is weak) and DIR/<id>/ for every motor as generate() writes a dump. `progress(i, n,
+// motor)` after each motor. Deterministic for a given seed.
+std::vector<FleetMotorSummary> generate_fleet(const FleetOptions& options, const std::filesystem::path& dir,
+                                              const std::function<void(int, int, const FleetMotorSummary&)>& progress = {});
 
 }  // namespace lptn::gen

@@ -42,7 +42,7 @@ double cooling_factor(PlantPhysicsSet set, int index, int cycles) {
 ParamVector<double> cycle_parameters(PlantPhysicsSet set, const ParamVector<double>& truth, int index, int cycles) {
   ParamVector<double> p = truth;
   const double k = cooling_factor(set, index, cycles);
-  for (int i : {kLambda1s, kLambda2s, kLambda1r, kLambda2r}) p[i] *= k;
+  for (int i : kConductancesToAir) p[i] *= k;
   if (has(set, PlantPhysics::frame_mass)) p[kLambda2s] = kDirectCoreToAirWPerK;
   return p;
 }

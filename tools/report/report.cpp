@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "lptn/model.hpp"
+#include "tools/report/fleet_section.hpp"
 #include "tools/report/signatures.hpp"
 #include "tools/report/stats.hpp"
 #include "trainer/calibrate/calibration_file.hpp"
@@ -522,6 +523,11 @@ SavedDiagnosis load_diagnosis(const std::filesystem::path& path) {
 }
 
 nlohmann::json report_data(const ReportOptions& o, const std::function<void(const std::string&)>& progress) {
+  if (o.data.empty() && o.calibration.empty()) {
+    if (o.fleet.empty()) throw ReportInputError("report: give --data and --calibration, or --fleet");
+    return {{"fleet", fleet_section(o.fleet)}, {"generated_utc", utc_now()}};
+  }
+  const json fleet = o.fleet.empty() ? json(nullptr) : fleet_section(o.fleet);  // bad input fails fast
   const CalibrationResult cal = load_calibration(o.calibration);
   std::optional<SavedDiagnosis> diagnosis;
   if (!o.diagnosis.empty()) diagnosis = load_diagnosis(o.diagnosis);  // before the long part: bad input fails fast
@@ -541,7 +547,8 @@ nlohmann::json report_data(const ReportOptions& o, const std::function<void(cons
   const StatSeries stats = stat_series(runs);
   const std::filesystem::path history = o.history.empty() ? std::filesystem::absolute(o.calibration).parent_path() : o.history;
   return {{"meta", meta_json(o, cal, ds)}, {"cycles", cycles}, {"failures", failures_json(stats, runs)},
-          {"diagnosis", diagnosis_json(diagnosis, cm, runs, stats)}, {"history", history_json(history, o.calibration)}};
+          {"diagnosis", diagnosis_json(diagnosis, cm, runs, stats)}, {"history", history_json(history, o.calibration)},
+          {"fleet", fleet}, {"generated_utc", utc_now()}};
 }
 
 }  // namespace lptn::report

@@ -26,6 +26,8 @@ struct ReportOptions {
   std::filesystem::path calibration;  // calibration.json
   std::filesystem::path diagnosis;    // lptn diagnose --json output; empty = none
   std::filesystem::path history;      // directory of calibration JSONs; empty = the calibration's own
+  std::filesystem::path fleet;        // fleet.json for the Fleet section; empty = none. With data and
+                                      // calibration empty, the page holds the Fleet section alone
 };
 
 // A diagnosis as lptn diagnose --json-out saved it (the keys the report knows; others are ignored).

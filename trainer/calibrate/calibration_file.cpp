@@ -57,7 +57,9 @@ void put_metrics(ordered_json& o, const ErrorMetrics& stator, const ErrorMetrics
   o["samples_rotor"] = rotor.samples;
 }
 
-ordered_json split_json(const SplitMetrics& m) {
+}  // namespace
+
+nlohmann::ordered_json split_metrics_json(const SplitMetrics& m) {
   ordered_json o = ordered_json::object();
   put_metrics(o, m.stator, m.rotor);
   o["cycles"] = ordered_json::array();
@@ -68,6 +70,8 @@ ordered_json split_json(const SplitMetrics& m) {
   }
   return o;
 }
+
+namespace {
 
 ordered_json actor_json(const ActorExport& a) {
   ordered_json o;
@@ -115,7 +119,7 @@ ordered_json build(const CalibrationResult& r) {
   j["data"] = {{"sha256", r.data_sha256},
                {"files", files},
                {"split", {{"rule", r.split_rule}, {"train", r.train_cycles}, {"test", r.test_cycles}}}};
-  j["metrics"] = {{"train", split_json(r.train)}, {"test", split_json(r.test)}};
+  j["metrics"] = {{"train", split_metrics_json(r.train)}, {"test", split_metrics_json(r.test)}};
   if (r.has_actor) j["actor"] = actor_json(r.actor);
   return j;
 }

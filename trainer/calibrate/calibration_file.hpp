@@ -103,6 +103,8 @@ struct CalibrationResult {
 };
 
 nlohmann::json to_json(const CalibrationResult& result);
+// One side of the split as calibration.json writes it (the pooled figures, then each cycle's).
+nlohmann::ordered_json split_metrics_json(const SplitMetrics& m);
 CalibrationResult calibration_from_json(const nlohmann::json& j, const std::string& shown_as);
 
 // Atomic: a temporary beside `path`, renamed over it.

@@ -12,6 +12,7 @@
 #include <stdexcept>
 
 #include "trainer/calibrate/correlation_time.hpp"
+#include "trainer/model/cooling_factor.hpp"
 #include "trainer/model/initial_offsets.hpp"
 #include "trainer/model/simulate.hpp"
 
@@ -48,8 +49,9 @@ template <int N>
 class CycleResiduals final : public CycleBlock {
  public:
   CycleResiduals(const Model<double>& model, const data::Cycle& cycle, const FreeParameters& free,
-                 const ParamVector<double>& fixed, std::size_t max_steps)
-      : model_(model), cycle_(cycle), free_(free), fixed_(fixed), max_steps_(std::min(max_steps, cycle.steps)) {
+                 const ParamVector<double>& fixed, std::size_t max_steps, double cooling)
+      : model_(model), cycle_(cycle), free_(free), fixed_(fixed), max_steps_(std::min(max_steps, cycle.steps)),
+        cooling_(cooling) {
     for (std::size_t k = 1; k < max_steps_; ++k)
       measured_ += static_cast<std::size_t>(measured(k, data::Channel::stator_winding_c)) +
                    static_cast<std::size_t>(measured(k, data::Channel::rotor_c));
@@ -67,7 +69,8 @@ class CycleResiduals final : public CycleBlock {
       ParamVector<double> p = fixed_;
       for (std::size_t j = 0; j < nf; ++j) p[free_.index[j]] = free_.to_physical(j, theta[j]);
       double rss = 0;
-      const bool ok = fill(p, InitialOffsets<double>{offset[0], offset[1]}, [&](const double& e) { rss += e * e; });
+      const bool ok = fill(with_cooling_factor(p, cooling_), InitialOffsets<double>{offset[0], offset[1]},
+                           [&](const double& e) { rss += e * e; });
       residuals[0] = std::sqrt(rss);
       return ok;
     }
@@ -84,7 +87,7 @@ class CycleResiduals final : public CycleBlock {
     Eigen::MatrixXd jtj = Eigen::MatrixXd::Zero(mm, mm);  // lower triangle summed; the solver reads only that
     Eigen::VectorXd jtr = Eigen::VectorXd::Zero(mm);
     double rss = 0;
-    const bool ok = fill(p, start, [&](const Jet& e) {
+    const bool ok = fill(with_cooling_factor(p, cooling_), start, [&](const Jet& e) {
       for (Eigen::Index a = 0; a < mm; ++a) {
         const double da = e.v[a];
         if (da == 0) continue;
@@ -147,21 +150,22 @@ class CycleResiduals final : public CycleBlock {
   const FreeParameters& free_;
   const ParamVector<double>& fixed_;
   std::size_t max_steps_;
+  double cooling_;  // the cycle's motor's cooling factor (1 outside a fleet)
 };
 
 // The smallest Jet that carries `n` derivatives.
 CycleBlock* make_residuals(const Model<double>& model, const data::Cycle& cycle, const FreeParameters& free,
-                                    const ParamVector<double>& fixed, std::size_t max_steps) {
+                           const ParamVector<double>& fixed, std::size_t max_steps, double cooling = 1.0) {
   const std::size_t n = free.size() + kOffsets;
-  if (n <= 4) return new CycleResiduals<4>(model, cycle, free, fixed, max_steps);
-  if (n <= 10) return new CycleResiduals<10>(model, cycle, free, fixed, max_steps);
+  if (n <= 4) return new CycleResiduals<4>(model, cycle, free, fixed, max_steps, cooling);
+  if (n <= 10) return new CycleResiduals<10>(model, cycle, free, fixed, max_steps, cooling);
   // The paper's parameters with an effect or a dictionary term or two (the usual calibration and
   // every refit of diagnose): a Jet sized by the whole library would carry mostly zeros.
-  if (n <= 16) return new CycleResiduals<16>(model, cycle, free, fixed, max_steps);
-  if (n <= 24) return new CycleResiduals<24>(model, cycle, free, fixed, max_steps);
+  if (n <= 16) return new CycleResiduals<16>(model, cycle, free, fixed, max_steps, cooling);
+  if (n <= 24) return new CycleResiduals<24>(model, cycle, free, fixed, max_steps, cooling);
   // Every parameter of the library free: sized by the library, so that registering an effect
   // (docs/effects.md) needs nothing here.
-  return new CycleResiduals<std::max(18, kNumParams + kOffsets)>(model, cycle, free, fixed, max_steps);
+  return new CycleResiduals<std::max(18, kNumParams + kOffsets)>(model, cycle, free, fixed, max_steps, cooling);
 }
 
 
@@ -170,11 +174,13 @@ CycleBlock* make_residuals(const Model<double>& model, const data::Cycle& cycle,
 std::array<std::vector<std::vector<double>>, 2> residual_series(const Model<double>& model, const ParamVector<double>& p,
                                                                const data::Dataset& dataset,
                                                                const std::vector<std::size_t>& cycles,
-                                                               const std::vector<InitialOffsets<double>>& offsets) {
+                                                               const std::vector<InitialOffsets<double>>& offsets,
+                                                               const std::vector<double>& cooling) {
   std::array<std::vector<std::vector<double>>, 2> out;
   for (std::size_t i = 0; i < cycles.size(); ++i) {
     const data::Cycle& cycle = dataset.cycles[cycles[i]];
-    const CycleSimulation sim = simulate_cycle(model, p, cycle, offsets[i]);
+    const ParamVector<double> pc = cooling.empty() ? p : with_cooling_factor(p, cooling[i]);
+    const CycleSimulation sim = simulate_cycle(model, pc, cycle, offsets[i]);
     const std::pair<data::Channel, const std::vector<float>*> sensors[2] = {
         {data::Channel::stator_winding_c, &sim.stator_sensor}, {data::Channel::rotor_c, &sim.rotor_sensor}};
     for (int s = 0; s < 2; ++s) {
@@ -229,8 +235,11 @@ class Progress final : public ceres::IterationCallback {
 }  // namespace
 
 LmReport fit_lm(const MotorFile& motor, const ParamVector<double>& start, const data::Dataset& dataset,
-                const std::vector<std::size_t>& cycles, const LmSettings& settings, const LmProgress& progress) {
+                const std::vector<std::size_t>& cycles, const LmSettings& settings, const LmProgress& progress,
+                const std::vector<double>& cooling) {
   const auto t0 = std::chrono::steady_clock::now();
+  if (!cooling.empty() && cooling.size() != cycles.size())
+    throw std::invalid_argument("fit_lm: one cooling factor per cycle, or none");
   const Model<double> model = motor.model();
   const FreeParameters free = FreeParameters::from_motor(motor);
   const std::size_t nf = free.size();
@@ -251,7 +260,8 @@ LmReport fit_lm(const MotorFile& motor, const ParamVector<double>& start, const 
   report.offsets.assign(cycles.size(), InitialOffsets<double>{});
   std::vector<std::array<double, kOffsets>> offsets(cycles.size(), {0.0, 0.0});
   for (std::size_t i = 0; i < cycles.size(); ++i) {
-    CycleBlock* cost = make_residuals(model, dataset.cycles[cycles[i]], free, start, SIZE_MAX);
+    CycleBlock* cost = make_residuals(model, dataset.cycles[cycles[i]], free, start, SIZE_MAX,
+                                      cooling.empty() ? 1.0 : cooling[i]);
     if (cost->measured() == 0) {
       delete cost;
       continue;
@@ -307,7 +317,7 @@ LmReport fit_lm(const MotorFile& motor, const ParamVector<double>& start, const 
   problem.Evaluate(evaluate, &cost, nullptr, nullptr, &jacobian);
   const Eigen::MatrixXd jtj = gram(jacobian);
   const double dof = std::max(1.0, static_cast<double>(report.residuals) - static_cast<double>(nf));
-  const auto series = residual_series(model, report.values, dataset, cycles, report.offsets);
+  const auto series = residual_series(model, report.values, dataset, cycles, report.offsets, cooling);
   report.correlation_time = std::max(correlation_time(series[0]), correlation_time(series[1]));
   const double s2 = 2.0 * cost / dof * report.correlation_time;
   Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(jtj);

@@ -45,8 +45,13 @@ using LmProgress = std::function<void(int, double, double)>;
 // each cycle's initial offsets. Residuals are
 // model minus measurement of the stator winding sensor and, where measured, the rotor, at every
 // grid step where the measurement exists. Throws std::runtime_error if no cycle has a measurement.
+//
+// `cooling` (empty, or one per listed cycle) is each cycle's known cooling factor
+// (cooling_factor.hpp): a fleet's motors share the fitted parameters, each cycle simulated with
+// its motor's conductances to air scaled (fleet_calibration.hpp).
 LmReport fit_lm(const MotorFile& motor, const ParamVector<double>& start, const data::Dataset& dataset,
-                const std::vector<std::size_t>& cycles, const LmSettings& settings, const LmProgress& progress = {});
+                const std::vector<std::size_t>& cycles, const LmSettings& settings, const LmProgress& progress = {},
+                const std::vector<double>& cooling = {});
 
 // The Gauss-Newton normal equations of fit_lm's problem at a given point, for tests of directions
 // fit_lm did not search (lptn diagnose's score test). Columns: `free`'s parameters in its internal

@@ -484,12 +484,102 @@
                              {'data-table': 'history'}));
   }
 
-  guarded('header', renderMeta);
-  guarded('verdict', renderVerdict);
-  guarded('metrics table', renderCompareTable);
-  guarded('compare charts', renderCycles);
-  guarded('where it fails', renderFailures);
-  guarded('diagnosis', renderDiagnosis);
-  guarded('history', renderHistory);
+  // --- Fleet -----------------------------------------------------------------------------------------
+
+  function percent(factor) {
+    var p = Math.round(1000 * (factor - 1)) / 10;  // one decimal, and no "-0.0"
+    return (p > 0 ? '+' : p < 0 ? '' : '±') + p.toFixed(1) + ' %';
+  }
+
+  function renderFleet() {
+    var f = R.fleet, parent = document.getElementById('fleet-body');
+    var outliers = f.motors.filter(function (m) { return m.outlier; });
+    parent.appendChild(el('div', {class: 'verdict ' + (outliers.length ? 'missing' : 'adequate'), 'data-verdict': 'fleet'},
+      [el('p', {}, [outliers.length
+        ? 'Outlier' + (outliers.length > 1 ? 's' : '') + ': ' + outliers.map(function (m) {
+            return m.id + ' ' + m.reason; }).join('; ') + '.'
+        : (f.threshold_t === null ? 'Too few motors to tell the fleet\'s spread: no motor tested.'
+                                  : 'No motor cools unlike the rest of the fleet.')])]));
+    // x: the motors in order; two series, so that the outliers stand out in colour.
+    var data = f.motors.map(function (m, i) {
+      var bar = [m.cooling_factor, m.cooling_factor_std];
+      return [i + 1, m.outlier ? null : bar, m.outlier ? bar : null];
+    });
+    var ids = f.motors.map(function (m) { return m.id; });
+    function motorAt(v) { return Number.isInteger(v) && v >= 1 && v <= ids.length ? ids[v - 1] : ''; }
+    // Each motor a dot with its own whisker: dygraphs' error bars would join neighbours into a band,
+    // as if the motors were a time series. y_top and y_bottom are the bar's ends, as fractions of
+    // the plot's height (dygraphs' layout sets them when errorBars is on).
+    function whiskers(e) {
+      var ctx = e.drawingContext, area = e.plotArea;
+      ctx.strokeStyle = e.color;
+      ctx.fillStyle = e.color;
+      ctx.lineWidth = 1.5;
+      e.points.forEach(function (p) {
+        if (p.yval === null || isNaN(p.canvasy)) return;
+        var top = area.y + area.h * p.y_top, bottom = area.y + area.h * p.y_bottom;
+        ctx.beginPath();
+        ctx.moveTo(p.canvasx, top); ctx.lineTo(p.canvasx, bottom);
+        ctx.moveTo(p.canvasx - 6, top); ctx.lineTo(p.canvasx + 6, top);
+        ctx.moveTo(p.canvasx - 6, bottom); ctx.lineTo(p.canvasx + 6, bottom);
+        ctx.stroke();
+        ctx.beginPath();
+        ctx.arc(p.canvasx, p.canvasy, 4, 0, 2 * Math.PI);
+        ctx.fill();
+      });
+    }
+    var lo = Math.min.apply(null, f.motors.map(function (m) { return m.cooling_factor - 3 * m.cooling_factor_std; }));
+    var hi = Math.max.apply(null, f.motors.map(function (m) { return m.cooling_factor + 3 * m.cooling_factor_std; }));
+    var pad = 0.1 * Math.max(hi - lo, 0.05);
+    guarded('fleet chart', function () {
+      graph(parent, 'fleet', data, {labels: ['motor', 'cooling factor', 'outlier'], errorBars: true, sigma: 2,
+        plotter: whiskers, colors: ['#1f4e9c', '#c00'], valueRange: [Math.min(lo, 1) - pad, Math.max(hi, 1) + pad],
+        dateWindow: [0.5, ids.length + 0.5], xlabel: 'motor', ylabel: 'cooling factor (±2σ)',
+        // The type's own cooling, 1, as a reference line.
+        underlayCallback: function (ctx, area, g) {
+          var y = g.toDomYCoord(1);
+          ctx.strokeStyle = '#888';
+          ctx.setLineDash([4, 4]);
+          ctx.beginPath(); ctx.moveTo(area.x, y); ctx.lineTo(area.x + area.w, y); ctx.stroke();
+          ctx.setLineDash([]);
+        },
+        axes: {x: {valueFormatter: motorAt, axisLabelWidth: 80, drawGrid: false,
+                   ticker: function () { return ids.map(function (id, i) { return {v: i + 1, label: id}; }); }}}}, 'tall');
+    });
+    var rows = f.motors.map(function (m) {
+      return el('tr', {class: m.outlier ? 'outlier' : ''}, [el('td', {class: 'text'}, [m.id]),
+        el('td', {}, [fixed(m.cooling_factor, 3)]), el('td', {}, [fixed(m.cooling_factor_std, 3)]),
+        el('td', {}, [percent(m.cooling_factor)]), el('td', {}, [fixed(m.t, 2)]), el('td', {}, [m.cycles]),
+        el('td', {}, [fixed(m.rmse_stator_k, 3)]), el('td', {}, [fixed(m.rmse_rotor_k, 3)]),
+        el('td', {class: 'text'}, [(m.outlier ? 'OUTLIER: ' : '') + m.reason])]);
+    });
+    parent.appendChild(table(['motor', 'cooling factor', 'std', 'vs type', 't', 'cycles', 'stator RMSE K', 'rotor RMSE K',
+                              'verdict'], rows, {'data-table': 'fleet'}));
+    parent.appendChild(el('p', {class: 'note'}, [f.file + ': motor type ' + f.motor + ', ' + f.motors.length +
+      ' motors, ' + f.rounds + ' rounds of the shared fit and the factors; outlier test at family rate ' +
+      fixed(100 * f.family_alpha, 0) + ' %' + (f.threshold_t === null ? '' : ', |t| > ' + fixed(f.threshold_t, 2)) +
+      '. RMSE: each motor\'s cycles with its own factor.']));
+  }
+
+  // A page of a fleet alone (lptn report --fleet without --data): only its section.
+  if (!R.cycles) {
+    ['compare', 'failures', 'missing', 'history'].forEach(function (id) { document.getElementById(id).style.display = 'none'; });
+    document.querySelector('nav').style.display = 'none';
+    document.getElementById('meta').textContent = 'Fleet calibration ' + R.fleet.file + ' (motor ' + R.fleet.motor + ', ' +
+      R.fleet.created_utc + '). Generated ' + R.generated_utc + '.';
+  } else {
+    guarded('header', renderMeta);
+    guarded('verdict', renderVerdict);
+    guarded('metrics table', renderCompareTable);
+    guarded('compare charts', renderCycles);
+    guarded('where it fails', renderFailures);
+    guarded('diagnosis', renderDiagnosis);
+    guarded('history', renderHistory);
+  }
+  if (R.fleet) guarded('fleet', renderFleet);
+  else {
+    document.getElementById('fleet').style.display = 'none';
+    document.getElementById('fleet-link').style.display = 'none';
+  }
   document.body.setAttribute('data-rendered', 'true');
 })();
