@@ -346,7 +346,7 @@ void save_calibration(const CalibrationResult& result, const std::filesystem::pa
   write_file_atomically(path, build(result).dump(2) + "\n");
 }
 
-CalibrationResult load_calibration(const std::filesystem::path& path) {
+nlohmann::json read_json_file(const std::filesystem::path& path) {
   const std::string shown = path.string();
   std::ifstream in(path, std::ios::binary);
   if (!in) throw CalibrationFileError(shown + ": cannot read (missing or not readable)");
@@ -366,7 +366,11 @@ CalibrationResult load_calibration(const std::filesystem::path& path) {
     if (colon != std::string::npos) why = why.substr(colon + 2);
     throw CalibrationFileError(shown + ": line " + std::to_string(line) + ": " + why);
   }
-  return calibration_from_json(j, shown);
+  return j;
+}
+
+CalibrationResult load_calibration(const std::filesystem::path& path) {
+  return calibration_from_json(read_json_file(path), path.string());
 }
 
 std::string sha256_hex(const void* data, std::size_t size) {

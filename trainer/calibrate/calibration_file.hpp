@@ -110,6 +110,9 @@ CalibrationResult calibration_from_json(const nlohmann::json& j, const std::stri
 // Atomic: a temporary beside `path`, renamed over it.
 void save_calibration(const CalibrationResult& result, const std::filesystem::path& path);
 CalibrationResult load_calibration(const std::filesystem::path& path);
+// A JSON file (calibration.json, fleet.json); throws CalibrationFileError: "FILE: cannot read (...)"
+// or "FILE: line N: reason".
+nlohmann::json read_json_file(const std::filesystem::path& path);
 
 // SHA-256 of a file's bytes, lower-case hex.
 std::string sha256_file(const std::filesystem::path& path);

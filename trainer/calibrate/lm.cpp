@@ -12,6 +12,7 @@
 #include <stdexcept>
 
 #include "trainer/calibrate/correlation_time.hpp"
+#include "trainer/calibrate/grid_residuals.hpp"
 #include "trainer/model/cooling_factor.hpp"
 #include "trainer/model/initial_offsets.hpp"
 #include "trainer/model/simulate.hpp"
@@ -52,9 +53,7 @@ class CycleResiduals final : public CycleBlock {
                  const ParamVector<double>& fixed, std::size_t max_steps, double cooling)
       : model_(model), cycle_(cycle), free_(free), fixed_(fixed), max_steps_(std::min(max_steps, cycle.steps)),
         cooling_(cooling) {
-    for (std::size_t k = 1; k < max_steps_; ++k)
-      measured_ += static_cast<std::size_t>(measured(k, data::Channel::stator_winding_c)) +
-                   static_cast<std::size_t>(measured(k, data::Channel::rotor_c));
+    measured_ = count_grid_residuals(cycle, max_steps_);
     set_num_residuals(static_cast<int>(columns()) + 1);
     mutable_parameter_block_sizes()->push_back(static_cast<int>(free.size()));
     mutable_parameter_block_sizes()->push_back(kOffsets);
@@ -125,24 +124,10 @@ class CycleResiduals final : public CycleBlock {
 
  private:
   std::size_t columns() const { return free_.size() + kOffsets; }
-  bool measured(std::size_t k, data::Channel c) const { return !std::isnan(cycle_.at(c, k)); }
 
-  // Runs the cycle and hands each residual (model - measured) to `put` in a fixed order: per grid
-  // step after the first, the stator then the rotor, where measured. (Grid step 0 is the initial
-  // state, which starts at the measurement by construction.) False if the numbers left finite.
   template <class T, class Put>
   bool fill(const ParamVector<T>& p, const InitialOffsets<T>& start, Put&& put) const {
-    bool finite = true;
-    run_cycle(model_, p.data(), cycle_, [&](std::ptrdiff_t k, const T* x) {
-      if (k < 0) return;
-      const auto grid = static_cast<std::size_t>(k + 1);
-      const float ys = cycle_.at(data::Channel::stator_winding_c, grid);
-      const float yr = cycle_.at(data::Channel::rotor_c, grid);
-      if (!std::isnan(ys)) put(model_.stator_sensor(x) - T(ys));
-      if (!std::isnan(yr)) put(model_.rotor_sensor(x) - T(yr));
-      finite = finite && std::isfinite(value_of(x[0]));
-    }, start, max_steps_);
-    return finite;
+    return for_each_grid_residual(model_, p, cycle_, start, put, max_steps_);
   }
 
   const Model<double>& model_;

@@ -10,6 +10,7 @@
 #include <algorithm>
 
 #include "trainer/calibrate/correlation_time.hpp"
+#include "trainer/calibrate/grid_residuals.hpp"
 #include "trainer/model/cooling_factor.hpp"
 #include "trainer/model/initial_offsets.hpp"
 
@@ -22,9 +23,7 @@ class CycleCooling final : public ceres::CostFunction {
  public:
   CycleCooling(const Model<double>& model, const ParamVector<double>& params, const data::Cycle& cycle)
       : model_(model), params_(params), cycle_(cycle) {
-    for (std::size_t k = 1; k < cycle.steps; ++k)
-      measured_ += static_cast<std::size_t>(!std::isnan(cycle.at(data::Channel::stator_winding_c, k))) +
-                   static_cast<std::size_t>(!std::isnan(cycle.at(data::Channel::rotor_c, k)));
+    measured_ = count_grid_residuals(cycle);
     set_num_residuals(static_cast<int>(measured_));
     mutable_parameter_block_sizes()->push_back(1);
     mutable_parameter_block_sizes()->push_back(2);
@@ -59,19 +58,9 @@ class CycleCooling final : public ceres::CostFunction {
     return finite;
   }
 
-  // Model minus measured, per grid step after the first, the stator then the rotor where measured
-  // (fit_lm's order and residuals).
   template <class T, class Put>
   void fill(const ParamVector<T>& p, const InitialOffsets<T>& start, Put&& put, bool& finite) const {
-    run_cycle(model_, p.data(), cycle_, [&](std::ptrdiff_t k, const T* x) {
-      if (k < 0) return;
-      const auto grid = static_cast<std::size_t>(k + 1);
-      const float ys = cycle_.at(data::Channel::stator_winding_c, grid);
-      const float yr = cycle_.at(data::Channel::rotor_c, grid);
-      if (!std::isnan(ys)) put(model_.stator_sensor(x) - T(ys));
-      if (!std::isnan(yr)) put(model_.rotor_sensor(x) - T(yr));
-      finite = finite && std::isfinite(value_of(x[0]));
-    }, start);
+    finite = for_each_grid_residual(model_, p, cycle_, start, put);
   }
 
  private:

@@ -1,8 +1,6 @@
 #include "trainer/fleet/fleet_file.hpp"
 
 #include <cmath>
-#include <fstream>
-#include <iterator>
 #include <stdexcept>
 
 #include "hostio/atomic_file.hpp"
@@ -70,15 +68,7 @@ double number(const nlohmann::json& j, const std::string& file, const std::strin
 
 FleetFile load_fleet_file(const std::filesystem::path& path) {
   const std::string shown = path.string();
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw CalibrationFileError(shown + ": cannot read (missing or not readable)");
-  const std::string text(std::istreambuf_iterator<char>(in), {});
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
-    throw CalibrationFileError(shown + ": not JSON (" + e.what() + ")");
-  }
+  const nlohmann::json j = read_json_file(path);
   if (!j.is_object() || !j.contains("format_version")) bad(shown, "format_version", "missing: is this a fleet.json?");
   if (j["format_version"] != kFleetFormatVersion)
     bad(shown, "format_version", "version " + j["format_version"].dump() + ", this lptn reads " +
