@@ -279,7 +279,12 @@ def render(bus_name, dbc_path, dbc, uses, outputs, codecs, codec_namespace, name
         "",
         f"namespace {namespace} {{",
         "",
-        f"namespace dbc = ::{codec_namespace};",
+    ]
+    # The codecs are `dbc::` here; an alias only where they live elsewhere (an alias of a namespace
+    # to itself is an error to clang, though g++ takes it).
+    if codec_namespace != f"{namespace}::dbc":
+        lines.append(f"namespace dbc = ::{codec_namespace};")
+    lines += [
         f"inline constexpr int kMessages = {len(uses)};",
         f"static_assert(kMessages <= fw::kMaxBusMessages);",
         "",

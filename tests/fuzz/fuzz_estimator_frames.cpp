@@ -101,7 +101,10 @@ CanFrame frame_of(const std::uint8_t* r, Counters& counters) {
 template <class T>
 void check_output(const EstimatorOutput<T>& o, TimeUs t) {
   LPTN_FUZZ_CHECK(o.time_us == t, "the output's time is the tick's");
-  LPTN_FUZZ_CHECK(o.status_counter < 16 && o.bus_events < 64, "status fields wider than their signals");
+  // The signals' widths from the DBC (its generated ranges), not restated here.
+  LPTN_FUZZ_CHECK(lptn::can::LptnStatus::status_counter_is_in_range(o.status_counter) &&
+                      lptn::can::LptnStatus::bus_events_is_in_range(o.bus_events),
+                  "status fields wider than their signals");
   constexpr InputMask kAll = (1u << kNumInputs) - 1;
   LPTN_FUZZ_CHECK((o.stale & ~kAll) == 0 && (o.implausible & ~kAll) == 0 && (o.substituted & ~kAll) == 0,
                   "input masks");
