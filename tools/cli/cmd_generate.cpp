@@ -128,8 +128,8 @@ void add_generate(CLI::App& app) {
       double hours = 0;
       gen::generate_fleet(args->fleet_options, out.path(), [&](int i, int n, const gen::FleetMotorSummary& m) {
         for (const gen::CycleSummary& c : m.cycles) hours += c.duration_s / 3600;
-        std::fprintf(stderr, "[%d/%d] %s: %zu cycles, cooling factor %.3f%s\n", i, n, m.id.c_str(), m.cycles.size(),
-                     m.cooling_factor, m.weak ? " (weak)" : "");
+        // Which motor is weak is the truth the calibration is to find: truth.json says it, not this line.
+        std::fprintf(stderr, "[%d/%d] %s: %zu cycles\n", i, n, m.id.c_str(), m.cycles.size());
       });
       out.commit();
       std::printf("wrote a fleet of %d motors, %d cycles each (%.1f h of 10 Hz data), to %s (motor.toml, truth.json)\n",
