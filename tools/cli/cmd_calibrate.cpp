@@ -89,7 +89,7 @@ void run_fleet(const CalibrateArgs& a, const MotorFile& motor) {
   if (!r.test.cycles.empty()) print_metrics("test", r.test);
   std::printf("%-10s %8s %8s %7s %10s  %s\n", "motor", "cooling", "+-", "cycles", "stator", "verdict");
   for (const FleetMotorResult& m : fit.motors)
-    std::printf("%-10s %8.3f %8.3f %7zu %8.3f K  %s%s\n", m.id.c_str(), m.cooling_factor, m.cooling_factor_std,
+    std::printf("%-10s %8.3f %8.4f %7zu %8.3f K  %s%s\n", m.id.c_str(), m.cooling_factor, m.cooling_factor_std,
                 m.metrics.cycles.size(), m.metrics.stator.rmse_k, m.verdict.outlier ? "OUTLIER: " : "",
                 m.verdict.reason.c_str());
   std::printf("%s written (%d rounds, %.1f s)\n", a.out.c_str(), fit.rounds, fit.seconds);
