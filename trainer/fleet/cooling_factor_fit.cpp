@@ -34,33 +34,25 @@ class CycleCooling final : public ceres::CostFunction {
     const double log_factor = blocks[0][0];
     const double* offset = blocks[1];
     std::size_t row = 0;
-    bool finite = true;
     if (jacobians == nullptr || (jacobians[0] == nullptr && jacobians[1] == nullptr)) {
-      fill(with_cooling_factor(params_, std::exp(log_factor)), InitialOffsets<double>{offset[0], offset[1]},
-           [&](const double& e) { residuals[row++] = e; }, finite);
-      return finite;
+      return for_each_grid_residual(model_, with_cooling_factor(params_, std::exp(log_factor)),
+                                    cycle_, InitialOffsets<double>{offset[0], offset[1]},
+                                    [&](const double& e) { residuals[row++] = e; });
     }
     using Jet = ceres::Jet<double, 3>;
     ParamVector<Jet> p;
     for (int i = 0; i < kNumParams; ++i) p[i] = Jet(params_[i]);
     const Jet factor = exp(Jet(log_factor, 0));
-    fill(with_cooling_factor(p, factor), InitialOffsets<Jet>{Jet(offset[0], 1), Jet(offset[1], 2)},
-         [&](const Jet& e) {
-           residuals[row] = e.a;
-           if (jacobians[0] != nullptr) jacobians[0][row] = e.v[0];
-           if (jacobians[1] != nullptr) {
-             jacobians[1][2 * row] = e.v[1];
-             jacobians[1][2 * row + 1] = e.v[2];
-           }
-           ++row;
-         },
-         finite);
-    return finite;
-  }
-
-  template <class T, class Put>
-  void fill(const ParamVector<T>& p, const InitialOffsets<T>& start, Put&& put, bool& finite) const {
-    finite = for_each_grid_residual(model_, p, cycle_, start, put);
+    return for_each_grid_residual(model_, with_cooling_factor(p, factor), cycle_,
+                                  InitialOffsets<Jet>{Jet(offset[0], 1), Jet(offset[1], 2)}, [&](const Jet& e) {
+                                    residuals[row] = e.a;
+                                    if (jacobians[0] != nullptr) jacobians[0][row] = e.v[0];
+                                    if (jacobians[1] != nullptr) {
+                                      jacobians[1][2 * row] = e.v[1];
+                                      jacobians[1][2 * row + 1] = e.v[2];
+                                    }
+                                    ++row;
+                                  });
   }
 
  private:

@@ -9,15 +9,6 @@
 #include "trainer/model/cooling_factor.hpp"
 
 namespace lptn {
-namespace {
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
-}  // namespace
 
 FleetFit fit_fleet(const MotorFile& motor, const FleetDump& fleet, const std::vector<std::size_t>& train,
                    const FleetSettings& settings, const std::function<void(const std::string&)>& progress) {

@@ -9,6 +9,12 @@
 
 namespace lptn {
 
+double median(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  const std::size_t n = values.size();
+  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
 double outlier_threshold(int motors, double family_alpha) {
   return internal::student_t_quantile(1 - family_alpha / (2.0 * motors), motors - 2.0);
 }
@@ -24,11 +30,9 @@ std::vector<OutlierVerdict> fleet_outliers(const std::vector<MotorFactor>& motor
   }
   const double threshold = outlier_threshold(n, family_alpha);
   // In words, a motor is compared with the fleet's median motor (the type, once normalized).
-  std::vector<double> sorted;
-  for (const MotorFactor& f : motors) sorted.push_back(f.log_factor);
-  std::sort(sorted.begin(), sorted.end());
-  const double median = n % 2 ? sorted[static_cast<std::size_t>(n / 2)]
-                              : 0.5 * (sorted[static_cast<std::size_t>(n / 2 - 1)] + sorted[static_cast<std::size_t>(n / 2)]);
+  std::vector<double> logs;
+  for (const MotorFactor& f : motors) logs.push_back(f.log_factor);
+  const double fleet_median = median(logs);
   for (int m = 0; m < n; ++m) {
     double mean = 0, own_var = 0;
     for (int j = 0; j < n; ++j)
@@ -51,7 +55,7 @@ std::vector<OutlierVerdict> fleet_outliers(const std::vector<MotorFactor>& motor
     v.threshold = threshold;
     v.t = se > 0 ? diff / se : (diff == 0 ? 0.0 : std::copysign(std::numeric_limits<double>::infinity(), diff));
     v.outlier = std::abs(v.t) > threshold;
-    const double percent = 100 * (std::exp(me.log_factor - median) - 1);
+    const double percent = 100 * (std::exp(me.log_factor - fleet_median) - 1);
     char buf[200];
     if (v.outlier)
       std::snprintf(buf, sizeof buf, "cools %.0f %% %s than the fleet's median motor, beyond the others' spread (t = %+.1f, limit +-%.1f)",

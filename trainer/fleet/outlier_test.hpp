@@ -35,6 +35,10 @@ struct OutlierVerdict {
 
 std::vector<OutlierVerdict> fleet_outliers(const std::vector<MotorFactor>& motors, double family_alpha);
 
+// The median of `values` (of an even count, the mean of the two middle ones): the fleet's median
+// motor, which the fit normalizes to and the verdicts compare with.
+double median(std::vector<double> values);
+
 // The |t| beyond which a fleet of `motors` motors names an outlier.
 double outlier_threshold(int motors, double family_alpha);
 
