@@ -55,7 +55,9 @@ std::vector<OutlierVerdict> fleet_outliers(const std::vector<MotorFactor>& motor
     v.threshold = threshold;
     v.t = se > 0 ? diff / se : (diff == 0 ? 0.0 : std::copysign(std::numeric_limits<double>::infinity(), diff));
     v.outlier = std::abs(v.t) > threshold;
-    const double percent = 100 * (std::exp(me.log_factor - fleet_median) - 1);
+    // To the 0.1 % the words show, and never "-0.0 %".
+    double percent = std::round(1000 * (std::exp(me.log_factor - fleet_median) - 1)) / 10;
+    if (percent == 0) percent = 0;
     char buf[200];
     if (v.outlier)
       std::snprintf(buf, sizeof buf, "cools %.0f %% %s than the fleet's median motor, beyond the others' spread (t = %+.1f, limit +-%.1f)",
