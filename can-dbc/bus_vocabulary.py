@@ -46,7 +46,8 @@ UNITS = {
 # The estimator's output frames (can-dbc/lptn.dbc's LPTN_* messages) in the order fw::pack_outputs
 # fills them; a map may move them to other CAN ids ([outputs]). firmware/.../output_frames.hpp
 # static_asserts this order against the codecs' names.
-OUTPUTS = ["LPTN_Temperatures", "LPTN_TemperatureStd", "LPTN_Margin", "LPTN_Status", "LPTN_Innovation"]
+OUTPUTS = ["LPTN_Temperatures", "LPTN_TemperatureStd", "LPTN_Margin", "LPTN_Status", "LPTN_Innovation",
+           "LPTN_Cooling"]
 
 # AUTOSAR E2E's MaxDeltaCounter where a map gives none: one lost frame is tolerated, two are not.
 DEFAULT_MAX_DELTA_COUNTER = 2

@@ -60,7 +60,8 @@ inline std::size_t put_fixed(char* out, double v, int decimals) {
 // The CSV's header; its rows follow it.
 inline constexpr std::string_view kFloatReplayHeader =
     "time_s,est_stator_winding_c,est_stator_core_c,est_rotor_winding_c,est_rotor_core_c,"
-    "std_stator_winding_k,std_stator_core_k,std_rotor_winding_k,std_rotor_core_k\n";
+    "std_stator_winding_k,std_stator_core_k,std_rotor_winding_k,std_rotor_core_k,cooling_factor,cooling_factor_std,"
+    "cooling_alarm\n";
 
 template <class Io>
 FloatReplayResult run_float_replay(Io& io, Estimator<float>& estimator) {
@@ -79,6 +80,12 @@ FloatReplayResult run_float_replay(Io& io, Estimator<float>& estimator) {
       line[n++] = ',';
       n += put_fixed(line + n, static_cast<double>(o.node_std_k[i]), 5);
     }
+    line[n++] = ',';
+    n += put_fixed(line + n, static_cast<double>(o.cooling_factor), 5);
+    line[n++] = ',';
+    n += put_fixed(line + n, static_cast<double>(o.cooling_factor_std), 5);
+    line[n++] = ',';
+    line[n++] = o.cooling_alarm ? '1' : '0';
     line[n++] = '\n';
     io.write(line, n);
   };

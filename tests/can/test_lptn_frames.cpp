@@ -148,7 +148,7 @@ TEST(LptnFrames, LptnReceivesTheConverterAndBenchFramesAndSendsItsOwn) {
   const std::vector<std::uint32_t> received(std::begin(kReceivedIds), std::end(kReceivedIds));
   const std::vector<std::uint32_t> transmitted(std::begin(kTransmittedIds), std::end(kTransmittedIds));
   EXPECT_EQ(received, (std::vector<std::uint32_t>{0x101, 0x102, 0x103, 0x120, 0x130, 0x131}));
-  EXPECT_EQ(transmitted, (std::vector<std::uint32_t>{0x200, 0x201, 0x202, 0x203, 0x204}));
+  EXPECT_EQ(transmitted, (std::vector<std::uint32_t>{0x200, 0x201, 0x202, 0x203, 0x204, 0x205}));
 }
 
 // Every message: layout against the reference model, round trips, short buffers, scaling.
@@ -214,6 +214,12 @@ TEST(LptnFramesEveryMessage, LptnInnovation) {
   check_message(LPTN_CAN_SIGNAL(LptnInnovation, crc), LPTN_CAN_SIGNAL(LptnInnovation, counter),
                 LPTN_CAN_SIGNAL(LptnInnovation, innovation), LPTN_CAN_SIGNAL(LptnInnovation, innovation_std),
                 LPTN_CAN_SIGNAL(LptnInnovation, test_ratio), LPTN_CAN_SIGNAL(LptnInnovation, observer_ticks));
+}
+
+TEST(LptnFramesEveryMessage, LptnCooling) {
+  check_message(LPTN_CAN_SIGNAL(LptnCooling, crc), LPTN_CAN_SIGNAL(LptnCooling, counter),
+                LPTN_CAN_SIGNAL(LptnCooling, cooling_factor), LPTN_CAN_SIGNAL(LptnCooling, cooling_factor_std),
+                LPTN_CAN_SIGNAL(LptnCooling, cooling_state), LPTN_CAN_SIGNAL(LptnCooling, cooling_alarm));
 }
 
 }  // namespace

@@ -90,7 +90,7 @@ TEST(Estimator, StartsOnceTheRequiredInputsAndTheStatorReadingAreFresh) {
   EXPECT_NEAR(o.node_c[kRotorWinding], 70.0, 0.006) << "the rotor reading starts the rotor nodes";
   EXPECT_NEAR(o.node_c[kRotorCore], 70.0, 0.006);
   EXPECT_LT(o.node_std_k[kStatorWinding], o.node_std_k[kStatorCore]) << "the measured node starts surer";
-  EXPECT_EQ(pack_outputs(o, frames), 5);
+  EXPECT_EQ(pack_outputs(o, frames), kMaxOutputFrames);
 
   // Without rotor telemetry the start waits the rotor reading's timeout (3 s), then goes ahead
   // with the rotor nodes at the stator's reading.
@@ -187,7 +187,7 @@ TEST(Estimator, AnOutlierIsRejectedCountedAndLeavesTheEstimateAlone) {
   EXPECT_GT(b.out().fusion.innovation_k, 20.0);
   EXPECT_NEAR(b.out().node_c[kStatorWinding], before, 0.5);
   CanFrame frames[kMaxOutputFrames];
-  ASSERT_EQ(pack_outputs(b.out(), frames), 5);
+  ASSERT_EQ(pack_outputs(b.out(), frames), kMaxOutputFrames);
   can::LptnStatus status;
   ASSERT_TRUE(status.unpack(frames[3].data, frames[3].len));
   EXPECT_EQ(status.stator_sensor_state, static_cast<int>(SensorState::rejected));
@@ -219,6 +219,93 @@ TEST(Estimator, AFrozenSensorIsJudgedStuckWhileTheModelMoves) {
   b.frozen_reading = nullptr;
   b.run(400.0);
   EXPECT_EQ(b.out().sensor, SensorState::fused);
+}
+
+// Cooling health: a motor whose every conductance to the air is `factor` times the calibration's.
+ParamVector<double> cooled(double factor) {
+  ParamVector<double> p = testing::true_params();
+  for (int i : kConductancesToAir) p[i] *= factor;
+  return p;
+}
+
+// Runs `seconds` in one-minute pieces and says whether the alarm was up at any of their ends.
+bool alarmed_during(Bench& b, double seconds) {
+  bool any = false;
+  for (double done = 0; done < seconds; done += 60.0) {
+    b.run(60.0);
+    any = any || b.out().cooling_alarm;
+  }
+  return any;
+}
+
+TEST(CoolingHealth, AMotorCooled30PercentWorseIsFoundWithinAnHourAndAlarmed) {
+  Bench b(config_with(testing::true_params()), cooled(0.7));
+  b.run(3600.0);
+  std::printf("after an hour: cooling %.4f +- %.4f (truth 0.7)\n", b.out().cooling_factor, b.out().cooling_factor_std);
+  EXPECT_NEAR(b.out().cooling_factor / 0.7, 1.0, 0.05);
+  EXPECT_LT(std::abs(b.out().cooling_factor - 0.7), 3 * b.out().cooling_factor_std + 0.01) << "an honest spread";
+  EXPECT_EQ(b.out().cooling_state, CoolingState::tracking);
+  EXPECT_TRUE(b.out().cooling_alarm);
+  CanFrame frames[kMaxOutputFrames];
+  ASSERT_EQ(pack_outputs(b.out(), frames), kMaxOutputFrames);
+  can::LptnCooling cool;
+  ASSERT_TRUE(cool.unpack(frames[5].data, frames[5].len));
+  EXPECT_EQ(cool.cooling_alarm, 1);
+}
+
+TEST(CoolingHealth, AMotorCooledAsCalibratedRaisesNoAlarm) {
+  for (double factor : {1.0, 1.1, 0.9}) {
+    Bench b(config_with(testing::true_params()), cooled(factor));
+    EXPECT_FALSE(alarmed_during(b, 3600.0)) << factor;
+    EXPECT_NEAR(b.out().cooling_factor / factor, 1.0, 0.05) << factor;
+  }
+}
+
+// Open loop (the sensor judged failed): nothing corrects the factor, so it and its spread stand
+// as they were, the frame says frozen, and an alarm raised before stays raised.
+TEST(CoolingHealth, OpenLoopFreezesTheEstimateAndFlagsIt) {
+  Bench b(config_with(testing::true_params()), cooled(0.7));
+  b.run(3600.0);
+  ASSERT_TRUE(b.out().cooling_alarm);
+  b.reading_offset = 40.0;  // a broken PT100 connection
+  b.run(40.0);
+  ASSERT_EQ(b.out().sensor, SensorState::failed_open_loop);
+  const double factor = b.out().cooling_factor, spread = b.out().cooling_factor_std;
+  b.run(1200.0);
+  EXPECT_EQ(b.out().cooling_state, CoolingState::frozen);
+  EXPECT_EQ(b.out().cooling_factor, factor);
+  EXPECT_EQ(b.out().cooling_factor_std, spread);
+  EXPECT_TRUE(b.out().cooling_alarm);
+  CanFrame frames[kMaxOutputFrames];
+  ASSERT_EQ(pack_outputs(b.out(), frames), kMaxOutputFrames);
+  can::LptnCooling cool;
+  ASSERT_TRUE(cool.unpack(frames[5].data, frames[5].len));
+  EXPECT_EQ(cool.cooling_state, static_cast<std::uint8_t>(CoolingState::frozen));
+  // The sensor back: tracking again.
+  b.reading_offset = 0.0;
+  b.run(30.0);
+  EXPECT_EQ(b.out().cooling_state, CoolingState::tracking);
+}
+
+TEST(CoolingHealth, OffLeavesTheFactorAtOneAndTheModelAsCalibrated) {
+  EstimatorConfig<double> c = config_with(testing::true_params());
+  c.observer.estimate_cooling = false;
+  Bench b(c, cooled(0.7));
+  b.run(1800.0);
+  EXPECT_EQ(b.out().cooling_state, CoolingState::off);
+  EXPECT_EQ(b.out().cooling_factor, 1.0);
+  EXPECT_FALSE(b.out().cooling_alarm);
+}
+
+TEST(CoolingAlarm, RaisedOnlyWhenSureAndClearedAboveTheBand) {
+  CoolingAlarm<double> a;  // raise below 0.80 at 2 sigma, clear above 0.85
+  EXPECT_FALSE(a.update(0.75, 0.05, CoolingState::tracking)) << "0.75 + 2 x 0.05 is not sure of below 0.80";
+  EXPECT_TRUE(a.update(0.75, 0.02, CoolingState::tracking));
+  EXPECT_TRUE(a.update(0.83, 0.02, CoolingState::tracking)) << "inside the band: held";
+  EXPECT_TRUE(a.update(0.95, 0.02, CoolingState::frozen)) << "frozen: held";
+  EXPECT_FALSE(a.update(0.86, 0.02, CoolingState::tracking));
+  EXPECT_FALSE(a.update(0.81, 0.001, CoolingState::tracking)) << "inside the band: stays clear";
+  EXPECT_FALSE(a.update(0.5, 0.001, CoolingState::frozen)) << "frozen: stays clear";
 }
 
 TEST(Estimator, LostAirflowIsHeldThenReplacedByTheConservativeValue) {
@@ -406,15 +493,17 @@ TEST(Estimator, OutputFramesCarryTheEstimate) {
   Bench b(config_with(testing::true_params()));
   b.run(900.0);
   CanFrame frames[kMaxOutputFrames];
-  ASSERT_EQ(pack_outputs(b.out(), frames), 5);
+  ASSERT_EQ(pack_outputs(b.out(), frames), kMaxOutputFrames);
   can::LptnTemperatures t;
   can::LptnTemperatureStd s;
   can::LptnMargin m;
   can::LptnInnovation in;
+  can::LptnCooling cool;
   ASSERT_TRUE(t.unpack(frames[0].data, frames[0].len));
   ASSERT_TRUE(s.unpack(frames[1].data, frames[1].len));
   ASSERT_TRUE(m.unpack(frames[2].data, frames[2].len));
   ASSERT_TRUE(in.unpack(frames[4].data, frames[4].len));
+  ASSERT_TRUE(cool.unpack(frames[5].data, frames[5].len));
   // Within half a step of each signal's resolution (the DBC's factor): the encoders round.
   const double half_temp = can::LptnTemperatures::kSignals[2].factor / 2;
   const double half_std = can::LptnTemperatureStd::kSignals[2].factor / 2;
@@ -428,6 +517,14 @@ TEST(Estimator, OutputFramesCarryTheEstimate) {
   EXPECT_EQ(in.observer_ticks, b.out().ticks & 0xFFFF);
   EXPECT_EQ(frames[0].id, 0x200u);
   EXPECT_EQ(frames[4].id, 0x204u);
+  const double half_factor = can::LptnCooling::kSignals[2].factor / 2;
+  EXPECT_NEAR(can::LptnCooling::cooling_factor_decode(cool.cooling_factor), b.out().cooling_factor, half_factor + 1e-12);
+  EXPECT_NEAR(can::LptnCooling::cooling_factor_std_decode(cool.cooling_factor_std), b.out().cooling_factor_std,
+              half_factor + 1e-12);
+  EXPECT_GT(b.out().cooling_factor_std, 0.0);
+  EXPECT_EQ(cool.cooling_state, static_cast<std::uint8_t>(CoolingState::tracking));
+  EXPECT_EQ(cool.cooling_alarm, 0);
+  EXPECT_EQ(frames[5].id, 0x205u);
 }
 
 // End-to-end protection of the outputs (e2e.hpp): every frame's CRC checks over its data id (the
@@ -437,10 +534,10 @@ TEST(Estimator, EveryOutputFrameIsEndToEndProtected) {
   Bench b(config_with(testing::true_params()));
   b.run(60.0);
   CanFrame before[kMaxOutputFrames], after[kMaxOutputFrames];
-  ASSERT_EQ(pack_outputs(b.out(), before), 5);
+  ASSERT_EQ(pack_outputs(b.out(), before), kMaxOutputFrames);
   b.run(0.1);
-  ASSERT_EQ(pack_outputs(b.out(), after), 5);
-  for (int i = 0; i < 5; ++i) {
+  ASSERT_EQ(pack_outputs(b.out(), after), kMaxOutputFrames);
+  for (int i = 0; i < kMaxOutputFrames; ++i) {
     const CanFrame& f = after[i];
     const auto id = static_cast<std::uint16_t>(f.id);
     EXPECT_EQ(f.data[0], e2e::frame_crc(id, f.data, f.len, 0)) << "frame " << f.id;
@@ -462,11 +559,11 @@ TEST(Estimator, OutputFramesGoOutOnTheIdsGiven) {
   Bench b(config_with(testing::true_params()));
   b.run(60.0);
   const OutputId moved[kMaxOutputFrames] = {{0x18FF4027u, true}, {0x18FF4127u, true}, {0x300u, false},
-                                            {0x301u, false}, {0x7FFu, false}};
+                                            {0x301u, false}, {0x7FFu, false}, {0x18FF4227u, true}};
   CanFrame dbc_ids[kMaxOutputFrames], other_ids[kMaxOutputFrames];
-  ASSERT_EQ(pack_outputs(b.out(), dbc_ids), 5);
-  ASSERT_EQ(pack_outputs(b.out(), other_ids, moved), 5);
-  for (int i = 0; i < 5; ++i) {
+  ASSERT_EQ(pack_outputs(b.out(), dbc_ids), kMaxOutputFrames);
+  ASSERT_EQ(pack_outputs(b.out(), other_ids, moved), kMaxOutputFrames);
+  for (int i = 0; i < kMaxOutputFrames; ++i) {
     EXPECT_EQ(dbc_ids[i].id, kOutputFrames[i].dbc.id);
     EXPECT_EQ(other_ids[i].id, moved[i].id);
     EXPECT_EQ(other_ids[i].extended, moved[i].extended);

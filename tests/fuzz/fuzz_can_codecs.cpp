@@ -174,13 +174,13 @@ constexpr bool covers_every_message() {
     return listed<TcElectrical>(id) || listed<TcTorque>(id) || listed<TcVoltage>(id) || listed<TcCooling>(id) ||
            listed<TcStatorTemp>(id) || listed<BenchRotorTemp>(id) || listed<LptnTemperatures>(id) ||
            listed<LptnTemperatureStd>(id) || listed<LptnMargin>(id) || listed<LptnStatus>(id) ||
-           listed<LptnInnovation>(id);
+           listed<LptnInnovation>(id) || listed<LptnCooling>(id);
   };
   for (std::uint32_t id : kReceivedIds)
     if (!known(id)) return false;
   for (std::uint32_t id : kTransmittedIds)
     if (!known(id)) return false;
-  return std::size(kReceivedIds) + std::size(kTransmittedIds) == 11;
+  return std::size(kReceivedIds) + std::size(kTransmittedIds) == 12;
 }
 static_assert(covers_every_message(), "a message was added to the DBC: add it to fuzz_can_codecs.cpp");
 
@@ -219,5 +219,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                    LPTN_SIGNAL(LptnStatus, rejected_readings), LPTN_SIGNAL(LptnStatus, bus_events)});
   check(std::tuple{LPTN_SIGNAL(LptnInnovation, crc), LPTN_SIGNAL(LptnInnovation, counter), LPTN_SIGNAL(LptnInnovation, innovation), LPTN_SIGNAL(LptnInnovation, innovation_std),
                    LPTN_SIGNAL(LptnInnovation, test_ratio), LPTN_SIGNAL(LptnInnovation, observer_ticks)});
+  check(std::tuple{LPTN_SIGNAL(LptnCooling, crc), LPTN_SIGNAL(LptnCooling, counter), LPTN_SIGNAL(LptnCooling, cooling_factor),
+                   LPTN_SIGNAL(LptnCooling, cooling_factor_std), LPTN_SIGNAL(LptnCooling, cooling_state),
+                   LPTN_SIGNAL(LptnCooling, cooling_alarm)});
   return 0;
 }

@@ -123,6 +123,15 @@ void check_output(const EstimatorOutput<T>& o, TimeUs t) {
   }
   LPTN_FUZZ_CHECK(o.limiting_node >= 0 && o.limiting_node < kNumNodes, "limiting node");
   LPTN_FUZZ_CHECK(std::isfinite(o.margin_k) && std::isfinite(o.margin_conservative_k), "margins");
+  // The cooling state: a finite factor within the observer's clamp (1/5..5), a finite spread, and
+  // an alarm only while the estimate is or was tracking.
+  LPTN_FUZZ_CHECK(std::isfinite(o.cooling_factor) && o.cooling_factor >= T(0.199) && o.cooling_factor <= T(5.01),
+                  "cooling factor beyond the observer's clamp");
+  LPTN_FUZZ_CHECK(std::isfinite(o.cooling_factor_std) && o.cooling_factor_std >= 0, "cooling factor's spread");
+  LPTN_FUZZ_CHECK(lptn::can::LptnCooling::cooling_state_is_in_range(static_cast<std::uint8_t>(o.cooling_state)),
+                  "cooling state wider than its signal");
+  LPTN_FUZZ_CHECK(o.cooling_state != CoolingState::off || (!o.cooling_alarm && o.cooling_factor == T(1)),
+                  "a cooling alarm or factor while the state is off");
   LPTN_FUZZ_CHECK(o.margin_conservative_k <= o.margin_k, "the conservative margin is the smaller");
 }
 

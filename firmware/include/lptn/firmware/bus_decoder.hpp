@@ -18,8 +18,8 @@ struct OutputId {
   bool extended;
 };
 // The estimator's frames (output_frames.hpp): temperatures, their deviations, margin, status,
-// innovation.
-inline constexpr int kMaxOutputFrames = 5;
+// innovation, cooling.
+inline constexpr int kMaxOutputFrames = 6;
 
 // Messages of one map with an alive counter of their own (the estimator keeps one per message).
 inline constexpr int kMaxBusMessages = 16;

@@ -55,6 +55,10 @@ struct EstimatorOutput {
   std::uint8_t bus_events = 0;
   std::uint8_t status_counter = 0;  // 4 bits, +1 every tick
   Fusion<T> fusion{};               // the last stator reading's
+  T cooling_factor = T(1);          // on the conductances to air; 1: as calibrated
+  T cooling_factor_std = T(0);
+  CoolingState cooling_state = CoolingState::off;
+  bool cooling_alarm = false;
   Inputs<T> inputs{};               // what the next step runs on
   T stator_reading_c = T(NAN);      // the fresh readings this tick (NaN: none)
   T rotor_reading_c = T(NAN);
@@ -64,7 +68,10 @@ template <class T>
 class Estimator {
  public:
   explicit Estimator(const EstimatorConfig<T>& config)
-      : config_(config), observer_(config.motor, config.effects, config.observer), monitor_(config.sensor) {
+      : config_(config),
+        observer_(config.motor, config.effects, config.observer),
+        monitor_(config.sensor),
+        cooling_alarm_(config.cooling_alarm) {
     for (int i = 0; i < kNumInputs; ++i) inputs_.set_limits(static_cast<Input>(i), config.inputs[i]);
     params_ = config.params;
   }
@@ -121,7 +128,8 @@ class Estimator {
       if (!try_initialize(t)) return publish_uninitialized(t);
     } else {
       const T before = observer_.stator_sensor_c();
-      observer_.predict(next_inputs_, params_.data());
+      // Open loop: nothing corrects the cooling factor, so it stands as last estimated.
+      observer_.predict(next_inputs_, params_.data(), cooling_state() == CoolingState::frozen);
       model_motion_ += observer_.stator_sensor_c() - before;
       fuse_stator_reading(t);
       ++out_.ticks;
@@ -131,6 +139,12 @@ class Estimator {
   }
 
  private:
+  CoolingState cooling_state() const {
+    if (!observer_.estimates_cooling()) return CoolingState::off;
+    return sensor_ == SensorState::fused || sensor_ == SensorState::rejected ? CoolingState::tracking
+                                                                             : CoolingState::frozen;
+  }
+
   bool required_fresh(TimeUs t) const {
     for (int i = 0; i < kNumInputs; ++i) {
       const Input in = static_cast<Input>(i);
@@ -277,6 +291,10 @@ class Estimator {
     out_.voltage_route = next_inputs_.has_voltage;
     out_.actor_scheduling = actor_active_;
     out_.rejected_readings = monitor_.rejections();
+    out_.cooling_state = cooling_state();
+    out_.cooling_factor = observer_.cooling_factor();
+    out_.cooling_factor_std = observer_.cooling_factor_std();
+    out_.cooling_alarm = cooling_alarm_.update(out_.cooling_factor, out_.cooling_factor_std, out_.cooling_state);
     out_.inputs = next_inputs_;
     const InputSample<T> stator = inputs_.sample(Input::stator_sensor, t);
     const InputSample<T> rotor = inputs_.sample(Input::rotor_sensor, t);
@@ -304,6 +322,7 @@ class Estimator {
   EstimatorConfig<T> config_;
   Observer<T> observer_;
   SensorMonitor<T> monitor_;
+  CoolingAlarm<T> cooling_alarm_;
   InputConditioner<T> inputs_;
   // Alive counters: a repeated value (frozen sender) or a jump beyond the map's MaxDeltaCounter
   // (too many frames lost, or replayed ones) marks the frame's inputs stale and its content unused.

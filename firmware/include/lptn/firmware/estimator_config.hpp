@@ -6,6 +6,7 @@
 #include "lptn/actor.hpp"
 #include "lptn/bus/bus_glue.hpp"
 #include "lptn/firmware/bus_decoder.hpp"
+#include "lptn/firmware/cooling_alarm.hpp"
 #include "lptn/firmware/input_conditioner.hpp"
 #include "lptn/firmware/observer.hpp"
 #include "lptn/firmware/sensor_monitor.hpp"
@@ -35,7 +36,8 @@ struct EstimatorConfig {
   ActorSchedule actor{};
   bool use_actor = false;  // schedule the actor's parameters (needs torque on the bus)
   bool fuse_stator_sensor = true;  // false: open loop
-  ObserverSettings<T> observer{};
+  ObserverSettings<T> observer{};  // observer.estimate_cooling: the cooling factor state
+  CoolingAlarmSettings<T> cooling_alarm{};
   SensorMonitorSettings<T> sensor{};
   InputLimits<T> inputs[kNumInputs]{};
   // Insulation limits per node (class H winding, 180 C; the cage and core by their materials).

@@ -8,6 +8,16 @@
 //     nu = y - x_s,  S = P_ss + r^2,  K = P e_s / S,  x += K nu,  P = (I - K e_s') P (I - K e_s')' + r^2 K K'
 // (Joseph form: stays symmetric and positive in float). A reading whose test ratio
 // nu^2 / (S gate^2) exceeds one is rejected, as PX4's EKF2 gates its fusions.
+//
+// Cooling health: one more state after the model's, theta = ln(cooling factor), the factor on
+// every conductance to the cooling air (kConductancesToAir, as the fleet calibration fits one per
+// motor). A random walk, slow by its process noise; the prediction runs on the calibrated
+// parameters with those conductances times exp(theta), and its column of Phi is the step's
+// sensitivity dt d(dx/dt)/d theta, evaluated as a difference of rates (not of states, which a
+// float could not resolve). The stator sensor then corrects theta through its covariance with the
+// stator nodes: a motor whose winding runs hotter than its load explains is cooled less. While no
+// reading is fused (open loop), the caller freezes it: no process noise, so the estimate and its
+// spread stand until readings return.
 // Plain library: settings struct, setters, no heap, no exceptions, bounded loops.
 #pragma once
 
@@ -16,6 +26,9 @@
 #include "lptn/model.hpp"
 
 namespace lptn::fw {
+
+// The model's states and the cooling factor's.
+inline constexpr int kMaxFilterStates = kMaxStates + 1;
 
 template <class T>
 struct ObserverSettings {
@@ -29,6 +42,13 @@ struct ObserverSettings {
   T process_noise_extra_k_per_sqrt_s = T(0.02);  // effects' extra states (e.g. the lagged sensor)
   T initial_std_unmeasured_k = T(5);  // nodes no sensor sees at start (soaked-motor guess)
   T gate_sigma = T(4);  // innovations beyond this many predicted standard deviations are rejected
+  // Cooling factor (ln units). The start: nominal (the calibration's own motor), 1 sigma 15 %, as
+  // far as motors of a type scatter new and a filter clogs between services. The random walk lets
+  // the factor move about 6 % in an hour: a filter clogs over days, a blower fails in a moment but
+  // then stays failed, and a faster walk would chase the model's own transient errors.
+  bool estimate_cooling = true;
+  T cooling_initial_std = T(0.15);
+  T cooling_process_noise_per_sqrt_s = T(0.001);
 };
 
 // One fusion's figures, published every tick for the last reading (EKF2's innovation reporting).
@@ -49,6 +69,8 @@ class Observer {
   const Model<T>& model() const { return model_; }
   const ObserverSettings<T>& settings() const { return settings_; }
   int num_states() const { return model_.num_states(); }
+  // The model's states and, when estimated, the cooling factor's after them.
+  int num_filter_states() const { return model_.num_states() + (settings_.estimate_cooling ? 1 : 0); }
 
   // Start as the trainer does (trainer/model/simulate.hpp): the stator nodes at the stator
   // reading, the rotor nodes at the rotor reading, or at the stator's where the rotor is not
@@ -57,8 +79,10 @@ class Observer {
   void initialize(T stator_c, bool stator_measured, T rotor_c, bool rotor_measured) {
     model_.initial_state(x_, stator_c, rotor_measured ? rotor_c : stator_c);
     const int n = num_states();
-    for (int i = 0; i < kMaxStates; ++i)
-      for (int j = 0; j < kMaxStates; ++j) p_[i][j] = T(0);
+    for (int i = 0; i < kMaxFilterStates; ++i)
+      for (int j = 0; j < kMaxFilterStates; ++j) p_[i][j] = T(0);
+    x_[n] = T(0);  // ln 1: nominal cooling
+    if (settings_.estimate_cooling) p_[n][n] = settings_.cooling_initial_std * settings_.cooling_initial_std;
     const T unmeasured = settings_.initial_std_unmeasured_k * settings_.initial_std_unmeasured_k;
     const T stator = stator_measured ? settings_.sensor_noise_k * settings_.sensor_noise_k : unmeasured;
     const T rotor = rotor_measured ? settings_.rotor_sensor_noise_k * settings_.rotor_sensor_noise_k : unmeasured;
@@ -70,13 +94,35 @@ class Observer {
 
   // One step of dt with the inputs held over it. Returns false (state and covariance unchanged)
   // only if the step's matrix was singular, which a passive parameter set cannot produce.
-  bool predict(const Inputs<T>& in, const T* params) {
+  // freeze_cooling: no reading is fused (open loop), so the cooling factor and its spread stand.
+  bool predict(const Inputs<T>& in, const T* params, bool freeze_cooling = false) {
+    using std::exp;
+    using std::log;
+    const int n = num_states();
+    ParamVector<T> p;
+    for (int i = 0; i < kNumParams; ++i) p[i] = params[i];
+    const T factor = exp(x_[n]);
+    for (int i : kConductancesToAir) p[i] = params[i] * factor;
     HeatBalance<T> sys;
-    losses_ = model_.assemble(in, params, sys);
-    T phi[kMaxStates][kMaxStates];
-    if (!Sdirk2<T>::transition(sys, settings_.dt_s, phi)) return false;
+    losses_ = model_.assemble(in, p.data(), sys);
+    T phi[kMaxFilterStates][kMaxFilterStates]{};
+    T model_phi[kMaxStates][kMaxStates];
+    if (!Sdirk2<T>::transition(sys, settings_.dt_s, model_phi)) return false;
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j) phi[i][j] = model_phi[i][j];
+    if (settings_.estimate_cooling) {
+      // The rates are linear in the factor, so a step of 10 % gives d rate / d theta exactly,
+      // up to rounding, at magnitudes a float resolves.
+      constexpr double kStep = 1.1;
+      for (int i : kConductancesToAir) p[i] = params[i] * factor * T(kStep);
+      HeatBalance<T> stepped;
+      model_.assemble(in, p.data(), stepped);
+      const T scale = settings_.dt_s / T(log(kStep));
+      for (int i = 0; i < n; ++i) phi[i][n] = (stepped.derivative(i, x_) - sys.derivative(i, x_)) * scale;
+      phi[n][n] = T(1);
+    }
     Sdirk2<T>::step(sys, x_, settings_.dt_s);
-    propagate_covariance(phi);
+    propagate_covariance(phi, freeze_cooling);
     return true;
   }
 
@@ -96,6 +142,11 @@ class Observer {
   void fuse(Fusion<T>& f) {
     const int s = model_.layout().stator_sensor_state;
     update(s, f.innovation_k, f.innovation_std_k * f.innovation_std_k, settings_.sensor_noise_k * settings_.sensor_noise_k);
+    // A factor beyond 1/5..5 is no cooling this model describes; held there, the network stays
+    // a passive one whatever the readings do.
+    const T kMaxLn = T(1.6094379);
+    T& theta = x_[num_states()];
+    theta = theta > kMaxLn ? kMaxLn : (theta < -kMaxLn ? -kMaxLn : theta);
     f.accepted = true;
   }
 
@@ -106,12 +157,24 @@ class Observer {
     return sqrt(p_[node][node] > T(0) ? p_[node][node] : T(0));
   }
   T stator_sensor_c() const { return model_.stator_sensor(x_); }
+  bool estimates_cooling() const { return settings_.estimate_cooling; }
+  // The cooling factor (1: as calibrated) and its standard deviation (first order in theta's).
+  T cooling_factor() const {
+    using std::exp;
+    return exp(x_[num_states()]);
+  }
+  T cooling_factor_std_ln() const {
+    using std::sqrt;
+    const int c = num_states();
+    return sqrt(p_[c][c] > T(0) ? p_[c][c] : T(0));
+  }
+  T cooling_factor_std() const { return cooling_factor() * cooling_factor_std_ln(); }
   const OperatingLosses<T>& losses() const { return losses_; }
 
  private:
-  void propagate_covariance(const T (&phi)[kMaxStates][kMaxStates]) {
-    const int n = num_states();
-    T tmp[kMaxStates][kMaxStates];  // Phi P
+  void propagate_covariance(const T (&phi)[kMaxFilterStates][kMaxFilterStates], bool freeze_cooling) {
+    const int n = num_filter_states();
+    T tmp[kMaxFilterStates][kMaxFilterStates];  // Phi P
     for (int i = 0; i < n; ++i)
       for (int j = 0; j < n; ++j) {
         T acc = T(0);
@@ -124,21 +187,25 @@ class Observer {
         for (int k = 0; k < n; ++k) acc += tmp[i][k] * phi[j][k];
         p_[i][j] = acc;
       }
-    for (int i = 0; i < n; ++i) {
+    for (int i = 0; i < num_states(); ++i) {
       const T q = i < kNumNodes ? settings_.process_noise_k_per_sqrt_s[i] : settings_.process_noise_extra_k_per_sqrt_s;
       p_[i][i] += q * q * settings_.dt_s;
+    }
+    if (settings_.estimate_cooling && !freeze_cooling) {
+      const T q = settings_.cooling_process_noise_per_sqrt_s;
+      p_[num_states()][num_states()] += q * q * settings_.dt_s;
     }
     symmetrize();
   }
 
   // Joseph-form update for the scalar measurement of state s.
   void update(int s, T innovation, T innovation_var, T r) {
-    const int n = num_states();
-    T k[kMaxStates];
+    const int n = num_filter_states();
+    T k[kMaxFilterStates];
     for (int i = 0; i < n; ++i) k[i] = p_[i][s] / innovation_var;
     for (int i = 0; i < n; ++i) x_[i] += k[i] * innovation;
     // A = I - k e_s'; P = A P A' + r k k'
-    T ap[kMaxStates][kMaxStates];
+    T ap[kMaxFilterStates][kMaxFilterStates];
     for (int i = 0; i < n; ++i)
       for (int j = 0; j < n; ++j) ap[i][j] = p_[i][j] - k[i] * p_[s][j];
     for (int i = 0; i < n; ++i)
@@ -147,7 +214,7 @@ class Observer {
   }
 
   void symmetrize() {
-    const int n = num_states();
+    const int n = num_filter_states();
     for (int i = 0; i < n; ++i)
       for (int j = i + 1; j < n; ++j) {
         const T m = T(0.5) * (p_[i][j] + p_[j][i]);
@@ -158,8 +225,8 @@ class Observer {
 
   Model<T> model_;
   ObserverSettings<T> settings_;
-  T x_[kMaxStates]{};
-  T p_[kMaxStates][kMaxStates]{};
+  T x_[kMaxFilterStates]{};  // the model's states, then theta
+  T p_[kMaxFilterStates][kMaxFilterStates]{};
   OperatingLosses<T> losses_{};
 };
 

@@ -1,5 +1,5 @@
 // The estimator's output as the DBC's frames (LPTN_Temperatures, LPTN_TemperatureStd, LPTN_Margin,
-// LPTN_Status, LPTN_Innovation), encoded by the generated codecs: values beyond a signal's range
+// LPTN_Status, LPTN_Innovation, LPTN_Cooling), encoded by the generated codecs: values beyond a signal's range
 // saturate there rather than wrap. Every frame is end-to-end protected (e2e.hpp): its counter
 // counts the frames of its message sent, and its CRC covers its data id (the DBC's message id)
 // and every other byte. The CAN ids are the bus map's (bus.toml [outputs], compiled in as
@@ -31,6 +31,7 @@ inline constexpr OutputFrame kOutputFrames[kMaxOutputFrames] = {
     {can::LptnMargin::kName, {can::LptnMargin::kId, can::LptnMargin::kExtended}},
     {can::LptnStatus::kName, {can::LptnStatus::kId, can::LptnStatus::kExtended}},
     {can::LptnInnovation::kName, {can::LptnInnovation::kId, can::LptnInnovation::kExtended}},
+    {can::LptnCooling::kName, {can::LptnCooling::kId, can::LptnCooling::kExtended}},
 };
 
 namespace internal {
@@ -120,6 +121,11 @@ int pack_outputs(const EstimatorOutput<T>& o, CanFrame (&frames)[kMaxOutputFrame
   innovation.innovation_std = LptnInnovation::innovation_std_encode(double(o.fusion.innovation_std_k));
   innovation.test_ratio = LptnInnovation::test_ratio_encode(double(o.fusion.test_ratio));
   innovation.observer_ticks = static_cast<std::uint16_t>(o.ticks & 0xFFFF);
+  LptnCooling cooling;
+  cooling.cooling_factor = LptnCooling::cooling_factor_encode(double(o.cooling_factor));
+  cooling.cooling_factor_std = LptnCooling::cooling_factor_std_encode(double(o.cooling_factor_std));
+  cooling.cooling_state = static_cast<std::uint8_t>(o.cooling_state);
+  cooling.cooling_alarm = o.cooling_alarm ? 1 : 0;
   // The other frames go out once a tick from the start on, as the ticks count.
   const auto counter = static_cast<std::uint8_t>(o.ticks & 0xF);
   frames[0] = on(internal::protect(temps, counter), 0);
@@ -127,7 +133,8 @@ int pack_outputs(const EstimatorOutput<T>& o, CanFrame (&frames)[kMaxOutputFrame
   frames[2] = on(internal::protect(margin, counter), 2);
   frames[3] = on(internal::protect(status, o.status_counter), 3);
   frames[4] = on(internal::protect(innovation, counter), 4);
-  return 5;
+  frames[5] = on(internal::protect(cooling, counter), 5);
+  return 6;
 }
 
 }  // namespace lptn::fw
