@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "../cli/temp_dir.hpp"
+#include "../common/csv_columns.hpp"
 #include "lptn/firmware/candump_line.hpp"
 #include "lptn/can/lptn_frames.hpp"
 #include "trainer/calibrate/calibration_file.hpp"
@@ -51,25 +52,7 @@ Outcome run(const std::string& binary, const std::string& args, const fs::path& 
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(err)};
 }
 
-// A CSV as columns by header name.
-std::map<std::string, std::vector<double>> read_csv(const fs::path& p) {
-  std::ifstream in(p);
-  std::string line;
-  std::getline(in, line);
-  std::vector<std::string> names;
-  std::stringstream header(line);
-  for (std::string cell; std::getline(header, cell, ',');) names.push_back(cell);
-  std::map<std::string, std::vector<double>> cols;
-  while (std::getline(in, line)) {
-    std::stringstream row(line);
-    std::size_t i = 0;
-    for (std::string cell; i < names.size(); ++i) {
-      if (!std::getline(row, cell, ',')) cell.clear();
-      cols[names[i]].push_back(cell.empty() ? NAN : std::stod(cell));
-    }
-  }
-  return cols;
-}
+const auto read_csv = lptn::testing::read_csv_columns;
 
 // One generated cycle of 25-30 minutes as a CAN log, shared by the tests.
 class ReplayGolden : public ::testing::Test {
