@@ -7,8 +7,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 tolerance=${TOLERANCE_K:-1e-4}
-lptn=build/ci/tools/cli/lptn
-twin=build/ci/tests/m7/lptn_host_float_replay
+lptn=${LPTN:-build/ci/tools/cli/lptn}
+twin=${LPTN_TWIN:-build/ci/tests/m7/lptn_host_float_replay}
 work=build/cortex-m7/golden
 rm -rf "$work"
 mkdir -p "$work"

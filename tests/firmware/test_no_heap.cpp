@@ -115,7 +115,17 @@ int main() {
 
   std::printf("%ld ticks, %zu frames in, %ld frames out, %ld allocations (final stator winding %.2f C)\n", ticks,
               frames.size(), published, realtime_allocations, estimator.output().node_c[0]);
-  const bool ran = ticks > 70000 && published > 5 * 70000 && checksum == checksum && estimator.output().initialized;
+  // The cooling factor's state ran too, in both scalars: estimated (the double one, every effect
+  // on against a plant without them, ends frozen in open loop, its sensor judged failed) and moved.
+  const bool cooling_ran = estimator.output().cooling_state != CoolingState::off &&
+                           on_target.output().cooling_state == CoolingState::tracking &&
+                           estimator.output().cooling_factor != 1.0 && on_target.output().cooling_factor != 1.0f;
+  if (!cooling_ran)
+    std::printf("FAIL: the cooling factor was not estimated (double: state %d, %.4f; float: state %d, %.4f)\n",
+                int(estimator.output().cooling_state), estimator.output().cooling_factor,
+                int(on_target.output().cooling_state), double(on_target.output().cooling_factor));
+  const bool ran = ticks > 70000 && published > kMaxOutputFrames * 70000 && checksum == checksum &&
+                   estimator.output().initialized && cooling_ran;
   if (!ran) std::printf("FAIL: the cycle did not run through the estimator\n");
   if (realtime_allocations != 0)
     std::printf("FAIL: the estimator allocated %ld times after start-up\n", realtime_allocations);
