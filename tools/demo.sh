@@ -6,7 +6,8 @@
 # second fleet whose motor has physics nobody wrote into the library (an eddy-current loss in the
 # stator winding): compare, diagnose (the model is not adequate; a term of the dictionary explains
 # it), add the term the diagnosis names, recalibrate, and a report before and after; last, a fleet of
-# six motors calibrated whole, the one with a clogged filter named, and the fleet's page.
+# six motors calibrated whole, the one with a clogged filter named, and the fleet's page; and the
+# firmware's own estimate of each motor's cooling, its alarm on the weak motor.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 tools/setup.sh
@@ -69,13 +70,24 @@ echo "      only $out/motors/truth.json says which"
 "$lptn" generate --fleet --motors 6 --cycles 2 --seed 5 --minutes-min 40 --minutes-max 50 --out "$out/motors" --force
 "$lptn" calibrate --fleet "$out/motors" --motor "$out/motors/motor.toml" --method lm --out "$out/fleet.json" --force
 "$lptn" report --fleet "$out/fleet.json" --out "$out/fleet.html" --force
+echo "== 10. on board: each motor's first drive through the firmware's estimator, flashed with the type's calibration;"
+echo "       the observer's cooling factor (LPTN_Cooling) and its alarm"
+mkdir -p "$out/motors-onboard"
+for dir in "$out"/motors/motor_*/; do
+  id=$(basename "$dir")
+  drive=$(ls "$dir"cycle_01_*.csv)
+  "$lptn" convert --in "$drive" --out "$out/motors-onboard/$id.log" --force >/dev/null
+  "$lptn" replay --fleet "$out/fleet.json" --log "$out/motors-onboard/$id.log" --out "$out/motors-onboard/$id.csv" \
+    --quiet --force | sed -n "s/^  cooling factor/$id: cooling factor/p"
+done
 
 echo
 echo "demo output in $out/: fleet/ (cycle CSVs, motor.toml, truth.json, truth/), inspect.txt, simulation/ (traces,"
 echo "metrics.json), calibration-lm.json, calibration-td3.json, td3-checkpoints/, thermal_calibration.hpp, thermal_calibration_td3.hpp,"
 echo "onboard/ (the CAN log and the firmware's estimates, one CSV row per 100 ms tick), loop/ (the second fleet, its"
 echo "calibrations before and after adding $effect, the diagnoses, report-before.html), motors/ (the fleet of six),"
-echo "fleet.json (its calibration: the type, each motor's cooling factor, the outliers), fleet.html"
+echo "fleet.json (its calibration: the type, each motor's cooling factor, the outliers), fleet.html, motors-onboard/"
+echo "(each motor's first drive as a CAN log and the firmware's estimates, its cooling factor among them)"
 echo
 echo "The report after adding $effect, and the fleet's page (open them in a browser; they need no network):"
 echo "  $(cd "$loop" && pwd)/report.html"

@@ -1,7 +1,7 @@
 // Cooling health on board, on a fleet from the synthetic plant, the way an operator gets there:
-// lptn generate --fleet, lptn calibrate --fleet (the type's calibration is the pooled one, what
-// the firmware is flashed with), then each motor's log through lptn convert and lptn replay, the
-// firmware's estimator. Each motor's on-board cooling factor after an hour of driving is held
+// lptn generate --fleet, lptn calibrate --fleet, then each motor's log through lptn convert and
+// lptn replay --fleet (the firmware's estimator with the type's pooled calibration, what every
+// motor of the type is flashed with). Each motor's on-board cooling factor after an hour of driving is held
 // against its truth (as a ratio to the fleet's median motor, the calibration's own scale), and the
 // alarm must be raised on the weak motor's log and on no other.
 #include <gtest/gtest.h>
@@ -49,10 +49,6 @@ TEST(OnboardCooling, EachMotorsFactorWithin5PercentAfterAnHourAndTheAlarmOnTheWe
      fleet.string());
   ok("calibrate --fleet " + fleet.string() + " --motor " + (fleet / "motor.toml").string() +
      " --method lm --quiet --out " + (d / "fleet.json").string());
-  {
-    std::ofstream out(d / "type.json");
-    out << read_json(d / "fleet.json").at("pooled").dump(1);
-  }
   const nlohmann::json truth = read_json(fleet / "truth.json").at("motors");
   std::vector<double> factors;
   for (const auto& [id, m] : truth.items()) factors.push_back(m.at("cooling_factor").get<double>());
@@ -65,7 +61,7 @@ TEST(OnboardCooling, EachMotorsFactorWithin5PercentAfterAnHourAndTheAlarmOnTheWe
       if (e.path().extension() == ".csv") cycle = e.path();
     const fs::path log = d / (id + ".log"), est = d / (id + ".csv");
     ok("convert --in " + cycle.string() + " --out " + log.string());
-    ok("replay --quiet --log " + log.string() + " --calibration " + (d / "type.json").string() + " --out " + est.string());
+    ok("replay --quiet --log " + log.string() + " --fleet " + (d / "fleet.json").string() + " --out " + est.string());
     const auto csv = lptn::testing::read_csv_columns(est);
     const auto& t = csv.at("time_s");
     const auto& factor = csv.at("cooling_factor");

@@ -13,6 +13,7 @@
 #include "tools/replay/calibrated_estimator.hpp"
 #include "tools/replay/replay_to_csv.hpp"
 #include "trainer/calibrate/calibration_file.hpp"
+#include "trainer/fleet/fleet_file.hpp"
 
 namespace lptn::cli {
 
@@ -24,13 +25,14 @@ void add_replay(CLI::App& app) {
       "header. Ticks every 0.1 s from the log's first frame; frames at or before a tick reach it first. One CSV "
       "row per tick once the estimator has started: time_s and the inputs as the model ran on them (fleet-dump "
       "columns, so the CSV loads as a cycle), the four node estimates (est_*_c) and their standard deviations "
-      "(std_*_k), the limiting node's margin, mode, stator sensor state, innovation and test ratio, input masks. "
+      "(std_*_k), the limiting node's margin, mode, stator sensor state, innovation and test ratio, input masks, the "
+      "cooling factor with its spread, state and alarm (LPTN_Cooling). "
       "The log's format is --format, else its content's (BLF's \"LOGG\", a candump line, an ASC header), else its "
       "extension's (.log candump, .asc, .blf); a file in none is one error line. --channel picks one bus of a "
       "log that holds several; without it every channel's frames are read as one bus, with a warning. Malformed lines (BLF: objects) are reported with their number and skipped, the first ten "
       "of them one by one, then as a count.");
   struct Args {
-    std::string log, calibration, out, format, channel, bus;
+    std::string log, calibration, fleet, out, format, channel, bus;
     bool open_loop = false, use_actor = false, force = false, quiet = false;
   };
   auto args = std::make_shared<Args>();
@@ -40,7 +42,13 @@ void add_replay(CLI::App& app) {
       ->check(CLI::IsMember({"candump", "asc", "blf"}));
   cmd->add_option("--channel", args->channel,
                   "Only the frames of this channel (candump: an interface name; ASC, BLF: a number); default all");
-  cmd->add_option("--calibration", args->calibration, "calibration.json (from lptn calibrate)")->required();
+  auto* calibration = cmd->add_option("--calibration", args->calibration, "calibration.json (from lptn calibrate)");
+  auto* fleet = cmd->add_option("--fleet", args->fleet,
+                                "fleet.json (from lptn calibrate --fleet): the motor type's pooled calibration, as "
+                                "flashed into every motor of the type; the on-board cooling factor then says how "
+                                "this motor differs");
+  calibration->excludes(fleet);
+  fleet->excludes(calibration);
   cmd->add_option("--bus", args->bus,
                   "Bus map (bus.toml) naming the converter DBC's messages and signals that carry each input "
                   "(default: our own TC_* frames, can-dbc/bus.toml)");
@@ -53,10 +61,14 @@ void add_replay(CLI::App& app) {
     refuse_overwrite(args->out, args->force);
     // A bad map or calibration file is bad input (main.cpp reports CalibrationFileError as such).
     const std::unique_ptr<bus::BusMap> map = args->bus.empty() ? nullptr : read_bus_map(args->bus);
-    const auto cal = estimator_config_from(load_calibration(args->calibration), args->calibration,
-                                           map ? map->decoder() : lptn::bus::decoder());
+    if (args->calibration.empty() && args->fleet.empty())
+      throw BadInput("replay: --calibration or --fleet is required (see --help)");
+    const std::string& source = args->fleet.empty() ? args->calibration : args->fleet;
+    const auto cal = estimator_config_from(
+        args->fleet.empty() ? load_calibration(args->calibration) : load_fleet_file(args->fleet).pooled, source,
+        map ? map->decoder() : lptn::bus::decoder());
     if (args->use_actor && !cal->config.actor.actor)
-      throw BadInput(args->calibration + ": --use-actor: this calibration has no actor");
+      throw BadInput(source + ": --use-actor: this calibration has no actor");
     cal->config.fuse_stator_sensor = !args->open_loop;
     cal->config.use_actor = args->use_actor;
     ReplaySummary r;
@@ -78,6 +90,11 @@ void add_replay(CLI::App& app) {
                   r.rmse_stator_k);
     if (r.rotor_samples)
       std::printf("  rotor winding estimate vs rotor telemetry (never fused): rmse %.3f K\n", r.rmse_rotor_k);
+    if (r.cooling_state != fw::CoolingState::off)
+      std::printf("  cooling factor at the end %.3f +- %.3f (%s); cooling alarm %s\n", r.cooling_factor,
+                  r.cooling_factor_std, r.cooling_state == fw::CoolingState::tracking ? "tracking" : "frozen: open loop",
+                  r.cooling_alarm_from_s < 0 ? "never raised"
+                                             : ("raised from " + ProgressLine::clock(r.cooling_alarm_from_s)).c_str());
   });
 }
 

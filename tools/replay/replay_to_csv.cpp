@@ -33,6 +33,11 @@ ReplaySummary replay_to_csv(const std::string& log_path, const fw::EstimatorConf
   double sum_stator = 0, sum_rotor = 0;
   sinks.row = [&](const fw::EstimatorOutput<double>& o, fw::TimeUs start) {
     fw::write_estimate_row(csv.get(), o, start);
+    summary.cooling_factor = o.cooling_factor;
+    summary.cooling_factor_std = o.cooling_factor_std;
+    summary.cooling_state = o.cooling_state;
+    if (o.cooling_alarm && summary.cooling_alarm_from_s < 0)
+      summary.cooling_alarm_from_s = static_cast<double>(o.time_us - start) / 1e6;
     if (!std::isnan(o.stator_reading_c)) {
       sum_stator += (o.node_c[kStatorWinding] - o.stator_reading_c) * (o.node_c[kStatorWinding] - o.stator_reading_c);
       ++summary.stator_samples;

@@ -18,6 +18,11 @@ struct ReplaySummary {
   // so this is near its noise) and the rotor telemetry's (never fused: a check of an unmeasured node).
   double rmse_stator_k = 0, rmse_rotor_k = 0;
   std::size_t stator_samples = 0, rotor_samples = 0;
+  // The cooling factor's estimate at the log's end, and when the cooling alarm first rose (s from
+  // the log's start; negative: never).
+  double cooling_factor = 1, cooling_factor_std = 0;
+  fw::CoolingState cooling_state = fw::CoolingState::off;
+  double cooling_alarm_from_s = -1;
   double seconds = 0;  // wall time of the replay (reading, estimating, writing)
   canfile::LogFormat format = canfile::LogFormat::candump;  // what the log was read as
 };
