@@ -52,8 +52,9 @@ for hours in "$@"; do
     --out "$work/calibration-$hours.json" --force
   measure diagnose "$hours" "$lptn" diagnose --data "$fleet" --calibration "$work/calibration-$hours.json" --quiet
 done
-# A fleet of ${FLEET_MOTORS:=20} motors, 3 cycles each (one motor weak): the type over all of them, each
+# A fleet of FLEET_MOTORS (default 20) motors, 3 cycles each (one motor weak): the type over all of them, each
 # motor's cooling factor, the outliers (lptn calibrate --fleet). Its hours are counted from truth.json.
+: "${FLEET_MOTORS:=20}"
 motors="$work/motors-$FLEET_MOTORS"
 if [ ! -f "$motors/truth.json" ]; then
   "$lptn" generate --fleet --motors "$FLEET_MOTORS" --cycles 3 --seed 7 --minutes-min 60 --minutes-max 90 --out "$motors" \

@@ -83,19 +83,33 @@ class CycleResiduals final : public CycleBlock {
     }
     const InitialOffsets<Jet> start{Jet(offset[0], static_cast<int>(nf)), Jet(offset[1], static_cast<int>(nf) + 1)};
     const auto mm = static_cast<Eigen::Index>(m);
-    Eigen::MatrixXd jtj = Eigen::MatrixXd::Zero(mm, mm);  // lower triangle summed; the solver reads only that
-    Eigen::VectorXd jtr = Eigen::VectorXd::Zero(mm);
+    // J^T J and J^T r summed a batch of residuals at a time: a product of a kBatch x N block with
+    // itself (vectorized, cache-resident) instead of a rank-one update per residual, which took a
+    // fifth of the fit. Derivative slots beyond the m columns are zero throughout.
+    constexpr int kBatch = 64;
+    using Rows = Eigen::Matrix<double, kBatch, N, Eigen::RowMajor>;
+    Rows rows;
+    Eigen::Matrix<double, kBatch, 1> values;
+    Eigen::Matrix<double, N, N> jtj_n = Eigen::Matrix<double, N, N>::Zero();
+    Eigen::Matrix<double, N, 1> jtr_n = Eigen::Matrix<double, N, 1>::Zero();
+    int filled = 0;
+    const auto flush = [&] {
+      const auto block = rows.topRows(filled);
+      jtj_n.noalias() += block.transpose() * block;
+      jtr_n.noalias() += block.transpose() * values.head(filled);
+      filled = 0;
+    };
     double rss = 0;
     const bool ok = fill(with_cooling_factor(p, cooling_), start, [&](const Jet& e) {
-      for (Eigen::Index a = 0; a < mm; ++a) {
-        const double da = e.v[a];
-        if (da == 0) continue;
-        jtr(a) += da * e.a;
-        for (Eigen::Index b = 0; b <= a; ++b) jtj(a, b) += da * e.v[b];
-      }
+      rows.row(filled) = e.v.transpose();
+      values(filled) = e.a;
       rss += e.a * e.a;
+      if (++filled == kBatch) flush();
     });
+    if (filled > 0) flush();
     if (!ok) return false;
+    const Eigen::MatrixXd jtj = jtj_n.topLeftCorner(mm, mm);
+    const Eigen::VectorXd jtr = jtr_n.head(mm);
     const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(jtj);  // Lower: the default
     const Eigen::VectorXd& lambda = eig.eigenvalues();
     const double floor = 1e-14 * std::max(lambda.maxCoeff(), 0.0);
@@ -143,6 +157,8 @@ CycleBlock* make_residuals(const Model<double>& model, const data::Cycle& cycle,
                            const ParamVector<double>& fixed, std::size_t max_steps, double cooling = 1.0) {
   const std::size_t n = free.size() + kOffsets;
   if (n <= 4) return new CycleResiduals<4>(model, cycle, free, fixed, max_steps, cooling);
+  // The paper's six conductances and the two offsets: a width that vectorizes without a remainder.
+  if (n <= 8) return new CycleResiduals<8>(model, cycle, free, fixed, max_steps, cooling);
   if (n <= 10) return new CycleResiduals<10>(model, cycle, free, fixed, max_steps, cooling);
   // The paper's parameters with an effect or a dictionary term or two (the usual calibration and
   // every refit of diagnose): a Jet sized by the whole library would carry mostly zeros.
