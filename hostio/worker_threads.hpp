@@ -3,13 +3,30 @@
 // decided, so that the trainer's parts agree.
 #pragma once
 
+#include <algorithm>
+#include <cstddef>
 #include <thread>
+#include <vector>
 
 namespace lptn {
 
 inline int worker_threads() {
   const unsigned n = std::thread::hardware_concurrency();  // 0 where the machine does not say
   return n == 0 ? 1 : static_cast<int>(n);
+}
+
+// Calls work(i) for i in 0..n-1 over `threads` threads (the calling one among them), index i on
+// thread i mod threads: for independent items that each write only their own slot.
+template <class Work>
+void parallel_for(std::size_t n, int threads, Work&& work) {
+  const std::size_t workers = std::min<std::size_t>(n, static_cast<std::size_t>(std::max(1, threads)));
+  auto share = [&](std::size_t w) {
+    for (std::size_t i = w; i < n; i += workers) work(i);
+  };
+  std::vector<std::thread> pool;
+  for (std::size_t w = 1; w < workers; ++w) pool.emplace_back(share, w);
+  if (workers > 0) share(0);
+  for (std::thread& t : pool) t.join();
 }
 
 }  // namespace lptn

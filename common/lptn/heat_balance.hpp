@@ -23,12 +23,13 @@ struct HeatBalance {
   T c[kMaxStates]{};               // before finish(): W;   after: K/s
   T capacitance[kMaxStates]{};     // J/K; 1 for states that carry a rate directly (sensor models)
 
+  // Clears the active states' block: everything reads only rows and columns 0..n-1.
   void reset(int states) {
     n = states;
-    for (int i = 0; i < kMaxStates; ++i) {
+    for (int i = 0; i < n; ++i) {
       c[i] = T(0);
       capacitance[i] = T(1);
-      for (int j = 0; j < kMaxStates; ++j) a[i][j] = T(0);
+      for (int j = 0; j < n; ++j) a[i][j] = T(0);
     }
   }
 

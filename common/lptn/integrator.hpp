@@ -28,6 +28,12 @@ struct Sdirk2 {
   template <class R>
   static bool step(const HeatBalance<T>& sys, T* x, const R& h) {
     internal::SmallLu<T> lu;
+    return step(sys, x, h, lu);
+  }
+  // The same with the factorisation's storage given: a caller that steps many times keeps one,
+  // so that a Jet scalar's 64 entries are not constructed (zeroed) again every step.
+  template <class R>
+  static bool step(const HeatBalance<T>& sys, T* x, const R& h, internal::SmallLu<T>& lu) {
     if (!factor_stage_matrix(sys, h, lu)) return false;
     advance(sys, lu, x, h, true);
     return true;
@@ -56,13 +62,12 @@ struct Sdirk2 {
   template <class R>
   static bool factor_stage_matrix(const HeatBalance<T>& sys, const R& h, internal::SmallLu<T>& lu) {
     const int n = sys.n;
-    T m[kMaxStates][kMaxStates];
     const T gh = T(kGamma * h);
     for (int i = 0; i < n; ++i) {
-      for (int j = 0; j < n; ++j) m[i][j] = -gh * sys.a[i][j];
-      m[i][i] += T(1);
+      for (int j = 0; j < n; ++j) lu.lu[i][j] = -gh * sys.a[i][j];
+      lu.lu[i][i] += T(1);
     }
-    return lu.factor(m, n);
+    return lu.factor_in_place(n);
   }
 
   // The two stages; with_input = false drops c (the homogeneous part, for transition()).

@@ -55,6 +55,10 @@ class CycleResiduals final : public CycleBlock {
         cooling_(cooling) {
     measured_ = count_grid_residuals(cycle, max_steps_);
     set_num_residuals(static_cast<int>(columns()) + 1);
+    cached_at_.assign(columns(), 0.0);
+    cached_residuals_.assign(columns() + 1, 0.0);
+    cached_theta_jacobian_.assign((columns() + 1) * free.size(), 0.0);
+    cached_offset_jacobian_.assign((columns() + 1) * kOffsets, 0.0);
     mutable_parameter_block_sizes()->push_back(static_cast<int>(free.size()));
     mutable_parameter_block_sizes()->push_back(kOffsets);
   }
@@ -73,6 +77,28 @@ class CycleResiduals final : public CycleBlock {
       residuals[0] = std::sqrt(rss);
       return ok;
     }
+    // The derivatives at a point already differentiated are the ones found then: the fit's
+    // standard errors ask again at the optimum, where Ceres's last accepted step asked already.
+    if (!at_cached_point(theta, offset) && !evaluate_jets(theta, offset)) return false;
+    std::copy(cached_residuals_.begin(), cached_residuals_.end(), residuals);
+    if (jacobians[0] != nullptr) std::copy(cached_theta_jacobian_.begin(), cached_theta_jacobian_.end(), jacobians[0]);
+    if (jacobians[1] != nullptr) std::copy(cached_offset_jacobian_.begin(), cached_offset_jacobian_.end(), jacobians[1]);
+    return true;
+  }
+
+ private:
+  bool at_cached_point(const double* theta, const double* offset) const {
+    const std::size_t nf = free_.size();
+    return cached_ && std::equal(theta, theta + nf, cached_at_.begin()) &&
+           std::equal(offset, offset + kOffsets, cached_at_.begin() + static_cast<std::ptrdiff_t>(nf));
+  }
+
+  // The simulation with Jets: the compressed residuals and both Jacobians, into the cache (rows
+  // past the informative ones, and the last row, stay zero).
+  bool evaluate_jets(const double* theta, const double* offset) const {
+    const std::size_t nf = free_.size(), m = columns();
+    cached_ = false;
+    std::fill(cached_residuals_.begin(), cached_residuals_.end(), 0.0);
     using Jet = ceres::Jet<double, N>;
     ParamVector<Jet> p;
     for (int i = 0; i < kNumParams; ++i) p[i] = Jet(fixed_[i]);
@@ -120,23 +146,21 @@ class CycleResiduals final : public CycleBlock {
       const bool informative = l > floor && l > 0;
       const Eigen::VectorXd v = eig.eigenvectors().col(k);
       if (informative) {
-        residuals[row] = v.dot(jtr) / std::sqrt(l);
-        kept += residuals[row] * residuals[row];
+        cached_residuals_[row] = v.dot(jtr) / std::sqrt(l);
+        kept += cached_residuals_[row] * cached_residuals_[row];
       }
       const double scale = informative ? std::sqrt(l) : 0.0;
-      if (jacobians[0] != nullptr)
-        for (std::size_t j = 0; j < nf; ++j) jacobians[0][row * nf + j] = scale * v(static_cast<Eigen::Index>(j));
-      if (jacobians[1] != nullptr)
-        for (int j = 0; j < kOffsets; ++j)
-          jacobians[1][row * kOffsets + static_cast<std::size_t>(j)] = scale * v(static_cast<Eigen::Index>(nf) + j);
+      for (std::size_t j = 0; j < nf; ++j) cached_theta_jacobian_[row * nf + j] = scale * v(static_cast<Eigen::Index>(j));
+      for (int j = 0; j < kOffsets; ++j)
+        cached_offset_jacobian_[row * kOffsets + static_cast<std::size_t>(j)] = scale * v(static_cast<Eigen::Index>(nf) + j);
     }
-    residuals[m] = std::sqrt(std::max(0.0, rss - kept));
-    if (jacobians[0] != nullptr) std::fill(jacobians[0] + m * nf, jacobians[0] + (m + 1) * nf, 0.0);
-    if (jacobians[1] != nullptr) std::fill(jacobians[1] + m * kOffsets, jacobians[1] + (m + 1) * kOffsets, 0.0);
+    cached_residuals_[m] = std::sqrt(std::max(0.0, rss - kept));
+    std::copy(theta, theta + nf, cached_at_.begin());
+    std::copy(offset, offset + kOffsets, cached_at_.begin() + static_cast<std::ptrdiff_t>(nf));
+    cached_ = true;
     return true;
   }
 
- private:
   std::size_t columns() const { return free_.size() + kOffsets; }
 
   template <class T, class Put>
@@ -150,6 +174,9 @@ class CycleResiduals final : public CycleBlock {
   const ParamVector<double>& fixed_;
   std::size_t max_steps_;
   double cooling_;  // the cycle's motor's cooling factor (1 outside a fleet)
+  // The last Jet evaluation (Ceres evaluates one block from one thread at a time).
+  mutable bool cached_ = false;
+  mutable std::vector<double> cached_at_, cached_residuals_, cached_theta_jacobian_, cached_offset_jacobian_;
 };
 
 // The smallest Jet that carries `n` derivatives.
@@ -176,16 +203,17 @@ std::array<std::vector<std::vector<double>>, 2> residual_series(const Model<doub
                                                                const data::Dataset& dataset,
                                                                const std::vector<std::size_t>& cycles,
                                                                const std::vector<InitialOffsets<double>>& offsets,
-                                                               const std::vector<double>& cooling) {
-  std::array<std::vector<std::vector<double>>, 2> out;
-  for (std::size_t i = 0; i < cycles.size(); ++i) {
+                                                               const std::vector<double>& cooling, int threads) {
+  // Per cycle and sensor, simulated in parallel; then in the cycles' order, skipping the empty.
+  std::vector<std::array<std::vector<double>, 2>> per_cycle(cycles.size());
+  parallel_for(cycles.size(), threads, [&](std::size_t i) {
     const data::Cycle& cycle = dataset.cycles[cycles[i]];
     const ParamVector<double> pc = cooling.empty() ? p : with_cooling_factor(p, cooling[i]);
     const CycleSimulation sim = simulate_cycle(model, pc, cycle, offsets[i]);
     const std::pair<data::Channel, const std::vector<float>*> sensors[2] = {
         {data::Channel::stator_winding_c, &sim.stator_sensor}, {data::Channel::rotor_c, &sim.rotor_sensor}};
     for (int s = 0; s < 2; ++s) {
-      std::vector<double> r;
+      std::vector<double>& r = per_cycle[i][static_cast<std::size_t>(s)];
       double mean = 0;
       for (std::size_t k = 0; k < cycle.steps; ++k) {
         const float y = cycle.at(sensors[s].first, k);
@@ -196,9 +224,12 @@ std::array<std::vector<std::vector<double>>, 2> residual_series(const Model<doub
       if (r.empty()) continue;
       mean /= static_cast<double>(r.size());
       for (double& e : r) e -= mean;
-      out[static_cast<std::size_t>(s)].push_back(std::move(r));
     }
-  }
+  });
+  std::array<std::vector<std::vector<double>>, 2> out;
+  for (auto& c : per_cycle)
+    for (std::size_t s = 0; s < 2; ++s)
+      if (!c[s].empty()) out[s].push_back(std::move(c[s]));
   return out;
 }
 
@@ -318,7 +349,7 @@ LmReport fit_lm(const MotorFile& motor, const ParamVector<double>& start, const 
   problem.Evaluate(evaluate, &cost, nullptr, nullptr, &jacobian);
   const Eigen::MatrixXd jtj = gram(jacobian);
   const double dof = std::max(1.0, static_cast<double>(report.residuals) - static_cast<double>(nf));
-  const auto series = residual_series(model, report.values, dataset, cycles, report.offsets, cooling);
+  const auto series = residual_series(model, report.values, dataset, cycles, report.offsets, cooling, settings.threads);
   report.correlation_time = std::max(correlation_time(series[0]), correlation_time(series[1]));
   const double s2 = 2.0 * cost / dof * report.correlation_time;
   Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(jtj);

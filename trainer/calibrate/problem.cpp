@@ -93,16 +93,9 @@ SplitMetrics evaluate_split(const Model<double>& model, const ParamVector<double
                             const std::vector<std::size_t>& cycles, int threads) {
   SplitMetrics out;
   out.cycles.resize(cycles.size());
-  // Cycles are independent: split them over the threads, each writing only its own slots.
-  const auto workers = static_cast<std::size_t>(std::max(1, threads));
-  std::vector<std::thread> pool_threads;
-  for (std::size_t w = 0; w < workers; ++w) {
-    pool_threads.emplace_back([&, w] {
-      for (std::size_t i = w; i < cycles.size(); i += workers)
-        out.cycles[i] = evaluate_cycle(model, params, dataset.cycles[cycles[i]]);
-    });
-  }
-  for (std::thread& t : pool_threads) t.join();
+  // Cycles are independent: each thread writes only its own slots.
+  parallel_for(cycles.size(), threads,
+               [&](std::size_t i) { out.cycles[i] = evaluate_cycle(model, params, dataset.cycles[cycles[i]]); });
   std::vector<ErrorMetrics> stator, rotor;
   for (const CycleMetrics& c : out.cycles) {
     stator.push_back(c.stator);

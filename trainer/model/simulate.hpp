@@ -76,8 +76,9 @@ void run_cycle(const Model<double>& model, const T* params, const data::Cycle& c
   initial_state_for(model, cycle, x, offsets);
   on_step(std::ptrdiff_t{-1}, static_cast<const T*>(x));
   const std::size_t steps = std::min(cycle.steps, max_steps);
+  typename Model<double>::template StepWorkspace<T> work;
   for (std::size_t k = 0; k + 1 < steps; ++k) {
-    model.step(x, inputs_at(cycle, k), params, cycle.dt_s);
+    model.step(x, inputs_at(cycle, k), params, cycle.dt_s, work);
     on_step(static_cast<std::ptrdiff_t>(k), static_cast<const T*>(x));
   }
 }

@@ -18,12 +18,16 @@ struct SmallLu {
   // integrator's matrix I - gamma h A cannot produce for a passive network (it is diagonally
   // dominant); the caller then keeps the state unchanged rather than divide by zero.
   bool factor(const T (&m)[kMaxStates][kMaxStates], int size) {
+    for (int i = 0; i < size; ++i)
+      for (int j = 0; j < size; ++j) lu[i][j] = m[i][j];
+    return factor_in_place(size);
+  }
+
+  // Factorises the matrix already written into lu (rows/cols 0..size-1), as factor() does.
+  bool factor_in_place(int size) {
     using std::abs;
     n = size;
-    for (int i = 0; i < n; ++i) {
-      perm[i] = i;
-      for (int j = 0; j < n; ++j) lu[i][j] = m[i][j];
-    }
+    for (int i = 0; i < n; ++i) perm[i] = i;
     for (int k = 0; k < n; ++k) {
       int p = k;
       double best = abs(value_of(lu[k][k]));
