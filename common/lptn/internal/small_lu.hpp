@@ -12,7 +12,7 @@ template <class T>
 struct SmallLu {
   int n = 0;
   T lu[kMaxStates][kMaxStates]{};
-  int perm[kMaxStates]{};
+  int swap[kMaxStates]{};  // step k exchanged rows k and swap[k]
 
   // Factorises m (rows/cols 0..n-1). Returns false if a pivot is exactly zero, which the
   // integrator's matrix I - gamma h A cannot produce for a passive network (it is diagonally
@@ -27,7 +27,6 @@ struct SmallLu {
   bool factor_in_place(int size) {
     using std::abs;
     n = size;
-    for (int i = 0; i < n; ++i) perm[i] = i;
     for (int k = 0; k < n; ++k) {
       int p = k;
       double best = abs(value_of(lu[k][k]));
@@ -39,15 +38,13 @@ struct SmallLu {
         }
       }
       if (best == 0.0) return false;
+      swap[k] = p;
       if (p != k) {
         for (int j = 0; j < n; ++j) {
           T t = lu[k][j];
           lu[k][j] = lu[p][j];
           lu[p][j] = t;
         }
-        const int t = perm[k];
-        perm[k] = perm[p];
-        perm[p] = t;
       }
       const T inv = T(1) / lu[k][k];
       for (int i = k + 1; i < n; ++i) {
@@ -58,18 +55,22 @@ struct SmallLu {
     return true;
   }
 
-  // Solves (LU) x = b in place.
+  // Solves (LU) x = b in place: the row exchanges in the order factoring made them (LAPACK's
+  // getrs), then both substitutions on b itself. No temporary: with Jets, one of kMaxStates
+  // entries would be constructed (zeroed) on every call.
   void solve(T* b) const {
-    T y[kMaxStates];
-    for (int i = 0; i < n; ++i) {
-      y[i] = b[perm[i]];
-      for (int j = 0; j < i; ++j) y[i] -= lu[i][j] * y[j];
-    }
+    for (int k = 0; k < n; ++k)
+      if (swap[k] != k) {
+        T t = b[k];
+        b[k] = b[swap[k]];
+        b[swap[k]] = t;
+      }
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < i; ++j) b[i] -= lu[i][j] * b[j];
     for (int i = n - 1; i >= 0; --i) {
-      for (int j = i + 1; j < n; ++j) y[i] -= lu[i][j] * y[j];
-      y[i] /= lu[i][i];
+      for (int j = i + 1; j < n; ++j) b[i] -= lu[i][j] * b[j];
+      b[i] /= lu[i][i];
     }
-    for (int i = 0; i < n; ++i) b[i] = y[i];
   }
 };
 
