@@ -18,6 +18,7 @@
 #include "trainer/calibrate/lm_result.hpp"
 #include "trainer/fleet/fleet_calibration.hpp"
 #include "trainer/fleet/fleet_file.hpp"
+#include "trainer/fleet/outlier_test.hpp"
 
 namespace lptn {
 namespace {
@@ -50,13 +51,10 @@ std::unique_ptr<FleetCase> calibrated_fleet(std::uint64_t seed, int weak) {
   return c;
 }
 
-// The median of the factors' logarithms, as the fit normalizes (an even count averages the two
-// middle logarithms).
-double median(std::vector<double> factors) {
+// The factors' median as the fit normalizes: that of their logarithms (outlier_test.hpp's).
+double median_factor(std::vector<double> factors) {
   for (double& f : factors) f = std::log(f);
-  std::sort(factors.begin(), factors.end());
-  const std::size_t n = factors.size();
-  return std::exp(n % 2 ? factors[n / 2] : 0.5 * (factors[n / 2 - 1] + factors[n / 2]));
+  return std::exp(median(factors));
 }
 
 TEST(FleetCalibration, FindsEveryMotorsCoolingAndNamesTheWeakMotorAlone) {
@@ -64,7 +62,7 @@ TEST(FleetCalibration, FindsEveryMotorsCoolingAndNamesTheWeakMotorAlone) {
   ASSERT_EQ(c->fit.motors.size(), 6u);
   std::vector<double> true_factors;
   for (const auto& m : c->truth) true_factors.push_back(m.cooling_factor);
-  const double true_median = median(true_factors);
+  const double true_median = median_factor(true_factors);
   int weak_named = 0, healthy_named = 0;
   for (std::size_t m = 0; m < 6; ++m) {
     const FleetMotorResult& r = c->fit.motors[m];
@@ -86,7 +84,7 @@ TEST(FleetCalibration, FindsEveryMotorsCoolingAndNamesTheWeakMotorAlone) {
   // The median motor cools as the shared parameters say, and the shared fit absorbs the scale.
   std::vector<double> fitted;
   for (const auto& r : c->fit.motors) fitted.push_back(r.cooling_factor);
-  EXPECT_NEAR(median(fitted), 1.0, 1e-12);
+  EXPECT_NEAR(median_factor(fitted), 1.0, 1e-12);
   std::printf("%d rounds, %.1f s\n", c->fit.rounds, c->fit.seconds);
 
   // fleet.json: written, read back, one motor exported as a calibration of its own.

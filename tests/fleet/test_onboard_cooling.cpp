@@ -18,6 +18,7 @@
 #include "../cli/run_lptn.hpp"
 #include "../cli/temp_dir.hpp"
 #include "../common/csv_columns.hpp"
+#include "trainer/fleet/outlier_test.hpp"
 
 namespace lptn {
 namespace {
@@ -30,11 +31,10 @@ nlohmann::json read_json(const fs::path& p) {
   return nlohmann::json::parse(in);
 }
 
-double log_median(std::vector<double> v) {
-  for (double& x : v) x = std::log(x);
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return std::exp(n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]));
+// The factors' median as the fleet fit normalizes: that of their logarithms.
+double median_factor(std::vector<double> factors) {
+  for (double& f : factors) f = std::log(f);
+  return std::exp(median(factors));
 }
 
 TEST(OnboardCooling, EachMotorsFactorWithin5PercentAfterAnHourAndTheAlarmOnTheWeakMotorAlone) {
@@ -52,7 +52,7 @@ TEST(OnboardCooling, EachMotorsFactorWithin5PercentAfterAnHourAndTheAlarmOnTheWe
   const nlohmann::json truth = read_json(fleet / "truth.json").at("motors");
   std::vector<double> factors;
   for (const auto& [id, m] : truth.items()) factors.push_back(m.at("cooling_factor").get<double>());
-  const double median = log_median(factors);
+  const double fleet_median = median_factor(factors);
 
   int weak_alarmed = 0, healthy_alarmed = 0, weak = 0;
   for (const auto& [id, m] : truth.items()) {
@@ -69,7 +69,7 @@ TEST(OnboardCooling, EachMotorsFactorWithin5PercentAfterAnHourAndTheAlarmOnTheWe
     const auto& alarm = csv.at("cooling_alarm");
     const auto& state = csv.at("cooling_state");
     ASSERT_GT(t.back(), 3600.0) << id;
-    const double want = m.at("cooling_factor").get<double>() / median;
+    const double want = m.at("cooling_factor").get<double>() / fleet_median;
     const bool is_weak = m.at("weak").get<bool>();
     // After an hour, and when it came within 5 % to stay.
     std::size_t hour = 0;

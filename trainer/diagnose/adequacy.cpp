@@ -7,6 +7,7 @@
 #include <thread>
 #include <utility>
 
+#include "hostio/worker_threads.hpp"
 #include "trainer/calibrate/sensor_noise.hpp"
 #include "trainer/diagnose/internal/where.hpp"
 
@@ -50,14 +51,8 @@ std::vector<CycleFinding> examine_all(const Model<double>& model, const ParamVec
                                       const data::Dataset& dataset, const std::vector<std::size_t>& cycles,
                                       const internal::RegionEdges& edges, int threads) {
   std::vector<CycleFinding> out(cycles.size());
-  const auto workers = static_cast<std::size_t>(std::max(1, threads));
-  std::vector<std::thread> pool;
-  for (std::size_t w = 0; w < workers; ++w)
-    pool.emplace_back([&, w] {
-      for (std::size_t i = w; i < cycles.size(); i += workers)
-        out[i] = examine(model, params, dataset, dataset.cycles[cycles[i]], edges);
-    });
-  for (std::thread& t : pool) t.join();
+  parallel_for(cycles.size(), threads,
+               [&](std::size_t i) { out[i] = examine(model, params, dataset, dataset.cycles[cycles[i]], edges); });
   return out;
 }
 

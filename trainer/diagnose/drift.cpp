@@ -7,6 +7,7 @@
 #include <random>
 #include <thread>
 
+#include "hostio/worker_threads.hpp"
 #include "trainer/calibrate/problem.hpp"
 
 namespace lptn::diagnose {
@@ -132,14 +133,9 @@ Drift find_drift(const Model<double>& model, const ParamVector<double>& params, 
   d.group = group;
   const std::size_t n = dataset.cycles.size();
   d.factors.resize(n);
-  const auto workers = static_cast<std::size_t>(std::max(1, threads));
-  std::vector<std::thread> pool;
-  for (std::size_t w = 0; w < workers; ++w)
-    pool.emplace_back([&, w] {
-      for (std::size_t i = w; i < n; i += workers)
-        d.factors[i] = {dataset.cycles[i].name, best_factor(model, params, group, dataset.cycles[i])};
-    });
-  for (std::thread& t : pool) t.join();
+  parallel_for(n, threads, [&](std::size_t i) {
+    d.factors[i] = {dataset.cycles[i].name, best_factor(model, params, group, dataset.cycles[i])};
+  });
   if (n < 4) return d;
 
   std::vector<double> y(n);

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <thread>
 
+#include "hostio/worker_threads.hpp"
 #include "trainer/calibrate/problem.hpp"
 #include "trainer/diagnose/diagnose.hpp"
 
@@ -42,14 +43,9 @@ std::vector<double> block_errors(const Model<double>& model, const ParamVector<d
                                  const data::Dataset& dataset, const std::vector<std::size_t>& cycles,
                                  std::size_t steps_per_block, int threads) {
   std::vector<std::vector<double>> per_cycle(cycles.size());
-  const auto workers = static_cast<std::size_t>(std::max(1, threads));
-  std::vector<std::thread> pool;
-  for (std::size_t w = 0; w < workers; ++w)
-    pool.emplace_back([&, w] {
-      for (std::size_t i = w; i < cycles.size(); i += workers)
-        per_cycle[i] = cycle_blocks(model, params, dataset.cycles[cycles[i]], steps_per_block);
-    });
-  for (std::thread& t : pool) t.join();
+  parallel_for(cycles.size(), threads, [&](std::size_t i) {
+    per_cycle[i] = cycle_blocks(model, params, dataset.cycles[cycles[i]], steps_per_block);
+  });
   std::vector<double> out;
   for (const auto& c : per_cycle) out.insert(out.end(), c.begin(), c.end());
   return out;
