@@ -125,7 +125,9 @@ void check_output(const EstimatorOutput<T>& o, TimeUs t) {
   LPTN_FUZZ_CHECK(std::isfinite(o.margin_k) && std::isfinite(o.margin_conservative_k), "margins");
   // The cooling state: a finite factor within the observer's clamp (1/5..5), a finite spread, and
   // an alarm only while the estimate is or was tracking.
-  LPTN_FUZZ_CHECK(std::isfinite(o.cooling_factor) && o.cooling_factor >= T(0.199) && o.cooling_factor <= T(5.01),
+  const double clamp = std::exp(kMaxLnCoolingFactor) * (1 + 1e-5);  // float's rounding of exp
+  LPTN_FUZZ_CHECK(std::isfinite(o.cooling_factor) && double(o.cooling_factor) >= 1 / clamp &&
+                      double(o.cooling_factor) <= clamp,
                   "cooling factor beyond the observer's clamp");
   LPTN_FUZZ_CHECK(std::isfinite(o.cooling_factor_std) && o.cooling_factor_std >= 0, "cooling factor's spread");
   LPTN_FUZZ_CHECK(lptn::can::LptnCooling::cooling_state_is_in_range(static_cast<std::uint8_t>(o.cooling_state)),

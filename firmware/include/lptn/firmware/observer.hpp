@@ -29,6 +29,9 @@ namespace lptn::fw {
 
 // The model's states and the cooling factor's.
 inline constexpr int kMaxFilterStates = kMaxStates + 1;
+// The cooling factor stays within 1/5..5 (ln 5): beyond, no cooling this model describes; held
+// there, the network stays a passive one whatever the readings do.
+inline constexpr double kMaxLnCoolingFactor = 1.6094379124341003;
 
 template <class T>
 struct ObserverSettings {
@@ -142,9 +145,7 @@ class Observer {
   void fuse(Fusion<T>& f) {
     const int s = model_.layout().stator_sensor_state;
     update(s, f.innovation_k, f.innovation_std_k * f.innovation_std_k, settings_.sensor_noise_k * settings_.sensor_noise_k);
-    // A factor beyond 1/5..5 is no cooling this model describes; held there, the network stays
-    // a passive one whatever the readings do.
-    const T kMaxLn = T(1.6094379);
+    const T kMaxLn = T(kMaxLnCoolingFactor);
     T& theta = x_[num_states()];
     theta = theta > kMaxLn ? kMaxLn : (theta < -kMaxLn ? -kMaxLn : theta);
     f.accepted = true;
