@@ -10,7 +10,6 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -18,6 +17,7 @@
 #include "../cli/run_lptn.hpp"
 #include "../cli/temp_dir.hpp"
 #include "../common/csv_columns.hpp"
+#include "trainer/calibrate/calibration_file.hpp"
 #include "trainer/fleet/outlier_test.hpp"
 
 namespace lptn {
@@ -25,11 +25,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using lptn::testing::run;
-
-nlohmann::json read_json(const fs::path& p) {
-  std::ifstream in(p);
-  return nlohmann::json::parse(in);
-}
 
 // The factors' median as the fleet fit normalizes: that of their logarithms.
 double median_factor(std::vector<double> factors) {
@@ -49,7 +44,7 @@ TEST(OnboardCooling, EachMotorsFactorWithin5PercentAfterAnHourAndTheAlarmOnTheWe
      fleet.string());
   ok("calibrate --fleet " + fleet.string() + " --motor " + (fleet / "motor.toml").string() +
      " --method lm --quiet --out " + (d / "fleet.json").string());
-  const nlohmann::json truth = read_json(fleet / "truth.json").at("motors");
+  const nlohmann::json truth = read_json_file(fleet / "truth.json").at("motors");
   std::vector<double> factors;
   for (const auto& [id, m] : truth.items()) factors.push_back(m.at("cooling_factor").get<double>());
   const double fleet_median = median_factor(factors);

@@ -56,8 +56,8 @@ struct SmallLu {
   }
 
   // Solves (LU) x = b in place: the row exchanges in the order factoring made them (LAPACK's
-  // getrs), then both substitutions on b itself. No temporary: with Jets, one of kMaxStates
-  // entries would be constructed (zeroed) on every call.
+  // getrs), then both substitutions on b itself. No temporary: with Jets, a temporary of
+  // kMaxStates entries would be constructed (zeroed) on every call.
   void solve(T* b) const {
     for (int k = 0; k < n; ++k)
       if (swap[k] != k) {

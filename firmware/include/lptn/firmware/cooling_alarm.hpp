@@ -29,7 +29,6 @@ class CoolingAlarm {
     if (raised_ && factor > settings_.clear_above) raised_ = false;
     return raised_;
   }
-  bool raised() const { return raised_; }
 
  private:
   CoolingAlarmSettings<T> settings_;
