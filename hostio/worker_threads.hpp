@@ -5,14 +5,21 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <cstdlib>
 #include <thread>
 #include <vector>
 
 namespace lptn {
 
+// Under an MPI launcher the processes on one machine share its cores: each takes its share
+// (Open MPI and MPICH say how many ranks run on this node).
 inline int worker_threads() {
   const unsigned n = std::thread::hardware_concurrency();  // 0 where the machine does not say
-  return n == 0 ? 1 : static_cast<int>(n);
+  int cores = n == 0 ? 1 : static_cast<int>(n);
+  for (const char* name : {"OMPI_COMM_WORLD_LOCAL_SIZE", "MPI_LOCALNRANKS"})
+    if (const char* ranks = std::getenv(name); ranks != nullptr && std::atoi(ranks) > 1)
+      return std::max(1, cores / std::atoi(ranks));
+  return cores;
 }
 
 // Calls work(i) for i in 0..n-1 over `threads` threads (the calling one among them), index i on

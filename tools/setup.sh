@@ -20,6 +20,7 @@ HOST=(
   time                                                  # GNU time: tools/bench-scale.sh's peak memory
   zlib1g-dev                                            # Vector BLF logs' compressed containers
   python3-can                                           # tests: ASC and BLF logs written and read by another implementation
+  libopenmpi-dev openmpi-bin                            # mpirun -np N lptn calibrate: one calibration over N processes
 )
 CROSS=(
   g++-aarch64-linux-gnu qemu-user-static                # aarch64 Linux; tests run under qemu-aarch64-static

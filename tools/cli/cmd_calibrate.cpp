@@ -10,11 +10,13 @@
 #include <string>
 #include <vector>
 
+#include "hostio/process_group.hpp"
 #include "hostio/progress_line.hpp"
 #include "tools/cli/commands.hpp"
 #include "trainer/calibrate/calibration_result.hpp"
 #include "trainer/calibrate/lm.hpp"
 #include "trainer/calibrate/lm_result.hpp"
+#include "trainer/calibrate/shared_dataset.hpp"
 #include "trainer/fleet/fleet_file.hpp"
 #include "trainer/model/motor_effects.hpp"
 
@@ -57,8 +59,8 @@ void run_lm(const CalibrateArgs& a, const MotorFile& motor, const data::Dataset&
 void print_metrics(const char* side, const SplitMetrics& m);
 
 // --fleet: the motor type over every motor, each motor's cooling factor, the outliers (fleet.json).
-void run_fleet(const CalibrateArgs& a, const MotorFile& motor) {
-  const FleetDump fleet = load_fleet(a.fleet);
+void run_fleet(const CalibrateArgs& a, const MotorFile& motor, const ProcessGroup& group) {
+  const FleetDump fleet = load_shared_fleet(a.fleet, group);
   const Split split = split_cycles(fleet.dataset, a.test_cycles, a.test_fraction, a.seed);
   CalibrationResult r = new_calibration(motor, a.motor, fleet.dataset, split);
   if (!a.quiet)
@@ -73,6 +75,7 @@ void run_fleet(const CalibrateArgs& a, const MotorFile& motor) {
   record_lm_fit(r, fit.shared, FreeParameters::from_motor(motor), r.train_cycles, to_json(settings.lm));
   r.seconds = fit.seconds;
   score_calibration(r, motor, fleet.dataset, split);
+  if (!group.leads()) return;
   save_fleet(a.out, r, fit, settings);
   if (a.quiet) return;
   std::vector<ErrorMetrics> stator, rotor;
@@ -101,7 +104,14 @@ void print_metrics(const char* side, const SplitMetrics& m) {
   std::printf("  (%zu cycles)\n", m.cycles.size());
 }
 
-void run(const CalibrateArgs& a, Td3Calibrator td3) {
+void run(const CalibrateArgs& given, Td3Calibrator td3) {
+  // LM shares its work over the processes of an MPI job, if one started this; rank 0 speaks and writes.
+  const ProcessGroup& group = given.method == "lm" ? ProcessGroup::world() : ProcessGroup::alone();
+  CalibrateArgs a = given;
+  a.quiet = a.quiet || !group.leads();
+  if (!a.quiet && group.shared())
+    std::printf("sharing the work over %d processes (MPI): each loads and simulates its own %s\n", group.size(),
+                a.fleet.empty() ? "files" : "motors");
   if (a.method != "lm" && td3 == nullptr) {
 #if LPTN_WITH_TD3
     hand_over_to_td3_program();
@@ -114,9 +124,9 @@ void run(const CalibrateArgs& a, Td3Calibrator td3) {
   for (const std::string& name : a.effects) added.push_back(effect_by_name(name, "--effect"));
   MotorFile motor = load_motor_file(a.motor);
   for (int e : added) enable_effect(motor, e);
-  if (!a.fleet.empty()) return run_fleet(a, motor);
+  if (!a.fleet.empty()) return run_fleet(a, motor, group);
   std::vector<std::filesystem::path> paths(a.data.begin(), a.data.end());
-  const data::Dataset dataset = data::load_fleet_dump(paths);
+  const data::Dataset dataset = load_shared_dump(paths, group);
   const Split split = split_cycles(dataset, a.test_cycles, a.test_fraction, a.seed);
 
   CalibrationResult r = new_calibration(motor, a.motor, dataset, split);
@@ -129,6 +139,7 @@ void run(const CalibrateArgs& a, Td3Calibrator td3) {
   else td3(a, motor, dataset, split, r);
 
   score_calibration(r, motor, dataset, split);
+  if (!group.leads()) return;
   save_calibration(r, a.out);
   if (!a.quiet) {
     for (const ParameterResult& p : r.parameters) {

@@ -4,6 +4,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "hostio/process_group.hpp"
 #include "tools/cli/commands.hpp"
 #include "trainer/calibrate/calibration_file.hpp"
 #include "trainer/data/dataset.hpp"
@@ -23,7 +24,19 @@ std::vector<std::string>& invocation() {
   return args;
 }
 
+namespace {
+int parse_and_run(CLI::App& app, int argc, char** argv);
+}  // namespace
+
 int run_cli(CLI::App& app, int argc, char** argv) {
+  const int code = parse_and_run(app, argc, argv);
+  // In an MPI job one rank's failure must end the others, which would wait for it in a sum.
+  if (code != 0 && ProcessGroup::joined()) ProcessGroup::world().abort(code);
+  return code;
+}
+
+namespace {
+int parse_and_run(CLI::App& app, int argc, char** argv) {
   invocation().assign(argv, argv + argc);
   const std::string program = app.get_name();
   // CLI11 would only say that a subcommand is required; name the word it did not know.
@@ -64,5 +77,6 @@ int run_cli(CLI::App& app, int argc, char** argv) {
   }
   return 0;
 }
+}  // namespace
 
 }  // namespace lptn::cli

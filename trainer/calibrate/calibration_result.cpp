@@ -35,7 +35,7 @@ CalibrationResult new_calibration(const MotorFile& motor, const std::string& mot
   std::string all;
   for (const data::Cycle& c : dataset.cycles) {
     const std::string file = c.file.string();
-    if (!hashes.count(file)) hashes[file] = sha256_file(c.file);
+    if (!hashes.count(file)) hashes[file] = c.file_sha256.empty() ? sha256_file(c.file) : c.file_sha256;
     r.data.push_back({c.name, c.file.filename().string(), hashes[file]});
     all += hashes[file];
   }

@@ -7,19 +7,18 @@
 
 namespace lptn {
 
-double correlation_time(const std::vector<std::vector<double>>& series) {
-  double var = 0, count = 0;
+std::vector<double> correlation_sums(const std::vector<std::vector<double>>& series) {
+  // [0] sum of squares, [1] count, [2 + lag] products at lag, [2 + kMaxCorrelationLag + lag] pairs.
+  std::vector<double> sums(2 + 2 * kMaxCorrelationLag, 0.0);
+  double* products = sums.data() + 2;
+  double* pairs = products + kMaxCorrelationLag;
   for (const auto& r : series)
     for (double e : r) {
-      var += e * e;
-      count += 1;
+      sums[0] += e * e;
+      sums[1] += 1;
     }
-  if (count < 2 || var <= 0) return 1.0;
-  var /= count;
-
   // Per lag: the sum of r[k] r[k - lag] over every series, and how many products it holds. A
   // series zero-padded to twice its length has that sum as the inverse transform of |X|^2.
-  std::vector<double> products(kMaxCorrelationLag, 0.0), pairs(kMaxCorrelationLag, 0.0);
   Eigen::FFT<double> fft;
   fft.SetFlag(Eigen::FFT<double>::HalfSpectrum);
   std::vector<double> padded, acf;
@@ -38,6 +37,15 @@ double correlation_time(const std::vector<std::vector<double>>& series) {
       pairs[lag] += static_cast<double>(r.size() - lag);
     }
   }
+  return sums;
+}
+
+double correlation_time_of_sums(const std::vector<double>& sums) {
+  const double count = sums[1];
+  if (count < 2 || sums[0] <= 0) return 1.0;
+  const double var = sums[0] / count;
+  const double* products = sums.data() + 2;
+  const double* pairs = products + kMaxCorrelationLag;
   double tau = 1.0;
   for (std::size_t lag = 1; lag < kMaxCorrelationLag; ++lag) {
     if (pairs[lag] < 100) break;
@@ -46,6 +54,10 @@ double correlation_time(const std::vector<std::vector<double>>& series) {
     tau += 2 * rho;
   }
   return tau;
+}
+
+double correlation_time(const std::vector<std::vector<double>>& series) {
+  return correlation_time_of_sums(correlation_sums(series));
 }
 
 }  // namespace lptn

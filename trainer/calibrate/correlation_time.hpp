@@ -16,4 +16,10 @@ inline constexpr std::size_t kMaxCorrelationLag = 6000;  // ten minutes at 10 Hz
 
 double correlation_time(const std::vector<std::vector<double>>& series);
 
+// The same in two halves, for series spread over processes: the sums over this process's series
+// (the residuals' square sum and count, then per lag the sum of products and their number), which
+// add element by element over processes, and the correlation time of the added sums.
+std::vector<double> correlation_sums(const std::vector<std::vector<double>>& series);
+double correlation_time_of_sums(const std::vector<double>& sums);
+
 }  // namespace lptn

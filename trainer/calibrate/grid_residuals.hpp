@@ -12,6 +12,7 @@ namespace lptn {
 
 // How many residuals the first `max_steps` grid steps of `cycle` give.
 inline std::size_t count_grid_residuals(const data::Cycle& cycle, std::size_t max_steps = SIZE_MAX) {
+  if (cycle.remote && max_steps >= cycle.steps) return cycle.remote_residuals;
   std::size_t n = 0;
   const std::size_t steps = max_steps < cycle.steps ? max_steps : cycle.steps;
   for (std::size_t k = 1; k < steps; ++k)

@@ -9,10 +9,12 @@
 #include <utility>
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <stdexcept>
 
 #include "trainer/calibrate/correlation_time.hpp"
 #include "trainer/calibrate/grid_residuals.hpp"
+#include "trainer/calibrate/shared_dataset.hpp"
 #include "trainer/model/cooling_factor.hpp"
 #include "trainer/model/initial_offsets.hpp"
 #include "trainer/model/simulate.hpp"
@@ -197,6 +199,81 @@ CycleBlock* make_residuals(const Model<double>& model, const data::Cycle& cycle,
 }
 
 
+// Every cycle's compressed block, evaluated by the process that holds the cycle and joined over
+// the processes (a sum in which each element has one non-zero term, so exact): Ceres, on every
+// rank, then sees the blocks of the whole dump and takes the steps a single process would, while
+// each rank simulates only its own cycles. Alone, the same path evaluates every block here.
+//
+// Ceres calls PrepareForEvaluation at each new point (the parameters already in place), then asks
+// each SharedBlock, which copies its slot. The blocks are simulated here, on `threads` threads.
+class SharedEvaluation final : public ceres::EvaluationCallback {
+ public:
+  SharedEvaluation(const ProcessGroup& group, int threads, std::size_t free_parameters)
+      : group_(group), threads_(threads), nf_(free_parameters) {}
+
+  // Slot layout: [failed] [m + 1 residuals] [(m + 1) x nf Jacobian] [(m + 1) x 2 Jacobian].
+  std::size_t rows() const { return nf_ + kOffsets + 1; }
+  std::size_t slot_size() const { return 1 + rows() * (1 + nf_ + kOffsets); }
+
+  // A cycle's block: `local` where this process holds the cycle (owned here), null where another
+  // does; `theta` and `offset` its parameter blocks. Returns its slot.
+  std::size_t add(std::unique_ptr<CycleBlock> local, const double* theta, const double* offset) {
+    blocks_.push_back(std::move(local));
+    parameters_.push_back({theta, offset});
+    buffer_.resize(blocks_.size() * slot_size());
+    return blocks_.size() - 1;
+  }
+
+  void PrepareForEvaluation(bool evaluate_jacobians, bool /*new_evaluation_point*/) override {
+    std::fill(buffer_.begin(), buffer_.end(), 0.0);
+    parallel_for(blocks_.size(), threads_, [&](std::size_t b) {
+      if (!blocks_[b]) return;
+      double* slot = buffer_.data() + b * slot_size();
+      double* residuals = slot + 1;
+      double* jacobians[2] = {residuals + rows(), residuals + rows() + rows() * nf_};
+      const bool ok = blocks_[b]->Evaluate(parameters_[b].data(), residuals, evaluate_jacobians ? jacobians : nullptr);
+      slot[0] = ok ? 0.0 : 1.0;
+    });
+    group_.sum(buffer_);
+  }
+
+  const double* slot(std::size_t b) const { return buffer_.data() + b * slot_size(); }
+
+ private:
+  const ProcessGroup& group_;
+  int threads_;
+  std::size_t nf_;
+  std::vector<std::unique_ptr<CycleBlock>> blocks_;
+  std::vector<std::array<const double*, 2>> parameters_;
+  std::vector<double> buffer_;
+};
+
+// What Ceres sees of one cycle: its slot of the shared evaluation.
+class SharedBlock final : public ceres::CostFunction {
+ public:
+  SharedBlock(const SharedEvaluation& shared, std::size_t slot, std::size_t free_parameters)
+      : shared_(shared), slot_(slot), nf_(free_parameters) {
+    set_num_residuals(static_cast<int>(shared.rows()));
+    mutable_parameter_block_sizes()->push_back(static_cast<int>(nf_));
+    mutable_parameter_block_sizes()->push_back(kOffsets);
+  }
+  bool Evaluate(double const* const* /*parameters*/, double* residuals, double** jacobians) const override {
+    const double* slot = shared_.slot(slot_);
+    const std::size_t rows = shared_.rows();
+    std::copy(slot + 1, slot + 1 + rows, residuals);
+    if (jacobians != nullptr) {
+      if (jacobians[0] != nullptr) std::copy(slot + 1 + rows, slot + 1 + rows + rows * nf_, jacobians[0]);
+      if (jacobians[1] != nullptr)
+        std::copy(slot + 1 + rows + rows * nf_, slot + 1 + rows + rows * (nf_ + kOffsets), jacobians[1]);
+    }
+    return slot[0] == 0.0;
+  }
+
+ private:
+  const SharedEvaluation& shared_;
+  std::size_t slot_, nf_;
+};
+
 // Residual series (model - measured, demeaned per cycle) over the fitted cycles, per sensor:
 // [0] the stator winding, [1] the rotor. One simulation per cycle serves both.
 std::array<std::vector<std::vector<double>>, 2> residual_series(const Model<double>& model, const ParamVector<double>& p,
@@ -208,6 +285,7 @@ std::array<std::vector<std::vector<double>>, 2> residual_series(const Model<doub
   std::vector<std::array<std::vector<double>, 2>> per_cycle(cycles.size());
   parallel_for(cycles.size(), threads, [&](std::size_t i) {
     const data::Cycle& cycle = dataset.cycles[cycles[i]];
+    if (cycle.remote) return;  // its process takes its series
     const ParamVector<double> pc = cooling.empty() ? p : with_cooling_factor(p, cooling[i]);
     const CycleSimulation sim = simulate_cycle(model, pc, cycle, offsets[i]);
     const std::pair<data::Channel, const std::vector<float>*> sensors[2] = {
@@ -286,20 +364,27 @@ LmReport fit_lm(const MotorFile& motor, const ParamVector<double>& start, const 
     theta[j] = free.to_internal(j, v);
   }
 
+  const ProcessGroup& group = group_of(dataset);
+  report.mpi_ranks = group.size();
+  SharedEvaluation shared(group, settings.threads, nf);
   ceres::Problem::Options problem_options;
   problem_options.cost_function_ownership = ceres::TAKE_OWNERSHIP;
+  problem_options.evaluation_callback = &shared;
   ceres::Problem problem(problem_options);
   report.offsets.assign(cycles.size(), InitialOffsets<double>{});
   std::vector<std::array<double, kOffsets>> offsets(cycles.size(), {0.0, 0.0});
+  auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
   for (std::size_t i = 0; i < cycles.size(); ++i) {
-    CycleBlock* cost = make_residuals(model, dataset.cycles[cycles[i]], free, start, SIZE_MAX,
-                                      cooling.empty() ? 1.0 : cooling[i]);
-    if (cost->measured() == 0) {
-      delete cost;
-      continue;
-    }
-    report.residuals += cost->measured();
-    problem.AddResidualBlock(cost, nullptr, theta.data(), offsets[i].data());
+    const data::Cycle& cycle = dataset.cycles[cycles[i]];
+    const std::size_t measured = count_grid_residuals(cycle);
+    if (measured == 0) continue;
+    report.residuals += measured;
+    std::unique_ptr<CycleBlock> local;
+    if (!cycle.remote)
+      local.reset(make_residuals(model, cycle, free, start, SIZE_MAX, cooling.empty() ? 1.0 : cooling[i]));
+    const std::size_t slot = shared.add(std::move(local), theta.data(), offsets[i].data());
+    problem.AddResidualBlock(new SharedBlock(shared, slot, nf), nullptr, theta.data(), offsets[i].data());
+    ordering->AddElementToGroup(offsets[i].data(), 0);  // eliminated first: the Schur complement
     for (int j = 0; j < kOffsets; ++j) {
       problem.SetParameterLowerBound(offsets[i].data(), j, -kInitialOffsetBoundK);
       problem.SetParameterUpperBound(offsets[i].data(), j, kInitialOffsetBoundK);
@@ -314,11 +399,17 @@ LmReport fit_lm(const MotorFile& motor, const ParamVector<double>& start, const 
   ceres::Solver::Options options;
   options.minimizer_type = ceres::TRUST_REGION;
   options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
-  options.linear_solver_type = ceres::DENSE_QR;
+  // Each cycle's two offsets touch only its own block: eliminated cycle by cycle (Schur), the
+  // linear algebra grows linearly with the cycles (a dense QR over every offset grows with their cube).
+  options.linear_solver_type = ceres::DENSE_SCHUR;
+  ordering->AddElementToGroup(theta.data(), 1);
+  options.linear_solver_ordering = ordering;
   options.max_num_iterations = settings.max_iterations;
   options.function_tolerance = settings.function_tolerance;
   options.parameter_tolerance = settings.parameter_tolerance;
-  options.num_threads = settings.threads;
+  // The simulations run in SharedEvaluation on settings.threads; what Ceres does with the blocks
+  // is copying and small sums, kept in one thread so that every rank adds in the same order.
+  options.num_threads = 1;
   options.logging_type = ceres::SILENT;
   Progress callback(progress, report.residuals, t0);
   options.callbacks.push_back(&callback);
@@ -345,12 +436,18 @@ LmReport fit_lm(const MotorFile& motor, const ParamVector<double>& start, const 
   for (auto& o : offsets) problem.SetParameterBlockConstant(o.data());
   ceres::Problem::EvaluateOptions evaluate;
   evaluate.parameter_blocks = {theta.data()};
-  evaluate.num_threads = settings.threads;
+  evaluate.num_threads = 1;
   problem.Evaluate(evaluate, &cost, nullptr, nullptr, &jacobian);
   const Eigen::MatrixXd jtj = gram(jacobian);
   const double dof = std::max(1.0, static_cast<double>(report.residuals) - static_cast<double>(nf));
   const auto series = residual_series(model, report.values, dataset, cycles, report.offsets, cooling, settings.threads);
-  report.correlation_time = std::max(correlation_time(series[0]), correlation_time(series[1]));
+  std::array<double, 2> tau{};
+  for (std::size_t s = 0; s < 2; ++s) {
+    std::vector<double> sums = correlation_sums(series[s]);
+    group.sum(sums);
+    tau[s] = correlation_time_of_sums(sums);
+  }
+  report.correlation_time = std::max(tau[0], tau[1]);
   const double s2 = 2.0 * cost / dof * report.correlation_time;
   Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(jtj);
   const Eigen::MatrixXd cov = s2 * cod.pseudoInverse();
@@ -381,6 +478,7 @@ LmReport fit_lm(const MotorFile& motor, const ParamVector<double>& start, const 
 NormalEquations normal_equations(const Model<double>& model, const FreeParameters& free, const ParamVector<double>& at,
                                  const data::Dataset& dataset, const std::vector<std::size_t>& cycles,
                                  const std::vector<InitialOffsets<double>>& offsets, int threads) {
+  if (dataset.shared) throw std::logic_error("normal_equations: not for a dataset shared over processes");
   const std::size_t nf = free.size();
   std::vector<double> theta(nf);
   for (std::size_t j = 0; j < nf; ++j) theta[j] = free.to_internal(j, at[free.index[j]]);

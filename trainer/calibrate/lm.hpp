@@ -1,6 +1,8 @@
 // The deterministic baseline: a Levenberg-Marquardt fit of the model to several cycles at once
 // (Ceres), with exact derivatives through the whole simulation (Jets carried through every step
-// of the integrator), bounds on every parameter, and the uncertainty the data leaves.
+// of the integrator), bounds on every parameter, and the uncertainty the data leaves. On a dataset
+// shared over the processes of an MPI job each process simulates its own cycles, and every
+// process takes the steps a single one would (shared_dataset.hpp).
 #pragma once
 
 #include <functional>
@@ -36,6 +38,7 @@ struct LmReport {
   bool converged = false;
   std::string termination;
   double seconds = 0;
+  int mpi_ranks = 1;  // the processes that shared the fit (the dataset's, trainer/calibrate/shared_dataset.hpp)
 };
 
 // Called after every iteration: (iteration, RMSE over all residuals in K, seconds so far).

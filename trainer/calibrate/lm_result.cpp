@@ -35,7 +35,7 @@ void record_lm_fit(CalibrationResult& r, const LmReport& fit, const FreeParamete
                {"final_cost_k2", fit.final_cost}, {"residuals", fit.residuals},
                {"rmse_k", fit.rmse_k},           {"correlation_time", fit.correlation_time},
                {"at_bound", at_bound},           {"correlation", {{"parameters", names}, {"matrix", fit.correlation}}},
-               {"initial_offsets", offsets}};
+               {"initial_offsets", offsets},     {"mpi_ranks", fit.mpi_ranks}};
   r.seconds = fit.seconds;
 }
 

@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <thread>
 
+#include "trainer/calibrate/shared_dataset.hpp"
 #include "trainer/model/initial_offsets.hpp"
 #include "trainer/model/simulate.hpp"
 
@@ -75,6 +76,37 @@ Split split_cycles(const data::Dataset& dataset, const std::vector<std::string>&
   return split;
 }
 
+namespace {
+// Every cycle's metrics on every process of a shared dataset: each slot filled where its cycle is
+// held, zero elsewhere, summed over the processes.
+void join_metrics(std::vector<CycleMetrics>& metrics, const data::Dataset& dataset,
+                  const std::vector<std::size_t>& cycles) {
+  constexpr std::size_t kFields = 5;
+  std::vector<double> sums(metrics.size() * 2 * kFields, 0.0);
+  for (std::size_t i = 0; i < metrics.size(); ++i) {
+    if (dataset.cycles[cycles[i]].remote) continue;
+    const ErrorMetrics* sides[2] = {&metrics[i].stator, &metrics[i].rotor};
+    for (std::size_t s = 0; s < 2; ++s) {
+      double* at = sums.data() + (2 * i + s) * kFields;
+      at[0] = sides[s]->rmse_k;
+      at[1] = sides[s]->mean_abs_k;
+      at[2] = sides[s]->max_abs_k;
+      at[3] = sides[s]->bias_k;
+      at[4] = static_cast<double>(sides[s]->samples);
+    }
+  }
+  group_of(dataset).sum(sums);
+  for (std::size_t i = 0; i < metrics.size(); ++i) {
+    metrics[i].name = dataset.cycles[cycles[i]].name;
+    ErrorMetrics* sides[2] = {&metrics[i].stator, &metrics[i].rotor};
+    for (std::size_t s = 0; s < 2; ++s) {
+      const double* at = sums.data() + (2 * i + s) * kFields;
+      *sides[s] = {at[0], at[1], at[2], at[3], static_cast<std::size_t>(at[4])};
+    }
+  }
+}
+}  // namespace
+
 CycleEvaluation simulate_and_evaluate(const Model<double>& model, const ParamVector<double>& params,
                                       const data::Cycle& cycle) {
   CycleEvaluation e;
@@ -93,9 +125,12 @@ SplitMetrics evaluate_split(const Model<double>& model, const ParamVector<double
                             const std::vector<std::size_t>& cycles, int threads) {
   SplitMetrics out;
   out.cycles.resize(cycles.size());
-  // Cycles are independent: each thread writes only its own slots.
-  parallel_for(cycles.size(), threads,
-               [&](std::size_t i) { out.cycles[i] = evaluate_cycle(model, params, dataset.cycles[cycles[i]]); });
+  // Cycles are independent: each thread writes only its own slots. A remote cycle is its process's.
+  parallel_for(cycles.size(), threads, [&](std::size_t i) {
+    const data::Cycle& cycle = dataset.cycles[cycles[i]];
+    if (!cycle.remote) out.cycles[i] = evaluate_cycle(model, params, cycle);
+  });
+  if (dataset.shared) join_metrics(out.cycles, dataset, cycles);
   std::vector<ErrorMetrics> stator, rotor;
   for (const CycleMetrics& c : out.cycles) {
     stator.push_back(c.stator);

@@ -149,8 +149,7 @@ Dataset load_cycle_file(const fs::path& file, const LoadOptions& options) {
   return internal::assemble(internal::parse_csv(text, file), options);
 }
 
-Dataset load_fleet_dump(const std::vector<fs::path>& paths, const LoadOptions& options) {
-  check(options);
+std::vector<fs::path> cycle_files(const std::vector<fs::path>& paths) {
   std::vector<fs::path> files;
   std::set<fs::path> seen;
   for (const fs::path& file : expand(paths)) {
@@ -159,6 +158,12 @@ Dataset load_fleet_dump(const std::vector<fs::path>& paths, const LoadOptions& o
     if (ec) key = file;
     if (seen.insert(key).second) files.push_back(file);  // not named twice (a directory and a file in it, say)
   }
+  return files;
+}
+
+Dataset load_fleet_dump(const std::vector<fs::path>& paths, const LoadOptions& options) {
+  check(options);
+  const std::vector<fs::path> files = cycle_files(paths);
 
   // Files are loaded on every core, each into its own slot; the result is assembled in file order,
   // and the first bad file in that order is the one reported, as if loaded one by one.

@@ -29,6 +29,11 @@ struct Cycle {
   // NaN = missing or masked. Either empty (the column is absent from the file) or `steps` long.
   // float rather than double on purpose: fleet dumps hold hundreds of hours.
   std::array<std::vector<float>, kNumChannels> samples;
+  // Held by another process of an MPI job (trainer/calibrate/shared_dataset.hpp): the name, file,
+  // grid and the two figures below are known here, the samples are not (every channel empty).
+  bool remote = false;
+  std::size_t remote_residuals = 0;  // its count_grid_residuals, from the process that holds it
+  std::string file_sha256;  // the file's hash where the loader took it already (remote cycles), else empty
 
   bool has(Channel c) const;  // at least one valid sample
   float at(Channel c, std::size_t k) const;  // NaN for an absent channel; throws past the end
@@ -70,7 +75,10 @@ struct CycleReport {
 
 struct Dataset {
   std::vector<Cycle> cycles;
-  std::vector<CycleReport> reports;
+  std::vector<CycleReport> reports;  // of the files loaded here
+  // Shared over the processes of an MPI job (trainer/calibrate/shared_dataset.hpp): the cycles are
+  // every rank's, some remote, and whatever reads them joins the ranks' results (a collective call).
+  bool shared = false;
   std::size_t warning_count() const;
 };
 
@@ -81,6 +89,11 @@ class DataError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
 };
+
+// The files load_fleet_dump reads for `paths`, in its order: each path a CSV file or a directory
+// (its *.csv files, sorted by name, not recursive), none twice. Throws DataError for a path that
+// does not exist or a directory without *.csv files.
+std::vector<std::filesystem::path> cycle_files(const std::vector<std::filesystem::path>& paths);
 
 // Each path is a CSV file or a directory (its *.csv files, sorted by name, not recursive).
 // Throws DataError on the first bad file, std::invalid_argument on bad options.

@@ -6,9 +6,33 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "trainer/calibrate/shared_dataset.hpp"
 #include "trainer/model/cooling_factor.hpp"
 
 namespace lptn {
+
+namespace {
+// Each motor's cooling factor against the shared parameters, fitted by the process that holds the
+// motor's cycles; on a shared fleet the factors and their errors are then joined over the processes.
+void fit_motors(const Model<double>& model, const ParamVector<double>& shared, const FleetDump& fleet, int threads,
+                std::vector<FleetMotorResult>& motors) {
+  const std::size_t n = motors.size();
+  std::vector<double> joined(2 * n, 0.0);
+  for (std::size_t m = 0; m < n; ++m) {
+    const std::vector<std::size_t>& cycles = fleet.motor_cycles[m];
+    if (!cycles.empty() && fleet.dataset.cycles[cycles.front()].remote) continue;  // another process's motor
+    motors[m].fit = fit_cooling_factor(model, shared, fleet.dataset, cycles, threads);
+    joined[2 * m] = motors[m].fit.factor;
+    joined[2 * m + 1] = motors[m].fit.log_std_error;
+  }
+  if (!fleet.dataset.shared) return;
+  group_of(fleet.dataset).sum(joined);
+  for (std::size_t m = 0; m < n; ++m) {
+    motors[m].fit.factor = joined[2 * m];
+    motors[m].fit.log_std_error = joined[2 * m + 1];
+  }
+}
+}  // namespace
 
 FleetFit fit_fleet(const MotorFile& motor, const FleetDump& fleet, const std::vector<std::size_t>& train,
                    const FleetSettings& settings, const std::function<void(const std::string&)>& progress) {
@@ -36,11 +60,8 @@ FleetFit fit_fleet(const MotorFile& motor, const FleetDump& fleet, const std::ve
     say(line);
     out.shared = fit_lm(motor, start, fleet.dataset, train, settings.lm, {}, cooling);
     std::vector<double> next(n);
-    for (std::size_t m = 0; m < n; ++m) {
-      out.motors[m].fit = fit_cooling_factor(model, out.shared.values, fleet.dataset, fleet.motor_cycles[m],
-                                             settings.lm.threads);
-      next[m] = std::log(out.motors[m].fit.factor);
-    }
+    fit_motors(model, out.shared.values, fleet, settings.lm.threads, out.motors);
+    for (std::size_t m = 0; m < n; ++m) next[m] = std::log(out.motors[m].fit.factor);
     // The fleet's median motor cools as the shared parameters say.
     const double mid = median(next);
     for (double& x : next) x -= mid;

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "hostio/process_group.hpp"
 #include "trainer/data/dataset.hpp"
 
 namespace lptn {
@@ -20,5 +21,11 @@ struct FleetDump {
 // files beside them (motor.toml, truth.json) are left alone. Throws data::DataError naming `dir`
 // when it holds no motor, and the first bad file as load_fleet_dump does.
 FleetDump load_fleet(const std::filesystem::path& dir, const data::LoadOptions& options = {});
+
+// The same fleet shared over the processes of an MPI job (trainer/calibrate/shared_dataset.hpp):
+// each process loads only its own motors (motor m on rank m mod ranks); the other motors' cycles
+// are remote. Alone, load_fleet.
+FleetDump load_shared_fleet(const std::filesystem::path& dir, const ProcessGroup& group,
+                            const data::LoadOptions& options = {});
 
 }  // namespace lptn
