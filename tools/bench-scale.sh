@@ -8,6 +8,8 @@
 #   tools/bench-scale.sh [HOURS...]    default: 50 200; work in build/bench-scale (about 1 GB per 100 h);
 #                                      then a fleet of FLEET_MOTORS (default 20) motors, 3 cycles each
 #   tools/bench-scale.sh fleet         the fleet alone
+#   tools/bench-scale.sh mpi [HOURS]   the calibration of HOURS (default 200) alone and under
+#                                      `mpirun -np 2` (Open MPI; lptn built with LPTN_WITH_MPI)
 #   LPTN=build/ci/tools/cli/lptn tools/bench-scale.sh   an lptn already built (the ci preset has
 #                                                       the host preset's Release flags)
 set -euo pipefail
@@ -23,7 +25,9 @@ fi
 work=build/bench-scale
 mkdir -p "$work"
 (($# > 0)) || set -- 50 200
+mpi=0
 if [[ $1 == fleet ]]; then set --; fi  # the fleet's row alone
+if [[ $1 == mpi ]]; then mpi=1; set -- "${2:-200}"; fi
 
 # Runs a step under GNU time; prints one table row: step, hours, wall s, CPU s, peak RSS MB.
 measure() {
@@ -46,6 +50,22 @@ for hours in "$@"; do
   if [ ! -f "$fleet/truth.json" ]; then
     "$lptn" generate --out "$fleet" --cycles $((hours * 60 / 75)) --seed 7 --minutes-min 60 --minutes-max 90 \
       --force > "$work/generate-$hours.log" 2>&1
+  fi
+  if ((mpi)); then
+    # One calibration alone, then over 2 processes (each simulating its own files on one core); the
+    # peak RSS is the largest process's. As root Open MPI wants to be told.
+    export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+    measure calibrate "$hours" "$lptn" calibrate --data "$fleet" --motor "$fleet/motor.toml" --method lm --seed 1 \
+      --out "$work/calibration-$hours.json" --force
+    measure calibrate-np2 "$hours" mpirun -np 2 "$lptn" calibrate --data "$fleet" --motor "$fleet/motor.toml" \
+      --method lm --seed 1 --out "$work/calibration-$hours-np2.json" --force
+    python3 -c 'import json, sys
+for f in sys.argv[1:]:
+    d = json.load(open(f))["method"]["details"]
+    print("%s: %d ranks, %d iterations, %d evaluations, %d doubles joined each, %.3f s joining, %.3f s linear solver"
+          % (f, d["mpi_ranks"], d["iterations"], d["evaluations"], d["joined_doubles"], d["join_seconds"],
+             d["linear_solver_seconds"]))' "$work/calibration-$hours.json" "$work/calibration-$hours-np2.json"
+    exit 0
   fi
   measure load "$hours" "$lptn" inspect --data "$fleet"
   measure calibrate "$hours" "$lptn" calibrate --data "$fleet" --motor "$fleet/motor.toml" --method lm --seed 1 \

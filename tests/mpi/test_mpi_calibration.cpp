@@ -1,6 +1,7 @@
 // `mpirun -np N lptn calibrate ...` against the same command in one process, through the CLI a
 // user runs: the calibration (values and standard errors within 1e-9 relative, every metric the
-// same), the fleet's factors and verdicts, and a bad file on one rank failing the whole job.
+// same), the fleet's factors and verdicts, the diagnosis (its LM refits shared), and a bad file
+// on one rank failing the whole job.
 // Open MPI runs here as the real thing (MPIEXEC, ranks oversubscribed on 2 cores).
 #include <gtest/gtest.h>
 
@@ -111,6 +112,51 @@ TEST(MpiCalibration, AFleetSharedByMotorsEqualsOneProcess) {
     outliers += a["outlier"].get<bool>();
   }
   EXPECT_EQ(outliers, 1) << "the weak motor, named in both runs";
+}
+
+// Every number of a JSON document against another's within `tolerance` relative (timings aside),
+// every string and flag equal. Returns how many numbers were compared.
+int expect_same_numbers(const json& a, const json& b, const std::string& path, double tolerance) {
+  if (path.find("seconds") != std::string::npos) return 0;
+  if (a.is_object()) {
+    int n = 0;
+    EXPECT_EQ(a.size(), b.size()) << path;
+    for (const auto& [key, value] : a.items())
+      if (b.contains(key)) n += expect_same_numbers(value, b[key], path + "/" + key, tolerance);
+    return n;
+  }
+  if (a.is_array()) {
+    int n = 0;
+    EXPECT_EQ(a.size(), b.size()) << path;
+    for (std::size_t i = 0; i < a.size() && i < b.size(); ++i)
+      n += expect_same_numbers(a[i], b[i], path + "[" + std::to_string(i) + "]", tolerance);
+    return n;
+  }
+  if (a.is_number_float()) {
+    EXPECT_LE(relative(a.get<double>(), b.get<double>()), tolerance) << path;
+    return 1;
+  }
+  EXPECT_EQ(a, b) << path;
+  return 0;
+}
+
+TEST(MpiCalibration, DiagnoseSharesItsRefitsAndSaysTheSame) {
+  testing::TempDir dir;
+  const std::string dump = (dir.path() / "dump").string();
+  ASSERT_EQ(testing::run("generate --out " + dump + " --cycles 6 --minutes-min 20 --minutes-max 30 --hidden windage --seed 3",
+                         dir.path()).code, 0);
+  const std::string calibration = (dir.path() / "c.json").string();
+  ASSERT_EQ(testing::run("calibrate --quiet --data " + dump + " --motor " + dump + "/motor.toml --out " + calibration,
+                         dir.path()).code, 0);
+  const std::string diagnose = "diagnose --quiet --data " + dump + " --calibration " + calibration + " --json-out ";
+  const testing::Result one = lptn_on(1, diagnose + (dir.path() / "one.json").string(), dir.path());
+  ASSERT_EQ(one.code, 0) << one.err;
+  const testing::Result two = lptn_on(2, diagnose + (dir.path() / "two.json").string(), dir.path());
+  ASSERT_EQ(two.code, 0) << two.err;
+  EXPECT_EQ(one.out, two.out) << "the verdict a user reads, printed once";
+  EXPECT_NE(one.out.find("windage"), std::string::npos) << one.out;
+  const int numbers = expect_same_numbers(read_json(dir.path() / "one.json"), read_json(dir.path() / "two.json"), "", 1e-9);
+  EXPECT_GT(numbers, 100);
 }
 
 TEST(MpiCalibration, ABadFileOnOneRankFailsTheJobAndWritesNothing) {

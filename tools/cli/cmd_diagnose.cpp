@@ -6,12 +6,15 @@
 #include <cstdio>
 #include <ctime>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "tools/cli/commands.hpp"
+#include "hostio/process_group.hpp"
 #include "hostio/progress_line.hpp"
 #include "trainer/calibrate/calibration_file.hpp"
+#include "trainer/calibrate/shared_dataset.hpp"
 #include "trainer/data/dataset.hpp"
 #include "trainer/diagnose/diagnose.hpp"
 #include "hostio/atomic_file.hpp"
@@ -124,7 +127,15 @@ void print_table(const diagnose::Diagnosis& d, double level) {
                 "inputs it follows).\n", level, diagnose::Settings{}.block_level);
 }
 
-void run(const Args& a) {
+void run(const Args& given) {
+  // Under mpirun the LM refits are shared over the processes (each simulates its share of the
+  // cycles); every rank holds the whole dump and does the rest too; rank 0 alone speaks and writes.
+  const ProcessGroup& group = ProcessGroup::world();
+  Args a = given;
+  if (!group.leads()) {
+    a.quiet = true;
+    if (std::freopen("/dev/null", "w", stdout) == nullptr) throw std::runtime_error("cannot silence rank " + std::to_string(group.rank()));
+  }
   if (!a.out.empty() && !a.automatic) throw BadInput("--out: only with --auto (the calibration after forward selection)");
   refuse_overwrite(a.out, a.force);
   refuse_overwrite(a.json_out, a.force);
@@ -137,7 +148,8 @@ void run(const Args& a) {
   }
   const MotorFile motor = motor_of(calibration);
   std::vector<std::filesystem::path> paths(a.data.begin(), a.data.end());
-  const data::Dataset dataset = data::load_fleet_dump(paths);
+  data::Dataset dataset = data::load_fleet_dump(paths);
+  share_work(dataset, group);
   const Split split = a.test_cycles.empty() ? split_of(calibration, dataset)
                                             : split_cycles(dataset, a.test_cycles, 0.0, 0);
   diagnose::Settings settings;
@@ -160,7 +172,7 @@ void run(const Args& a) {
     const nlohmann::json j = diagnose::to_json(d);
     if (a.json) std::printf("%s\n", j.dump(2).c_str());
     else print_table(d, a.level);
-    if (!a.json_out.empty()) write_file_atomically(a.json_out, j.dump(2) + "\n");
+    if (!a.json_out.empty() && group.leads()) write_file_atomically(a.json_out, j.dump(2) + "\n");
     return;
   }
   int round = 0;
@@ -177,7 +189,7 @@ void run(const Args& a) {
   j["added"] = s.added;
   j["rounds"] = nlohmann::json::array();
   for (const diagnose::Diagnosis& d : s.rounds) j["rounds"].push_back(diagnose::to_json(d));
-  if (!a.json_out.empty()) write_file_atomically(a.json_out, j.dump(2) + "\n");
+  if (!a.json_out.empty() && group.leads()) write_file_atomically(a.json_out, j.dump(2) + "\n");
   if (a.json) {
     std::printf("%s\n", j.dump(2).c_str());
   } else {
@@ -189,6 +201,7 @@ void run(const Args& a) {
   CalibrationResult r = diagnose::updated_calibration(calibration, s.motor, last.baseline, dataset, split,
                                                       "lptn diagnose --auto from " + a.calibration);
   r.created_utc = utc_now();
+  if (!group.leads()) return;
   save_calibration(r, a.out);
   if (!a.json) std::printf("%s written (effects: %s)\n", a.out.c_str(), effect_list(r.effects).c_str());
 }

@@ -225,6 +225,7 @@ class SharedEvaluation final : public ceres::EvaluationCallback {
   }
 
   void PrepareForEvaluation(bool evaluate_jacobians, bool /*new_evaluation_point*/) override {
+    ++evaluations_;
     std::fill(buffer_.begin(), buffer_.end(), 0.0);
     parallel_for(blocks_.size(), threads_, [&](std::size_t b) {
       if (!blocks_[b]) return;
@@ -234,10 +235,16 @@ class SharedEvaluation final : public ceres::EvaluationCallback {
       const bool ok = blocks_[b]->Evaluate(parameters_[b].data(), residuals, evaluate_jacobians ? jacobians : nullptr);
       slot[0] = ok ? 0.0 : 1.0;
     });
+    const auto t0 = std::chrono::steady_clock::now();
     group_.sum(buffer_);
+    join_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
 
   const double* slot(std::size_t b) const { return buffer_.data() + b * slot_size(); }
+  int evaluations() const { return evaluations_; }
+  // Time in the sums over the processes (waiting for the slowest rank included), and their size.
+  double join_seconds() const { return join_seconds_; }
+  std::size_t joined_doubles() const { return buffer_.size(); }
 
  private:
   const ProcessGroup& group_;
@@ -246,6 +253,8 @@ class SharedEvaluation final : public ceres::EvaluationCallback {
   std::vector<std::unique_ptr<CycleBlock>> blocks_;
   std::vector<std::array<const double*, 2>> parameters_;
   std::vector<double> buffer_;
+  int evaluations_ = 0;
+  double join_seconds_ = 0;
 };
 
 // What Ceres sees of one cycle: its slot of the shared evaluation.
@@ -422,6 +431,10 @@ LmReport fit_lm(const MotorFile& motor, const ParamVector<double>& start, const 
   report.converged = summary.termination_type == ceres::CONVERGENCE;
   report.termination = summary.message;
   report.rmse_k = std::sqrt(2.0 * summary.final_cost / static_cast<double>(report.residuals));
+  report.evaluations = shared.evaluations();
+  report.joined_doubles = shared.joined_doubles();
+  report.join_seconds = shared.join_seconds();
+  report.linear_solver_seconds = summary.linear_solver_time_in_seconds;
   for (std::size_t j = 0; j < nf; ++j) report.values[free.index[j]] = free.to_physical(j, theta[j]);
   for (std::size_t i = 0; i < cycles.size(); ++i) report.offsets[i] = {offsets[i][0], offsets[i][1]};
 
@@ -478,7 +491,12 @@ LmReport fit_lm(const MotorFile& motor, const ParamVector<double>& start, const 
 NormalEquations normal_equations(const Model<double>& model, const FreeParameters& free, const ParamVector<double>& at,
                                  const data::Dataset& dataset, const std::vector<std::size_t>& cycles,
                                  const std::vector<InitialOffsets<double>>& offsets, int threads) {
-  if (dataset.shared) throw std::logic_error("normal_equations: not for a dataset shared over processes");
+  // Computed whole on every process: the cycles' samples must be here (share_work's, not load_shared_dump's).
+  for (std::size_t c : cycles) {
+    const data::Cycle& cycle = dataset.cycles[c];
+    if (cycle.remote && std::all_of(cycle.samples.begin(), cycle.samples.end(), [](const auto& v) { return v.empty(); }))
+      throw std::logic_error("normal_equations: cycle " + cycle.name + " is held by another process");
+  }
   const std::size_t nf = free.size();
   std::vector<double> theta(nf);
   for (std::size_t j = 0; j < nf; ++j) theta[j] = free.to_internal(j, at[free.index[j]]);

@@ -39,6 +39,13 @@ struct LmReport {
   std::string termination;
   double seconds = 0;
   int mpi_ranks = 1;  // the processes that shared the fit (the dataset's, trainer/calibrate/shared_dataset.hpp)
+  // Where the time went, for the cost of sharing: the evaluations of every cycle (each one
+  // simulation of the cycle, with or without Jets), the doubles each sums over the processes, the
+  // seconds in those sums (waiting for the slowest rank included), and Ceres' linear algebra.
+  int evaluations = 0;
+  std::size_t joined_doubles = 0;
+  double join_seconds = 0;
+  double linear_solver_seconds = 0;
 };
 
 // Called after every iteration: (iteration, RMSE over all residuals in K, seconds so far).

@@ -35,7 +35,9 @@ void record_lm_fit(CalibrationResult& r, const LmReport& fit, const FreeParamete
                {"final_cost_k2", fit.final_cost}, {"residuals", fit.residuals},
                {"rmse_k", fit.rmse_k},           {"correlation_time", fit.correlation_time},
                {"at_bound", at_bound},           {"correlation", {{"parameters", names}, {"matrix", fit.correlation}}},
-               {"initial_offsets", offsets},     {"mpi_ranks", fit.mpi_ranks}};
+               {"initial_offsets", offsets},     {"mpi_ranks", fit.mpi_ranks},
+               {"evaluations", fit.evaluations},  {"joined_doubles", fit.joined_doubles},
+               {"join_seconds", fit.join_seconds}, {"linear_solver_seconds", fit.linear_solver_seconds}};
   r.seconds = fit.seconds;
 }
 

@@ -62,6 +62,17 @@ data::Dataset join_units(std::size_t units, std::vector<LoadedUnit> mine, const 
   return out;
 }
 
+void share_work(data::Dataset& dataset, const ProcessGroup& group) {
+  if (!group.shared()) return;
+  for (std::size_t i = 0; i < dataset.cycles.size(); ++i) {
+    data::Cycle& c = dataset.cycles[i];
+    if (owner_of_unit(i, group) == group.rank()) continue;
+    c.remote_residuals = count_grid_residuals(c);
+    c.remote = true;  // its samples stay: only the shared computations leave it to its rank
+  }
+  dataset.shared = true;
+}
+
 data::Dataset load_shared_dump(const std::vector<std::filesystem::path>& paths, const ProcessGroup& group,
                                const data::LoadOptions& options) {
   if (!group.shared()) return data::load_fleet_dump(paths, options);

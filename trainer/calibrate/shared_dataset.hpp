@@ -35,6 +35,12 @@ data::Dataset join_units(std::size_t units, std::vector<LoadedUnit> mine, const 
 data::Dataset load_shared_dump(const std::vector<std::filesystem::path>& paths, const ProcessGroup& group,
                                const data::LoadOptions& options = {});
 
+// Shares the work on a dataset every process holds whole (loaded by each): the shared computations
+// (fit_lm, evaluate_split, the correlation time) then simulate cycle i on rank i mod ranks only
+// and join the results, while everything else still sees every cycle. For commands whose other
+// work needs every cycle on every rank (lptn diagnose, whose LM refits are what takes long).
+void share_work(data::Dataset& dataset, const ProcessGroup& group);
+
 // The processes `dataset` is shared over: the MPI job's where it is shared, else this one alone.
 inline const ProcessGroup& group_of(const data::Dataset& dataset) {
   return dataset.shared ? ProcessGroup::world() : ProcessGroup::alone();
