@@ -159,7 +159,8 @@ void run(const CalibrateArgs& given, Td3Calibrator td3) {
 }  // namespace
 
 void add_calibrate(CLI::App& app, Td3Calibrator td3) {
-  auto* cmd = app.add_subcommand("calibrate", "Fit the model's parameters to a fleet dump (LM or TD3) and write calibration.json");
+  auto* cmd = app.add_subcommand("calibrate", "Fit the model's parameters to a fleet dump (LM or TD3) and write calibration.json; under "
+                                                 "`mpirun -np N`, LM shares the files (or --fleet's motors) over N processes");
   auto a = std::make_shared<CalibrateArgs>();
   auto* data = cmd->add_option("--data", a->data, "Directories of cycle CSVs, or CSV files")->expected(1, -1);
   auto* fleet = cmd->add_option("--fleet", a->fleet,

@@ -211,7 +211,8 @@ void run(const Args& given) {
 void add_diagnose(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "diagnose", "Is the calibrated model adequate, did the motor drift between cycles, and which effect of the library or "
-                  "term of the dictionary does it lack (score test, refit, block test, held-out error)");
+                  "term of the dictionary does it lack (score test, refit, block test, held-out error); under `mpirun -np N` "
+                  "its LM refits are shared over N processes");
   auto a = std::make_shared<Args>();
   cmd->add_option("--data", a->data, "Directories of cycle CSVs, or CSV files (the data the calibration was made from)")
       ->required()
