@@ -186,5 +186,19 @@ TEST(MpiCalibration, ABadFileOnOneRankFailsTheJobAndWritesNothing) {
   EXPECT_FALSE(fs::exists(out));
 }
 
+TEST(MpiCalibration, Td3UnderMpirunIsRefusedNotRunOnEveryRank) {
+  testing::TempDir dir;
+  ASSERT_EQ(testing::run("generate --out " + (dir.path() / "dump").string() + " --cycles 2 --minutes-min 5 --minutes-max 6",
+                         dir.path()).code, 0);
+  const fs::path out = dir.path() / "c.json";
+  const testing::Result r = lptn_on(2,
+                                    "calibrate --method td3 --data " + (dir.path() / "dump").string() + " --motor " +
+                                        (dir.path() / "dump" / "motor.toml").string() + " --out " + out.string(),
+                                    dir.path());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("not shared over MPI"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(out));
+}
+
 }  // namespace
 }  // namespace lptn

@@ -106,6 +106,10 @@ void print_metrics(const char* side, const SplitMetrics& m) {
 
 void run(const CalibrateArgs& given, Td3Calibrator td3) {
   // LM shares its work over the processes of an MPI job, if one started this; rank 0 speaks and writes.
+  // TD3 does not: every rank would train the same agent and write the same files.
+  if (given.method != "lm" && launched_by_mpi())
+    throw BadInput("--method " + given.method +
+                   ": TD3 is not shared over MPI processes (only --method lm is); run it without mpirun");
   const ProcessGroup& group = given.method == "lm" ? ProcessGroup::world() : ProcessGroup::alone();
   CalibrateArgs a = given;
   a.quiet = a.quiet || !group.leads();
