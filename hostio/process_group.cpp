@@ -1,6 +1,8 @@
 #include "hostio/process_group.hpp"
 
+#include <cstdint>
 #include <cstdlib>
+#include <string>
 #include <stdexcept>
 
 #if LPTN_WITH_MPI
@@ -79,6 +81,24 @@ std::vector<std::string> ProcessGroup::gather(const std::string& mine) const {
   return out;
 }
 
+void ProcessGroup::send(int to, const std::string& bytes) const {
+  if (!shared() || to == rank_ || to < 0 || to >= size_) throw std::logic_error("ProcessGroup::send: no rank " + std::to_string(to));
+  if (bytes.size() > static_cast<std::size_t>(INT32_MAX)) throw std::length_error("ProcessGroup::send: over 2 GB");
+  MPI_Send(bytes.data(), static_cast<int>(bytes.size()), MPI_CHAR, to, 0, MPI_COMM_WORLD);
+}
+
+std::string ProcessGroup::receive(int from) const {
+  if (!shared() || from == rank_ || from < 0 || from >= size_)
+    throw std::logic_error("ProcessGroup::receive: no rank " + std::to_string(from));
+  MPI_Status status;
+  MPI_Probe(from, 0, MPI_COMM_WORLD, &status);
+  int count = 0;
+  MPI_Get_count(&status, MPI_CHAR, &count);
+  std::string bytes(static_cast<std::size_t>(count), '\0');
+  MPI_Recv(bytes.data(), count, MPI_CHAR, from, 0, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+  return bytes;
+}
+
 void ProcessGroup::abort(int code) const {
   if (shared()) MPI_Abort(MPI_COMM_WORLD, code);
   std::exit(code);
@@ -97,6 +117,14 @@ const ProcessGroup& ProcessGroup::world() {
 void ProcessGroup::sum(double*, std::size_t) const {}
 
 std::vector<std::string> ProcessGroup::gather(const std::string& mine) const { return {mine}; }
+
+void ProcessGroup::send(int to, const std::string&) const {
+  throw std::logic_error("ProcessGroup::send: no rank " + std::to_string(to) + " (built without MPI)");
+}
+
+std::string ProcessGroup::receive(int from) const {
+  throw std::logic_error("ProcessGroup::receive: no rank " + std::to_string(from) + " (built without MPI)");
+}
 
 void ProcessGroup::abort(int code) const { std::exit(code); }
 

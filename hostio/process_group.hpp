@@ -37,6 +37,10 @@ class ProcessGroup {
   void sum(std::vector<double>& values) const { sum(values.data(), values.size()); }
   // Every rank's string, in rank order, on every rank (MPI_Allgatherv).
   std::vector<std::string> gather(const std::string& mine) const;
+  // Bytes from this rank to rank `to`, and from `from` to this one (blocking MPI_Send / MPI_Recv;
+  // the receiver learns the size). Alone there is no other rank: std::logic_error.
+  void send(int to, const std::string& bytes) const;
+  std::string receive(int from) const;
   // Ends every rank of the job with `code` (MPI_Abort): one rank's error must not leave the others
   // waiting in a sum forever. Alone: std::exit.
   [[noreturn]] void abort(int code) const;

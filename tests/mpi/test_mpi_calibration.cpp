@@ -66,6 +66,19 @@ void expect_same_calibration(const json& one, const json& many, int ranks) {
   EXPECT_EQ(one["method"]["details"]["residuals"], many["method"]["details"]["residuals"]);
   EXPECT_EQ(one["method"]["details"]["mpi_ranks"], 1);
   EXPECT_EQ(many["method"]["details"]["mpi_ranks"], ranks);
+  const auto shares = many["method"]["details"]["rank_residuals"].get<std::vector<std::size_t>>();
+  ASSERT_EQ(shares.size(), static_cast<std::size_t>(ranks));
+  std::size_t sum = 0;
+  for (std::size_t n : shares) sum += n;
+  EXPECT_EQ(sum, one["method"]["details"]["residuals"].get<std::size_t>());
+}
+
+// The training work spread evenly: no rank idles in the sums while another simulates. Within one
+// cycle's worth of residuals of each other (the balance moves whole cycles).
+void expect_balanced(const json& calibration, std::size_t largest_cycle) {
+  const auto shares = calibration["method"]["details"]["rank_residuals"].get<std::vector<std::size_t>>();
+  const auto [low, high] = std::minmax_element(shares.begin(), shares.end());
+  EXPECT_LE(*high - *low, largest_cycle) << calibration["method"]["details"]["rank_residuals"];
 }
 
 TEST(MpiCalibration, EqualsOneProcessOnEveryRankCount) {
@@ -85,7 +98,10 @@ TEST(MpiCalibration, EqualsOneProcessOnEveryRankCount) {
     const testing::Result r = lptn_on(ranks, common + out.string(), dir.path());
     ASSERT_EQ(r.code, 0) << r.err;
     SCOPED_TRACE(std::to_string(ranks) + " ranks");
-    expect_same_calibration(one, read_json(out), ranks);
+    const json many = read_json(out);
+    expect_same_calibration(one, many, ranks);
+    // 30 minutes at 10 Hz, two sensors: no cycle has more residuals.
+    expect_balanced(many, 2 * 30 * 600);
   }
 }
 

@@ -130,8 +130,9 @@ void run(const CalibrateArgs& given, Td3Calibrator td3) {
   for (int e : added) enable_effect(motor, e);
   if (!a.fleet.empty()) return run_fleet(a, motor, group);
   std::vector<std::filesystem::path> paths(a.data.begin(), a.data.end());
-  const data::Dataset dataset = load_shared_dump(paths, group);
+  data::Dataset dataset = load_shared_dump(paths, group);
   const Split split = split_cycles(dataset, a.test_cycles, a.test_fraction, a.seed);
+  if (a.method == "lm") balance_training(dataset, split.train, group);
 
   CalibrationResult r = new_calibration(motor, a.motor, dataset, split);
   if (!a.quiet)

@@ -400,6 +400,15 @@ LmReport fit_lm(const MotorFile& motor, const ParamVector<double>& start, const 
     }
   }
   if (report.residuals == 0) throw std::runtime_error("no training cycle has a stator or rotor measurement");
+  {
+    // Each process's share of the work (its cycles' residuals), for the balance it reports.
+    std::vector<double> share(static_cast<std::size_t>(group.size()), 0.0);
+    for (std::size_t i = 0; i < cycles.size(); ++i)
+      if (!dataset.cycles[cycles[i]].remote)
+        share[static_cast<std::size_t>(group.rank())] += static_cast<double>(count_grid_residuals(dataset.cycles[cycles[i]]));
+    group.sum(share);
+    for (double n : share) report.rank_residuals.push_back(static_cast<std::size_t>(n));
+  }
   for (std::size_t j = 0; j < nf; ++j) {
     problem.SetParameterLowerBound(theta.data(), static_cast<int>(j), free.to_internal(j, free.min[j]));
     problem.SetParameterUpperBound(theta.data(), static_cast<int>(j), free.to_internal(j, free.max[j]));

@@ -39,6 +39,7 @@ struct LmReport {
   std::string termination;
   double seconds = 0;
   int mpi_ranks = 1;  // the processes that shared the fit (the dataset's, trainer/calibrate/shared_dataset.hpp)
+  std::vector<std::size_t> rank_residuals;  // per process: the residuals of the cycles it simulated
   // Where the time went, for the cost of sharing: the evaluations of every cycle (each one
   // simulation of the cycle, with or without Jets), the doubles each sums over the processes, the
   // seconds in those sums (waiting for the slowest rank included), and Ceres' linear algebra.

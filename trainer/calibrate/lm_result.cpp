@@ -36,6 +36,7 @@ void record_lm_fit(CalibrationResult& r, const LmReport& fit, const FreeParamete
                {"rmse_k", fit.rmse_k},           {"correlation_time", fit.correlation_time},
                {"at_bound", at_bound},           {"correlation", {{"parameters", names}, {"matrix", fit.correlation}}},
                {"initial_offsets", offsets},     {"mpi_ranks", fit.mpi_ranks},
+               {"rank_residuals", fit.rank_residuals},
                {"evaluations", fit.evaluations},  {"joined_doubles", fit.joined_doubles},
                {"join_seconds", fit.join_seconds}, {"linear_solver_seconds", fit.linear_solver_seconds}};
   r.seconds = fit.seconds;

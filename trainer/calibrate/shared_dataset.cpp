@@ -1,5 +1,7 @@
 #include "trainer/calibrate/shared_dataset.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
@@ -60,6 +62,102 @@ data::Dataset join_units(std::size_t units, std::vector<LoadedUnit> mine, const 
       if (unit_of_cycle != nullptr) unit_of_cycle->push_back(u);
     }
   return out;
+}
+
+namespace {
+
+// A cycle's samples as bytes: a JSON header (grid, name, file, which channels) and the channels'
+// floats as they lie in memory (both ranks are one build on one kind of machine).
+std::string pack(const data::Cycle& c) {
+  nlohmann::json present = nlohmann::json::array();
+  for (const auto& channel : c.samples) present.push_back(!channel.empty());
+  const std::string header = nlohmann::json{{"name", c.name}, {"steps", c.steps}, {"present", present}}.dump();
+  std::string bytes = std::to_string(header.size()) + "\n" + header;
+  for (const auto& channel : c.samples)
+    bytes.append(reinterpret_cast<const char*>(channel.data()), channel.size() * sizeof(float));
+  return bytes;
+}
+
+void unpack(const std::string& bytes, data::Cycle& c) {
+  const std::size_t newline = bytes.find('\n');
+  const std::size_t length = std::stoul(bytes.substr(0, newline));
+  const nlohmann::json header = nlohmann::json::parse(bytes.substr(newline + 1, length));
+  if (header.at("name").get<std::string>() != c.name || header.at("steps").get<std::size_t>() != c.steps)
+    throw std::logic_error("balance_training: received " + header.at("name").get<std::string>() + " for " + c.name);
+  std::size_t at = newline + 1 + length;
+  for (std::size_t ch = 0; ch < c.samples.size(); ++ch) {
+    c.samples[ch].clear();
+    if (!header.at("present").at(ch).get<bool>()) continue;
+    c.samples[ch].resize(c.steps);
+    std::copy_n(bytes.data() + at, c.steps * sizeof(float), reinterpret_cast<char*>(c.samples[ch].data()));
+    at += c.steps * sizeof(float);
+  }
+}
+
+}  // namespace
+
+void balance_training(data::Dataset& dataset, const std::vector<std::size_t>& train, const ProcessGroup& group) {
+  if (!group.shared()) return;
+  // Who holds each cycle, from each rank's list of its own.
+  std::string mine;
+  for (std::size_t i = 0; i < dataset.cycles.size(); ++i)
+    if (!dataset.cycles[i].remote) mine += std::to_string(i) + " ";
+  std::vector<int> holder(dataset.cycles.size(), -1);
+  const std::vector<std::string> held = group.gather(mine);
+  for (int r = 0; r < group.size(); ++r) {
+    std::size_t at = 0;
+    const std::string& list = held[static_cast<std::size_t>(r)];
+    while (at < list.size()) {
+      const std::size_t space = list.find(' ', at);
+      holder[std::stoul(list.substr(at, space - at))] = r;
+      at = space + 1;
+    }
+  }
+  // The plan: residual counts are known on every rank (remote cycles carry theirs).
+  std::vector<double> load(static_cast<std::size_t>(group.size()), 0.0);
+  std::vector<std::pair<double, std::size_t>> weight;  // (residuals, cycle), largest first
+  for (std::size_t c : train) {
+    const auto w = static_cast<double>(count_grid_residuals(dataset.cycles[c]));
+    load[static_cast<std::size_t>(holder[c])] += w;
+    weight.emplace_back(w, c);
+  }
+  std::sort(weight.begin(), weight.end(), [](const auto& a, const auto& b) { return a.first > b.first || (a.first == b.first && a.second < b.second); });
+  struct Move {
+    std::size_t cycle;
+    int from, to;
+  };
+  std::vector<Move> moves;
+  for (;;) {
+    const auto most = static_cast<int>(std::max_element(load.begin(), load.end()) - load.begin());
+    const auto least = static_cast<int>(std::min_element(load.begin(), load.end()) - load.begin());
+    const double gap = load[static_cast<std::size_t>(most)] - load[static_cast<std::size_t>(least)];
+    // The most loaded rank's cycle that best halves the gap (moving w leaves |gap - 2w|; any w in
+    // (0, gap) lowers the sum of squared loads, so the plan ends).
+    auto pick = weight.end();
+    for (auto w = weight.begin(); w != weight.end(); ++w)
+      if (holder[w->second] == most && w->first > 0 && w->first < gap &&
+          (pick == weight.end() || std::abs(gap - 2 * w->first) < std::abs(gap - 2 * pick->first)))
+        pick = w;
+    if (pick == weight.end() || moves.size() >= train.size()) break;
+    moves.push_back({pick->second, most, least});
+    holder[pick->second] = least;
+    load[static_cast<std::size_t>(most)] -= pick->first;
+    load[static_cast<std::size_t>(least)] += pick->first;
+  }
+  // Every rank walks the moves in the same order: the earliest unfinished one always has both of
+  // its ranks at it, so blocking sends cannot wait on each other in a ring.
+  for (const Move& m : moves) {
+    data::Cycle& c = dataset.cycles[m.cycle];
+    if (group.rank() == m.from) {
+      c.remote_residuals = count_grid_residuals(c);
+      group.send(m.to, pack(c));
+      for (auto& channel : c.samples) std::vector<float>().swap(channel);
+      c.remote = true;
+    } else if (group.rank() == m.to) {
+      unpack(group.receive(m.from), c);
+      c.remote = false;
+    }
+  }
 }
 
 void share_work(data::Dataset& dataset, const ProcessGroup& group) {

@@ -35,6 +35,13 @@ data::Dataset join_units(std::size_t units, std::vector<LoadedUnit> mine, const 
 data::Dataset load_shared_dump(const std::vector<std::filesystem::path>& paths, const ProcessGroup& group,
                                const data::LoadOptions& options = {});
 
+// Moves whole training cycles between the processes of a shared dataset so that each holds about
+// the same share of the training residuals, the fit's work (a random split can leave one rank
+// with 55 % of them on two). Deterministic: every rank plans the same moves from the same counts
+// (from the most loaded rank to the least, the cycle that best halves their gap, while one does), and
+// sends or receives its own. A collective call; alone, nothing happens.
+void balance_training(data::Dataset& dataset, const std::vector<std::size_t>& train, const ProcessGroup& group);
+
 // Shares the work on a dataset every process holds whole (loaded by each): the shared computations
 // (fit_lm, evaluate_split, the correlation time) then simulate cycle i on rank i mod ranks only
 // and join the results, while everything else still sees every cycle. For commands whose other
