@@ -17,8 +17,8 @@ inline int worker_threads() {
   const unsigned n = std::thread::hardware_concurrency();  // 0 where the machine does not say
   int cores = n == 0 ? 1 : static_cast<int>(n);
   for (const char* name : {"OMPI_COMM_WORLD_LOCAL_SIZE", "MPI_LOCALNRANKS"})
-    if (const char* ranks = std::getenv(name); ranks != nullptr && std::atoi(ranks) > 1)
-      return std::max(1, cores / std::atoi(ranks));
+    if (const char* value = std::getenv(name); value != nullptr)
+      if (const int ranks = std::atoi(value); ranks > 1) return std::max(1, cores / ranks);
   return cores;
 }
 

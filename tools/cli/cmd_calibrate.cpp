@@ -132,7 +132,7 @@ void run(const CalibrateArgs& given, Td3Calibrator td3) {
   std::vector<std::filesystem::path> paths(a.data.begin(), a.data.end());
   data::Dataset dataset = load_shared_dump(paths, group);
   const Split split = split_cycles(dataset, a.test_cycles, a.test_fraction, a.seed);
-  if (a.method == "lm") balance_training(dataset, split.train, group);
+  balance_training(dataset, split.train, group);  // only LM runs shared
 
   CalibrationResult r = new_calibration(motor, a.motor, dataset, split);
   if (!a.quiet)

@@ -383,14 +383,17 @@ LmReport fit_lm(const MotorFile& motor, const ParamVector<double>& start, const 
   report.offsets.assign(cycles.size(), InitialOffsets<double>{});
   std::vector<std::array<double, kOffsets>> offsets(cycles.size(), {0.0, 0.0});
   auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
+  std::size_t local_residuals = 0;  // of the cycles this process simulates
   for (std::size_t i = 0; i < cycles.size(); ++i) {
     const data::Cycle& cycle = dataset.cycles[cycles[i]];
     const std::size_t measured = count_grid_residuals(cycle);
     if (measured == 0) continue;
     report.residuals += measured;
     std::unique_ptr<CycleBlock> local;
-    if (!cycle.remote)
+    if (!cycle.remote) {
+      local_residuals += measured;
       local.reset(make_residuals(model, cycle, free, start, SIZE_MAX, cooling.empty() ? 1.0 : cooling[i]));
+    }
     const std::size_t slot = shared.add(std::move(local), theta.data(), offsets[i].data());
     problem.AddResidualBlock(new SharedBlock(shared, slot, nf), nullptr, theta.data(), offsets[i].data());
     ordering->AddElementToGroup(offsets[i].data(), 0);  // eliminated first: the Schur complement
@@ -403,9 +406,7 @@ LmReport fit_lm(const MotorFile& motor, const ParamVector<double>& start, const 
   {
     // Each process's share of the work (its cycles' residuals), for the balance it reports.
     std::vector<double> share(static_cast<std::size_t>(group.size()), 0.0);
-    for (std::size_t i = 0; i < cycles.size(); ++i)
-      if (!dataset.cycles[cycles[i]].remote)
-        share[static_cast<std::size_t>(group.rank())] += static_cast<double>(count_grid_residuals(dataset.cycles[cycles[i]]));
+    share[static_cast<std::size_t>(group.rank())] = static_cast<double>(local_residuals);
     group.sum(share);
     for (double n : share) report.rank_residuals.push_back(static_cast<std::size_t>(n));
   }

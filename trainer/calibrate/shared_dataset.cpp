@@ -66,8 +66,8 @@ data::Dataset join_units(std::size_t units, std::vector<LoadedUnit> mine, const 
 
 namespace {
 
-// A cycle's samples as bytes: a JSON header (grid, name, file, which channels) and the channels'
-// floats as they lie in memory (both ranks are one build on one kind of machine).
+// A cycle's samples as bytes: a JSON header (name, steps, which channels are present) and those
+// channels' floats as they lie in memory (both ranks are one build on one kind of machine).
 std::string pack(const data::Cycle& c) {
   nlohmann::json present = nlohmann::json::array();
   for (const auto& channel : c.samples) present.push_back(!channel.empty());
@@ -115,13 +115,12 @@ void balance_training(data::Dataset& dataset, const std::vector<std::size_t>& tr
   }
   // The plan: residual counts are known on every rank (remote cycles carry theirs).
   std::vector<double> load(static_cast<std::size_t>(group.size()), 0.0);
-  std::vector<std::pair<double, std::size_t>> weight;  // (residuals, cycle), largest first
+  std::vector<std::pair<double, std::size_t>> weight;  // (residuals, cycle), in the split's order on every rank
   for (std::size_t c : train) {
     const auto w = static_cast<double>(count_grid_residuals(dataset.cycles[c]));
     load[static_cast<std::size_t>(holder[c])] += w;
     weight.emplace_back(w, c);
   }
-  std::sort(weight.begin(), weight.end(), [](const auto& a, const auto& b) { return a.first > b.first || (a.first == b.first && a.second < b.second); });
   struct Move {
     std::size_t cycle;
     int from, to;
