@@ -23,7 +23,7 @@ import sys
 MODULES = [
     "common", "can-dbc", "hostio",
     "firmware/include", "firmware/linux", "firmware/baremetal", "firmware/calibration", "firmware/bench",
-    "trainer/data", "trainer/model", "trainer/calibrate", "trainer/calibrate/lm*", "trainer/td3", "trainer/diagnose",
+    "trainer/data", "trainer/model", "trainer/calibrate", "trainer/calibrate/lm*", "trainer/td3", "trainer/search", "trainer/diagnose",
     "trainer/fleet",
     "tools/plant", "tools/generate", "tools/export", "tools/dbc", "tools/bus", "tools/canfile", "tools/canlog",
     "tools/replay", "tools/report",
@@ -49,6 +49,8 @@ DEPENDS = {
     # LM (Ceres) sits above what every calibrator shares, so that reading a calibration needs no Ceres.
     "trainer/calibrate/lm*": ["trainer/calibrate"],
     "trainer/td3": ["trainer/calibrate"],
+    # Random search and CMA-ES: the baselines that show what TD3's learning adds (no libtorch).
+    "trainer/search": ["trainer/calibrate"],
     "trainer/diagnose": ["trainer/calibrate/lm*"],
     "trainer/fleet": ["trainer/calibrate/lm*"],
     "tools/plant": ["common"],
@@ -62,13 +64,14 @@ DEPENDS = {
     "tools/replay": ["trainer/calibrate", "tools/canfile", "firmware/calibration"],
     "tools/report": ["trainer/diagnose", "trainer/fleet"],
     "tools/cli": ["tools/generate", "tools/export", "tools/bus", "tools/canfile", "tools/canlog", "tools/replay",
-                  "tools/report", "trainer/td3", "trainer/diagnose", "trainer/fleet"],
+                  "tools/report", "trainer/td3", "trainer/search", "trainer/diagnose", "trainer/fleet"],
     "tools/vcan-bench": ["tools/replay", "tools/bus"],
     "tests": [m for m in MODULES if m not in ("tests", "firmware/bench")],
 }
 
 # Internal headers the tests of a module may reach (its own tests, beside the code).
-INTERNAL_FOR_TESTS = {"common", "trainer/calibrate", "trainer/diagnose", "trainer/data", "trainer/td3", "trainer/fleet"}
+INTERNAL_FOR_TESTS = {"common", "trainer/calibrate", "trainer/diagnose", "trainer/data", "trainer/td3", "trainer/search",
+                      "trainer/fleet"}
 
 # Module roots a quoted include may be relative to, and headers generated into the build tree.
 ROOTS = ["", "common", "firmware/include"]

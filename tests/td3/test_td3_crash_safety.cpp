@@ -122,18 +122,35 @@ nlohmann::json result_of(const fs::path& file) {
   return out;
 }
 
-TEST(Td3CrashSafety, KilledAtRandomMomentsAndResumedItEndsWhereAnUninterruptedRunEnds) {
+// A formulation and a budget that runs in seconds, with a checkpoint after every episode (round).
+struct Formulation {
+  const char* method;
+  const char* config;
+};
+std::ostream& operator<<(std::ostream& o, const Formulation& f) { return o << f.method; }
+
+class Td3CrashSafety : public ::testing::TestWithParam<Formulation> {};
+
+INSTANTIATE_TEST_SUITE_P(
+    Formulations, Td3CrashSafety,
+    ::testing::Values(Formulation{"td3",
+                                "random_episodes = 2\ncheckpoint_every = 1\n[sequential]\nenvironments = 2\nsteps_per_episode = 4\n"
+                                "rollout_starts = 2\nupdates_per_step = 40\n[agent]\nhidden = 64\nbatch_size = 64\n"},
+                    Formulation{"td3-paper",
+                                "max_steps_per_episode = 3000\nrandom_episodes = 2\nupdates_per_episode = 400\n"
+                                "checkpoint_every = 1\n[agent]\nhidden = 64\nbatch_size = 64\n"}),
+    [](const ::testing::TestParamInfo<Formulation>& i) { return i.param.method == std::string("td3") ? std::string("sequential") : std::string("paper"); });
+
+TEST_P(Td3CrashSafety, KilledAtRandomMomentsAndResumedItEndsWhereAnUninterruptedRunEnds) {
   testing::TempDir dir;
   const fs::path data = dir.path() / "fleet", config = dir.path() / "small.toml";
   const fs::path log = dir.path() / "log.txt";
   ASSERT_EQ(std::system((std::string(LPTN_BINARY) + " generate --out " + data.string() +
                          " --cycles 3 --seed 4 --minutes-min 6 --minutes-max 8 > /dev/null 2>&1").c_str()), 0);
-  // The paper's formulation on a budget that runs in seconds, with a checkpoint after every episode.
-  std::ofstream(config) << "max_steps_per_episode = 3000\nrandom_episodes = 2\nupdates_per_episode = 400\n"
-                           "checkpoint_every = 1\n[agent]\nhidden = 64\nbatch_size = 64\n";
+  std::ofstream(config) << GetParam().config;
   const auto args = [&](const std::string& out, const std::string& checkpoints) {
     return std::vector<std::string>{"calibrate", "--data", data.string(), "--motor", (data / "motor.toml").string(),
-                                    "--method", "td3", "--config", config.string(), "--episodes", "14", "--seed", "3",
+                                    "--method", GetParam().method, "--config", config.string(), "--episodes", "14", "--seed", "3",
                                     "--out", out, "--checkpoint-dir", checkpoints, "--force", "--quiet"};
   };
 

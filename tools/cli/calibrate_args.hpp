@@ -14,12 +14,13 @@ namespace lptn::cli {
 
 struct CalibrateArgs {
   std::vector<std::string> data;
-  std::string motor, method = "lm", out, config, checkpoint_dir, fleet;
+  std::string motor, method = "lm", out, config, checkpoint_dir, fleet, warm_start;
   std::vector<std::string> test_cycles, effects;
   double test_fraction = 1.0 / 3.0;
   std::uint64_t seed = 1;
   int episodes = 0;
-  bool resume = false, force = false, quiet = false, seed_given = false;
+  std::size_t budget_steps = 0;  // random-search, cma-es (0: their default)
+  bool resume = false, force = false, quiet = false, seed_given = false, test_curve = false;
 };
 
 // Runs a TD3 formulation (`args.method`) and writes what it found into `result`. Only lptn-td3

@@ -19,6 +19,7 @@
 #include "trainer/calibrate/shared_dataset.hpp"
 #include "trainer/fleet/fleet_file.hpp"
 #include "trainer/model/motor_effects.hpp"
+#include "trainer/search/search.hpp"
 
 namespace lptn::cli {
 namespace {
@@ -36,6 +37,33 @@ void run_lm(const CalibrateArgs& a, const MotorFile& motor, const data::Dataset&
                               });
   line.finish();
   record_lm_fit(r, rep, FreeParameters::from_motor(motor), r.train_cycles, to_json(settings));
+}
+
+// Random search or CMA-ES: the benchmark's baselines beside TD3 (no libtorch).
+void run_search(const CalibrateArgs& a, const MotorFile& motor, const data::Dataset& dataset, const Split& split,
+                CalibrationResult& r) {
+  const SearchMethod method = a.method == "cma-es" ? SearchMethod::cma_es : SearchMethod::random;
+  SearchSettings settings;
+  settings.seed = a.seed;
+  if (a.budget_steps > 0) settings.budget_steps = a.budget_steps;
+  ProgressLine line(a.quiet);
+  const SearchOutcome o = search_calibration(method, motor, dataset, split.train, settings,
+                                             [&](std::size_t steps, std::size_t budget, double best, double seconds) {
+                                               const double done = std::min(1.0, double(steps) / double(budget));
+                                               char buf[200];
+                                               std::snprintf(buf, sizeof buf, "%s: %5.1f G of %.1f G model steps %s best %.4f K  %s elapsed",
+                                                             to_string(method), steps / 1e9, budget / 1e9,
+                                                             ProgressLine::bar(done).c_str(), best, ProgressLine::clock(seconds).c_str());
+                                               line.update(buf, done >= 1.0);
+                                             });
+  line.finish();
+  for (int i = 0; i < kNumParams; ++i) r.parameters[static_cast<std::size_t>(i)].value = o.values[i];
+  r.method = to_string(method);
+  r.settings = to_json(settings);
+  r.details = {{"simulated_steps", o.simulated_steps}, {"evaluations", o.evaluations}, {"best_train_rmse_k", o.best_train_rmse_k},
+               {"result", "the best of the three best sets scored on the training grid, re-scored on the data's own grid with the "
+                          "metrics' start offsets"}};
+  r.seconds = o.seconds;
 }
 
 #if LPTN_WITH_TD3
@@ -107,16 +135,16 @@ void print_metrics(const char* side, const SplitMetrics& m) {
 void run(const CalibrateArgs& given, Td3Calibrator td3) {
   // LM shares its work over the processes of an MPI job, if one started this; rank 0 speaks and writes.
   // TD3 does not: every rank would train the same agent and write the same files.
+  const bool search = given.method == "random-search" || given.method == "cma-es";
   if (given.method != "lm" && launched_by_mpi())
-    throw BadInput("--method " + given.method +
-                   ": TD3 is not shared over MPI processes (only --method lm is); run it without mpirun");
+    throw BadInput("--method " + given.method + ": only --method lm is shared over MPI processes; run it without mpirun");
   const ProcessGroup& group = given.method == "lm" ? ProcessGroup::world() : ProcessGroup::alone();
   CalibrateArgs a = given;
   a.quiet = a.quiet || !group.leads();
   if (!a.quiet && group.shared())
     std::printf("sharing the work over %d processes (MPI): each loads and simulates its own %s\n", group.size(),
                 a.fleet.empty() ? "files" : "motors");
-  if (a.method != "lm" && td3 == nullptr) {
+  if (a.method != "lm" && !search && td3 == nullptr) {
 #if LPTN_WITH_TD3
     hand_over_to_td3_program();
 #else
@@ -141,6 +169,7 @@ void run(const CalibrateArgs& given, Td3Calibrator td3) {
   std::fflush(stdout);  // before the progress lines on stderr
 
   if (a.method == "lm") run_lm(a, motor, dataset, split, r);
+  else if (search) run_search(a, motor, dataset, split, r);
   else td3(a, motor, dataset, split, r);
 
   score_calibration(r, motor, dataset, split);
@@ -173,8 +202,9 @@ void add_calibrate(CLI::App& app, Td3Calibrator td3) {
   data->excludes(fleet);
   fleet->excludes(data);
   cmd->add_option("--motor", a->motor, "Motor file: constants, effects, which parameters to calibrate and their bounds")->required();
-  cmd->add_option("--method", a->method, "lm (Levenberg-Marquardt, Ceres), td3 (the paper's per-step agent) or td3-episode (one action per episode)")
-      ->check(CLI::IsMember({"lm", "td3", "td3-episode"}));
+  cmd->add_option("--method", a->method, "lm (Levenberg-Marquardt, Ceres), td3 (an agent that steps through parameter sets), td3-paper (the paper's per-step agent), "
+                  "td3-episode (one action per episode), or the baselines random-search and cma-es")
+      ->check(CLI::IsMember({"lm", "td3", "td3-paper", "td3-episode", "random-search", "cma-es"}));
   cmd->add_option("--out", a->out, "The calibration file to write (JSON, docs/calibration.md)")->required();
   cmd->add_option("--effect", a->effects,
                   "Add an effect to those the motor file enables, with the library's parameter settings (repeatable or comma-separated)")
@@ -182,10 +212,18 @@ void add_calibrate(CLI::App& app, Td3Calibrator td3) {
   cmd->add_option("--test-cycles", a->test_cycles, "Cycles held out for testing, by name (comma-separated)")->delimiter(',');
   cmd->add_option("--test-fraction", a->test_fraction, "Otherwise this fraction of the cycles, drawn with --seed (default 1/3)");
   auto* seed = cmd->add_option("--seed", a->seed, "Seed of the split and of TD3 (a run is repeatable)");
-  cmd->add_option("--config", a->config, "TD3 settings (TOML; docs/td3.toml lists every key)");
+  cmd->add_option("--config", a->config, "TD3 settings (TOML; docs/td3.toml lists every key for td3, docs/td3-paper.toml for td3-paper and td3-episode)");
   cmd->add_option("--episodes", a->episodes, "TD3: stop after this many episodes (overrides max_episodes)");
+  cmd->add_option("--budget-steps", a->budget_steps,
+                  "random-search, cma-es: model steps to spend (default 1.8e9, about what td3 spends with its defaults)")
+      ->check(CLI::PositiveNumber);
   cmd->add_option("--checkpoint-dir", a->checkpoint_dir, "TD3 checkpoints (default: OUT.checkpoints)");
   cmd->add_flag("--resume", a->resume, "TD3: continue after the last checkpoint");
+  cmd->add_option("--warm-start", a->warm_start,
+                  "td3: start from the agent of an earlier td3 calibration (its JSON; the agent file it names lies beside it)");
+  cmd->add_flag("--test-curve", a->test_curve,
+                "td3: after training, score the best set of every checkpoint on the test cycles (method.details.test_curve; "
+                "the benchmark's time to target; training never sees them)");
   cmd->add_flag("--force", a->force, "Replace --out if it exists");
   cmd->add_flag("--quiet", a->quiet, "No progress output");
   cmd->callback([a, seed, td3] {
@@ -193,6 +231,8 @@ void add_calibrate(CLI::App& app, Td3Calibrator td3) {
     if (a->data.empty() && a->fleet.empty()) throw BadInput("calibrate: give --data (one motor) or --fleet (many)");
     if (!a->fleet.empty() && a->method != "lm")
       throw BadInput("--fleet: only --method lm calibrates a fleet (its per-motor factors are LM fits)");
+    if ((!a->warm_start.empty() || a->test_curve) && a->method != "td3")
+      throw BadInput(std::string(a->warm_start.empty() ? "--test-curve" : "--warm-start") + ": only with --method td3");
     run(*a, td3);
   });
 }

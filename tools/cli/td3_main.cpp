@@ -1,8 +1,14 @@
-// lptn-td3: `lptn calibrate` with the TD3 calibrator (libtorch). lptn runs it for --method td3 and
-// td3-episode with the same arguments, so that libtorch is loaded only by the command that uses it.
+// lptn-td3: `lptn calibrate` with the TD3 calibrator (libtorch). lptn runs it for --method td3,
+// td3-paper and td3-episode with the same arguments, so that libtorch is loaded only by the command that uses it.
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "hostio/atomic_file.hpp"
 
 #include "hostio/progress_line.hpp"
 #include "lptn/version.hpp"
@@ -13,9 +19,68 @@
 namespace lptn::cli {
 namespace {
 
+// The agent a later --warm-start continues: beside the output as OUT.agent (written before the
+// output, atomically), named with its hash in method.details.
+void keep_agent(const CalibrateArgs& a, const td3::Td3Outcome& o, CalibrationResult& r) {
+  if (o.agent_file.empty()) return;
+  const std::filesystem::path kept = a.out + ".agent";
+  std::ifstream in(o.agent_file, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (!in.good() && !in.eof()) throw std::runtime_error(o.agent_file.string() + ": cannot read the agent to keep");
+  write_file_atomically(kept, bytes);
+  r.details["agent_file"] = kept.filename().string();
+  r.details["agent_sha256"] = sha256_hex(bytes.data(), bytes.size());
+}
+
+// --warm-start FILE: an earlier td3 calibration of the same free parameters, its agent beside it.
+td3::WarmStart warm_start_from(const CalibrateArgs& a, const MotorFile& motor) {
+  if (a.warm_start.empty()) return {};
+  const std::filesystem::path file = a.warm_start;
+  std::ifstream in(file);
+  if (!in) throw BadInput("--warm-start " + file.string() + ": cannot open it");
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception& e) {
+    throw BadInput(file.string() + ": not JSON (" + e.what() + ")");
+  }
+  const nlohmann::json details = j.value("method", nlohmann::json::object()).value("details", nlohmann::json::object());
+  if (j.value("method", nlohmann::json::object()).value("name", "") != "td3" || !details.contains("agent_file"))
+    throw BadInput(file.string() + ": method.details.agent_file: not a td3 calibration with an agent to start from");
+  // The same free parameters and bounds: the agent's actions and states mean nothing otherwise.
+  const FreeParameters free = FreeParameters::from_motor(motor);
+  std::vector<std::string> before, now;
+  for (const auto& p : j.at("parameters"))
+    if (p.value("calibrated", false))
+      before.push_back(p.at("name").get<std::string>() + " [" + std::to_string(p.at("min").get<double>()) + ", " +
+                       std::to_string(p.at("max").get<double>()) + "]");
+  for (std::size_t k = 0; k < free.size(); ++k)
+    now.push_back(std::string(param_spec(free.index[k]).name) + " [" + std::to_string(free.min[k]) + ", " + std::to_string(free.max[k]) + "]");
+  if (before != now)
+    throw BadInput(file.string() + ": parameters: calibrated other parameters or bounds than " + a.motor + " marks; a warm start needs the same");
+  const std::filesystem::path agent = file.parent_path() / details.at("agent_file").get<std::string>();
+  if (!std::filesystem::exists(agent)) throw BadInput(file.string() + ": method.details.agent_file: " + agent.string() + " does not exist");
+  const std::string sha = sha256_file(agent);
+  if (sha != details.value("agent_sha256", ""))
+    throw BadInput(file.string() + ": method.details.agent_sha256: " + agent.string() + " is not the agent this calibration wrote");
+  return {agent, sha};
+}
+
+// The best set of every checkpoint scored on the test cycles, after training (never seen by it).
+nlohmann::json test_curve(const MotorFile& motor, const data::Dataset& dataset, const Split& split, const td3::Td3Outcome& o) {
+  nlohmann::json curve = nlohmann::json::array();
+  const Model<double> model = motor.model();
+  for (std::size_t i = 0; i < o.best_at_checkpoints.size(); ++i) {
+    const SplitMetrics m = evaluate_split(model, o.best_at_checkpoints[i].second, dataset, split.test);
+    curve.push_back({{"round", o.best_at_checkpoints[i].first}, {"seconds", o.checkpoint_seconds[i]},
+                     {"test_rmse_k", pool({m.stator, m.rotor}).rmse_k}});
+  }
+  return curve;
+}
+
 void run_td3(const CalibrateArgs& a, const MotorFile& motor, const data::Dataset& dataset, const Split& split,
              CalibrationResult& r) {
-  const td3::Formulation formulation = a.method == "td3" ? td3::Formulation::per_step : td3::Formulation::episode;
+  const td3::Formulation formulation = td3::formulation_from_method(a.method);
   td3::TrainingSettings settings = td3::default_settings(formulation);
   try {
     if (!a.config.empty()) settings = td3::load_settings(a.config, formulation);
@@ -27,37 +92,67 @@ void run_td3(const CalibrateArgs& a, const MotorFile& motor, const data::Dataset
   bool rotor = false;
   for (std::size_t c : split.train) rotor = rotor || dataset.cycles[c].has(data::Channel::rotor_c);
   if (!rotor) settings.reward.w3 = 0.0;  // eq. 15 without the rotor term where the rotor is not measured
+  const td3::WarmStart warm = warm_start_from(a, motor);
   const std::filesystem::path checkpoints = a.checkpoint_dir.empty() ? std::filesystem::path(a.out + ".checkpoints") : std::filesystem::path(a.checkpoint_dir);
   ProgressLine line(a.quiet);
   const td3::Td3Outcome o = td3::train_td3(motor, dataset, split.train, settings, checkpoints, a.resume,
                                            [&](const td3::EpisodeReport& e) {
                                              char buf[200];
-                                             std::snprintf(buf, sizeof buf, "%s: episode %4d/%d %s reward %7.3f  average %7.3f  %s elapsed, ~%s left%s",
+                                             std::snprintf(buf, sizeof buf, formulation == td3::Formulation::sequential
+                                                           ? "%s: round %4d/%d %s reward %7.3f  average %7.3f  %s elapsed, ~%s left%s"
+                                                           : "%s: episode %4d/%d %s reward %7.3f  average %7.3f  %s elapsed, ~%s left%s",
                                                            td3::to_string(formulation), e.episode, e.max_episodes,
                                                            ProgressLine::bar(double(e.episode) / e.max_episodes).c_str(),
                                                            e.reward, e.average, ProgressLine::clock(e.seconds).c_str(),
                                                            ProgressLine::clock(e.seconds_left).c_str(), e.random ? " (random actions)" : "");
                                              line.update(buf, e.episode == e.max_episodes);
                                              return true;
-                                           });
+                                           },
+                                           warm);
   line.finish();
   for (int i = 0; i < kNumParams; ++i) r.parameters[static_cast<std::size_t>(i)].value = o.values[i];
   r.method = td3::to_string(formulation);
   r.settings = td3::to_json(settings);
   nlohmann::json curve = nlohmann::json::array();
   for (const td3::EpisodeRecord& e : o.curve) curve.push_back(td3::to_json(e));
-  r.details = {{"episodes", o.episodes},
+  const bool sequential = formulation == td3::Formulation::sequential;
+  r.details = {{sequential ? "rounds" : "episodes", o.episodes},
                {"initial_evaluation", o.initial_evaluation},
                {"reached_target", o.reached_target},
                {"resumed_from_episode", o.resumed_from},
                {"checkpoints", checkpoints.string()},
-               {"constant_set", "policy over the training data's operating points, tanh outputs averaged, mapped onto the bounds; "
-                                "of the checkpoints' sets the one with the lowest training RMSE (episode 0: the starting guess)"},
-               {"best_episode", o.best_episode},
+               {"constant_set", sequential
+                                    ? "the best set the deterministic actor's rollouts visited at the checkpoints (scored on the training grid, the best "
+                                      "three re-scored on the data's own grid with the metrics' start offsets); round 0: the untrained actor or the guess"
+                                    : "policy over the training data's operating points, tanh outputs averaged, mapped onto the bounds; "
+                                      "of the checkpoints' sets the one with the lowest training RMSE (episode 0: the starting guess)"},
+               {sequential ? "best_round" : "best_episode", o.best_episode},
                {"best_train_rmse_k", o.best_train_rmse_k},
                {"training_curve", curve}};
+  if (sequential) {
+    r.details["simulated_steps"] = o.simulated_steps;
+    r.details["updates"] = o.updates;
+    r.details["warm_start"] = a.warm_start.empty() ? nlohmann::json(nullptr) : nlohmann::json{{"file", a.warm_start}, {"agent_sha256", warm.sha256}};
+    keep_agent(a, o, r);
+    if (a.test_curve) r.details["test_curve"] = test_curve(motor, dataset, split, o);
+  }
   r.seconds = o.seconds;
-  r.has_actor = true;
+  // The sequential actor steps through parameter space; it maps no operating point to a set, so
+  // there is no actor to flash.
+  r.has_actor = !sequential;
+  if (!r.has_actor) return;
+  // Does scheduling with the operating point pay on data the training never saw? (README: where
+  // the actor wins.)
+  if (!split.test.empty()) {
+    const SplitMetrics scheduled = td3::evaluate_scheduled_actor(o, motor, dataset, split.test);
+    const SplitMetrics constant = evaluate_split(motor.model(), o.values, dataset, split.test);
+    const double s = pool({scheduled.stator, scheduled.rotor}).rmse_k, c = pool({constant.stator, constant.rotor}).rmse_k;
+    r.details["scheduled_actor"] = {{"test_rmse_k", s}, {"test_rmse_stator_k", scheduled.stator.rmse_k},
+                                    {"test_rmse_rotor_k", scheduled.rotor.rmse_k}, {"constant_set_test_rmse_k", c},
+                                    {"actor_wins", s < c},
+                                    {"how", "open loop over the test cycles, the parameters the actor's at every step (the constant set where "
+                                            "torque is missing), start offsets fitted for the constant set; stator and rotor pooled"}};
+  }
   ActorExport& x = r.actor;
   x.obs_offset = {0.0, 0.0};
   x.obs_scale = o.obs_scale;
@@ -73,7 +168,7 @@ void run_td3(const CalibrateArgs& a, const MotorFile& motor, const data::Dataset
 }  // namespace lptn::cli
 
 int main(int argc, char** argv) {
-  CLI::App app{"lptn-td3: lptn calibrate with the TD3 calibrator (lptn runs it for --method td3|td3-episode)", "lptn-td3"};
+  CLI::App app{"lptn-td3: lptn calibrate with the TD3 calibrator (lptn runs it for --method td3|td3-paper|td3-episode)", "lptn-td3"};
   app.require_subcommand(1);
   app.set_version_flag("--version", lptn::kNameAndVersion);
   lptn::cli::add_calibrate(app, &lptn::cli::run_td3);

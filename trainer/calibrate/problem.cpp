@@ -117,6 +117,11 @@ CycleEvaluation simulate_and_evaluate(const Model<double>& model, const ParamVec
   return e;
 }
 
+std::size_t evaluation_steps(const data::Cycle& cycle) {
+  const auto window = static_cast<std::size_t>(kInitialOffsetWindowS / cycle.dt_s) + 1;
+  return 3 * std::min(cycle.steps, window) + cycle.steps;
+}
+
 CycleMetrics evaluate_cycle(const Model<double>& model, const ParamVector<double>& params, const data::Cycle& cycle) {
   return simulate_and_evaluate(model, params, cycle).metrics;
 }

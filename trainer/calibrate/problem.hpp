@@ -53,6 +53,9 @@ struct CycleEvaluation {
 };
 CycleEvaluation simulate_and_evaluate(const Model<double>& model, const ParamVector<double>& params,
                                       const data::Cycle& cycle);
+// The model steps simulate_and_evaluate takes on a cycle (the offsets' three short runs and the
+// cycle), for calibrators that report their simulation budget.
+std::size_t evaluation_steps(const data::Cycle& cycle);
 // The metrics alone.
 CycleMetrics evaluate_cycle(const Model<double>& model, const ParamVector<double>& params, const data::Cycle& cycle);
 // Every listed cycle and the pooled figures (cycles simulated in parallel on `threads`).

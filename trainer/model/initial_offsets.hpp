@@ -11,6 +11,8 @@ namespace lptn {
 // How far (K) an unmeasured node may start from the rule's value: calibration's bound on the
 // offsets, and this estimate's.
 inline constexpr double kInitialOffsetBoundK = 40.0;
+// The window of the cycle's start the estimate below fits the offsets on, by default.
+inline constexpr double kInitialOffsetWindowS = 600.0;
 
 // Least squares of model minus measurement (the stator winding sensor and, where measured, the
 // rotor) over the cycle's first `window_s` seconds, with the parameters held, each offset within
@@ -23,6 +25,6 @@ inline constexpr double kInitialOffsetBoundK = 40.0;
 // least-squares problem is solved in closed form. A cycle with no measurement in the window, or
 // an offset the window's outputs do not depend on, gets 0.
 InitialOffsets<double> estimate_initial_offsets(const Model<double>& model, const ParamVector<double>& params,
-                                               const data::Cycle& cycle, double window_s = 600.0);
+                                               const data::Cycle& cycle, double window_s = kInitialOffsetWindowS);
 
 }  // namespace lptn

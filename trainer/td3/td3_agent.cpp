@@ -19,6 +19,7 @@
 #include <fstream>
 #include <iterator>
 #include <mutex>
+#include <optional>
 #include <numbers>
 #include <random>
 #include <sstream>
@@ -362,7 +363,21 @@ void Agent::save(const std::filesystem::path& file) const {
   write_file_atomically(file, out.data());
 }
 
-void Agent::load(const std::filesystem::path& file) {
+namespace {
+// Everything an agent file holds, read and checked before anything is committed.
+struct AgentImage {
+  std::uint64_t updates = 0;
+  std::mt19937_64 rng;
+  std::vector<float> actor, critic, actor_target, critic_target;
+  std::int64_t steps[2] = {0, 0};
+  std::vector<float> moments[4];
+  std::optional<internal::ReplayBuffer> buffer;
+};
+
+// networks_only: the networks must fit (obs_dim, act_dim, hidden); the buffer's capacity may
+// differ and the optimizer's state and the buffer are not read.
+template <class ImplT>
+AgentImage read_agent_file(const std::filesystem::path& file, const ImplT& m, bool networks_only) {
   const auto fail = [&](const std::string& why) {
     throw std::runtime_error(file.string() + ": not a usable TD3 checkpoint: " + why);
   };
@@ -385,61 +400,75 @@ void Agent::load(const std::filesystem::path& file) {
   const auto version = in.get<std::uint32_t>();
   if (version != kVersion) fail("format version " + std::to_string(version) + ", this build reads " + std::to_string(kVersion));
   if (internal::checksum(image.data(), body) != stored_sum) fail("checksum mismatch (truncated or corrupt)");
-
-  Impl& m = *impl_;
+  AgentImage a;
   try {
     const auto obs = in.get<std::int32_t>();
     const auto act = in.get<std::int32_t>();
     const auto hidden = in.get<std::int32_t>();
     const auto capacity = in.get<std::uint64_t>();
-    if (obs != m.obs_dim || act != m.act_dim || hidden != m.settings.hidden || capacity != m.settings.buffer_capacity) {
+    if (obs != m.obs_dim || act != m.act_dim || hidden != m.settings.hidden ||
+        (!networks_only && capacity != m.settings.buffer_capacity)) {
       fail("incompatible agent: file has obs_dim " + std::to_string(obs) + ", act_dim " + std::to_string(act) +
            ", hidden " + std::to_string(hidden) + ", buffer_capacity " + std::to_string(capacity) + "; this agent " +
            std::to_string(m.obs_dim) + ", " + std::to_string(m.act_dim) + ", " + std::to_string(m.settings.hidden) +
            ", " + std::to_string(m.settings.buffer_capacity));
     }
-    const auto updates = in.get<std::uint64_t>();
-    std::mt19937_64 rng;
+    a.updates = in.get<std::uint64_t>();
     {
       std::istringstream text(in.get_string(1 << 16, "generator state"));
-      text >> rng;
+      text >> a.rng;
       if (!text) throw FormatError("generator state unreadable");
     }
-    auto actor = get_floats(in, m.actor.size(), "actor");
-    auto critic = get_floats(in, m.critic.size(), "critics");
-    auto actor_target = get_floats(in, m.actor_target.size(), "target actor");
-    auto critic_target = get_floats(in, m.critic_target.size(), "target critics");
-    std::int64_t steps[2];
-    std::vector<float> moments[4];
+    a.actor = get_floats(in, m.actor.size(), "actor");
+    a.critic = get_floats(in, m.critic.size(), "critics");
+    a.actor_target = get_floats(in, m.actor_target.size(), "target actor");
+    a.critic_target = get_floats(in, m.critic_target.size(), "target critics");
+    if (networks_only) return a;
     const std::size_t sizes[2] = {m.actor.size(), m.critic.size()};
     for (std::size_t k = 0; k < 2; ++k) {
-      steps[k] = in.get<std::int64_t>();
-      if (steps[k] < 0) throw FormatError("negative Adam step count");
-      moments[2 * k] = get_floats(in, sizes[k], "Adam first moments");
-      moments[2 * k + 1] = get_floats(in, sizes[k], "Adam second moments");
+      a.steps[k] = in.get<std::int64_t>();
+      if (a.steps[k] < 0) throw FormatError("negative Adam step count");
+      a.moments[2 * k] = get_floats(in, sizes[k], "Adam first moments");
+      a.moments[2 * k + 1] = get_floats(in, sizes[k], "Adam second moments");
     }
-    internal::ReplayBuffer buffer(m.obs_dim, m.act_dim, m.settings.buffer_capacity);
-    buffer.read(in);
+    a.buffer.emplace(m.obs_dim, m.act_dim, m.settings.buffer_capacity);
+    a.buffer->read(in);
     if (in.remaining() != 0) throw FormatError("unexpected data after the replay buffer");
-
-    // Everything read: commit.
-    at::NoGradGuard no_grad;
-    copy_into(m.actor.flat, actor);
-    copy_into(m.critic.flat, critic);
-    copy_into(m.actor_target.flat, actor_target);
-    copy_into(m.critic_target.flat, critic_target);
-    Adam* adams[2] = {&m.actor_adam, &m.critic_adam};
-    for (std::size_t k = 0; k < 2; ++k) {
-      adams[k]->step = steps[k];
-      copy_into(adams[k]->m, moments[2 * k]);
-      copy_into(adams[k]->v, moments[2 * k + 1]);
-    }
-    m.buffer = std::move(buffer);
-    m.rng = rng;
-    m.updates = updates;
   } catch (const FormatError& e) {
     fail(e.what());
   }
+  return a;
+}
+}  // namespace
+
+void Agent::load(const std::filesystem::path& file) {
+  Impl& m = *impl_;
+  AgentImage a = read_agent_file(file, m, false);
+  // Everything read: commit.
+  at::NoGradGuard no_grad;
+  copy_into(m.actor.flat, a.actor);
+  copy_into(m.critic.flat, a.critic);
+  copy_into(m.actor_target.flat, a.actor_target);
+  copy_into(m.critic_target.flat, a.critic_target);
+  Adam* adams[2] = {&m.actor_adam, &m.critic_adam};
+  for (std::size_t k = 0; k < 2; ++k) {
+    adams[k]->step = a.steps[k];
+    copy_into(adams[k]->m, a.moments[2 * k]);
+    copy_into(adams[k]->v, a.moments[2 * k + 1]);
+  }
+  m.buffer = std::move(*a.buffer);
+  m.rng = a.rng;
+  m.updates = a.updates;
+}
+
+void Agent::load_networks(const std::filesystem::path& file) {
+  Impl& m = *impl_;
+  const AgentImage a = read_agent_file(file, m, true);
+  at::NoGradGuard no_grad;
+  copy_into(m.actor.flat, a.actor);
+  copy_into(m.critic.flat, a.critic);
+  copy_into(m.actor_target.flat, a.actor_target);
+  copy_into(m.critic_target.flat, a.critic_target);
 }
 
 }  // namespace lptn::td3

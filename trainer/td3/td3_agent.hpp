@@ -80,6 +80,10 @@ class Agent {
   // hyperparameters (rates, gamma, tau, noise, delay, batch size) stay this agent's own settings.
   // On a throw the agent is unchanged.
   void load(const std::filesystem::path& file);
+  // A warm start: the networks (actor, critics and their targets) of an agent file whose
+  // obs_dim, act_dim and hidden match this agent's; this agent's optimizer state, replay buffer,
+  // generator and update count stay as they are. Throws as load() does; the agent is then unchanged.
+  void load_networks(const std::filesystem::path& file);
 
   ActorWeightsPlain actor_weights() const;
 

@@ -9,10 +9,13 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "hostio/worker_threads.hpp"
+#include "lptn/actor.hpp"
 #include "trainer/model/initial_offsets.hpp"
 #include "trainer/calibrate/problem.hpp"
 #include "hostio/atomic_file.hpp"
 #include "trainer/model/simulate.hpp"
+#include "trainer/td3/internal/sequential.hpp"
 
 namespace lptn::td3 {
 namespace {
@@ -37,8 +40,6 @@ class Environment {
       if (std::abs(cycle.dt_s - settings.agent_sample_time_s) > 1e-9)
         throw std::runtime_error(cycle.file.string() + ": grid step " + std::to_string(cycle.dt_s) +
                                  " s differs from agent_sample_time_s " + std::to_string(settings.agent_sample_time_s));
-      // The unmeasured nodes' start, estimated once with the starting parameters.
-      offsets_.push_back(estimate_initial_offsets(model_, fixed_, cycle));
     }
   }
 
@@ -47,8 +48,15 @@ class Environment {
   const Model<double>& model() const { return model_; }
   std::array<double, 2> obs_scale() const { return obs_scale_; }
   std::size_t cycles() const { return train_.size(); }
+  const data::Dataset& dataset() const { return dataset_; }
+  const std::vector<std::size_t>& train() const { return train_; }
   const data::Cycle& cycle(std::size_t i) const { return dataset_.cycles[train_[i]]; }
-  const InitialOffsets<double>& offsets(std::size_t i) const { return offsets_[i]; }
+  // The unmeasured nodes' start for parameters `p`: the metrics' own fit (estimate_initial_offsets),
+  // so that every set is scored on the objective its metrics report, not with offsets that belong
+  // to another set.
+  InitialOffsets<double> offsets_for(std::size_t i, const ParamVector<double>& p) const {
+    return estimate_initial_offsets(model_, p, cycle(i));
+  }
 
   void observe(const data::Cycle& cycle, std::size_t k, float* obs) const {
     const float torque = cycle.at(data::Channel::torque_nm, k);
@@ -78,7 +86,6 @@ class Environment {
   FreeParameters free_;
   ParamVector<double> fixed_;
   std::array<double, 2> obs_scale_{};
-  std::vector<InitialOffsets<double>> offsets_;
 };
 
 // Absolute errors of the sensors against the measurement at grid step k (0 where not measured).
@@ -123,8 +130,15 @@ class Trainer {
       : settings_(settings), env_(motor, dataset, train, settings),
         agent_(kObs, static_cast<int>(env_.actions()), settings.agent) {
     state_.rng.seed(settings.seed ^ 0x7d3c0ffeeULL);
-    state_.reference = motor.initial_values();
+    set_reference(motor.initial_values());
     uniform_ = std::uniform_real_distribution<float>(-1.0f, 1.0f);
+  }
+
+  // The policy's constant set that warms up the per-step episodes' windows, with its offsets per cycle.
+  void set_reference(const ParamVector<double>& p) {
+    state_.reference = p;
+    reference_offsets_.clear();
+    for (std::size_t ci = 0; ci < env_.cycles(); ++ci) reference_offsets_.push_back(env_.offsets_for(ci, p));
   }
 
   Agent& agent() { return agent_; }
@@ -161,16 +175,11 @@ class Trainer {
     return rec;
   }
 
-  // RMSE over the training cycles (stator and rotor residuals pooled) of a constant set.
+  // RMSE over the training cycles (stator and rotor residuals pooled) of a constant set, as the
+  // metrics score it: the offsets re-fitted for the set (evaluate_split), on both cores.
   double train_rmse(const ParamVector<double>& p) const {
-    std::vector<ErrorMetrics> parts;
-    for (std::size_t ci = 0; ci < env_.cycles(); ++ci) {
-      const data::Cycle& cycle = env_.cycle(ci);
-      const CycleSimulation sim = simulate_cycle(env_.model(), p, cycle, env_.offsets(ci));
-      parts.push_back(compare(sim.stator_sensor, cycle, data::Channel::stator_winding_c));
-      parts.push_back(compare(sim.rotor_sensor, cycle, data::Channel::rotor_c));
-    }
-    return pool(parts).rmse_k;
+    const SplitMetrics m = evaluate_split(env_.model(), p, env_.dataset(), env_.train());
+    return pool({m.stator, m.rotor}).rmse_k;
   }
 
   // The deterministic policy's mean reward on the first window of every training cycle.
@@ -206,7 +215,7 @@ class Trainer {
         const auto length = episode_length(c);
         for (std::size_t s = 0; s + length < c.steps; s += length) {
           float o[kObs];
-          context(c, s, length, o);
+          context(c, 0, s + length, o);
           obs.insert(obs.end(), o, o + kObs);
         }
       }
@@ -221,10 +230,11 @@ class Trainer {
   }
 
  private:
-  // The state at grid step `start`: the model run from the cycle's start with the reference set.
-  void warm_up(std::size_t ci, std::size_t start, const ParamVector<double>& p, double* x) const {
+  // The state at grid step `start`: the model run from the cycle's start with `p`.
+  void warm_up(std::size_t ci, std::size_t start, const ParamVector<double>& p, const InitialOffsets<double>& offsets,
+               double* x) const {
     const data::Cycle& cycle = env_.cycle(ci);
-    initial_state_for(env_.model(), cycle, x, env_.offsets(ci));
+    initial_state_for(env_.model(), cycle, x, offsets);
     for (std::size_t k = 0; k < start; ++k) env_.model().step(x, inputs_at(cycle, k), p.data(), cycle.dt_s);
   }
 
@@ -254,7 +264,7 @@ class Trainer {
     if (!random) agent_.act(obs_.data(), length, act_.data());
     if (learn) explore(act_.data(), length, random);
     double x[kMaxStates];
-    warm_up(ci, start, state_.reference, x);
+    warm_up(ci, start, state_.reference, reference_offsets_[ci], x);
     rew_.resize(length);
     done_.assign(length, 0);
     done_.back() = 1;
@@ -291,21 +301,24 @@ class Trainer {
     const data::Cycle& cycle = env_.cycle(ci);
     const std::size_t p = env_.actions();
     float ctx[kObs];
-    context(cycle, start, length, ctx);
+    context(cycle, 0, start + length, ctx);  // of the stretch the reward scores
     std::vector<float> a(p);
     if (!random) agent_.act(ctx, 1, a.data());
     if (learn) explore(a.data(), 1, random);
     const ParamVector<double> params = env_.params_for(a.data());
+    // The action holds from the cycle's start, so the whole stretch [0, start + length) is scored:
+    // one random window alone varies between windows as much as 1.0x and 1.1x LM differ.
     double x[kMaxStates];
-    warm_up(ci, start, params, x);  // the action holds from the cycle's start
+    initial_state_for(env_.model(), cycle, x, env_.offsets_for(ci, params));
     const bool rotor = cycle.has(data::Channel::rotor_c);
     double stator_sum = 0, rotor_sum = 0;
-    for (std::size_t t = 0; t < length; ++t) {
-      env_.model().step(x, inputs_at(cycle, start + t), params.data(), cycle.dt_s);
-      const StepError e = step_error(env_.model(), x, cycle, start + t + 1);
+    for (std::size_t k = 0; k < start + length; ++k) {
+      env_.model().step(x, inputs_at(cycle, k), params.data(), cycle.dt_s);
+      const StepError e = step_error(env_.model(), x, cycle, k + 1);
       stator_sum += e.stator;
       rotor_sum += e.rotor;
     }
+    length += start;
     const double n = static_cast<double>(length);
     // The episode's error as the reward: eq. 15's weighted error, -ln(w2 |e_s| + w3 |e_r| + w4)
     // with the errors averaged over the episode. One number per episode makes a bandit; the
@@ -324,6 +337,7 @@ class Trainer {
   Agent agent_;
   RunState state_;
   std::uniform_real_distribution<float> uniform_;
+  std::vector<InitialOffsets<double>> reference_offsets_;  // of state_.reference, per training cycle
   std::vector<float> obs_, act_, rew_;
   std::vector<std::uint8_t> done_;
 };
@@ -373,22 +387,21 @@ void load_checkpoint(Trainer& trainer, const std::filesystem::path& dir, const n
                              " was made with other settings, data or parameters; start afresh without --resume");
   trainer.agent().load(dir / j.at("agent_file").get<std::string>());
   RunState& s = trainer.state();
+  ParamVector<double> reference{};
   s.episode = j.at("episode").get<int>();
   std::istringstream rng(j.at("rng").get<std::string>());
   rng >> s.rng;
   s.seconds = j.at("seconds").get<double>();
   const auto ref = j.at("reference").get<std::vector<double>>();
-  std::copy(ref.begin(), ref.end(), s.reference.begin());
+  std::copy(ref.begin(), ref.end(), reference.begin());
+  trainer.set_reference(reference);
   s.initial_evaluation = j.at("initial_evaluation").get<double>();
   const auto best = j.at("best").get<std::vector<double>>();
   std::copy(best.begin(), best.end(), s.best.begin());
   s.best_train_rmse_k = j.at("best_train_rmse_k").get<double>();
   s.best_episode = j.at("best_episode").get<int>();
   s.curve.clear();
-  for (const auto& r : j.value("curve", nlohmann::json::array()))
-    s.curve.push_back({r.at("episode").get<int>(), r.at("cycle").get<std::string>(), r.at("reward").get<double>(),
-                       r.at("average").get<double>(), r.at("mean_abs_error_k").get<double>(), r.at("seconds").get<double>(),
-                       r.at("evaluation").is_null() ? std::nan("") : r.at("evaluation").get<double>()});
+  for (const auto& r : j.value("curve", nlohmann::json::array())) s.curve.push_back(record_from_json(r));
 }
 
 }  // namespace
@@ -399,10 +412,69 @@ nlohmann::json to_json(const EpisodeRecord& r) {
           {"evaluation", std::isnan(r.evaluation) ? nlohmann::json(nullptr) : nlohmann::json(r.evaluation)}};
 }
 
+SplitMetrics evaluate_scheduled_actor(const Td3Outcome& o, const MotorFile& motor, const data::Dataset& dataset,
+                                      const std::vector<std::size_t>& cycles) {
+  const Model<double> model = motor.model();
+  const FreeParameters free = FreeParameters::from_motor(motor);
+  const ActorWeightsPlain& w = o.actor;
+  const ActorView actor{w.inputs, w.hidden, w.outputs, w.w1.data(), w.b1.data(), w.w2.data(), w.b2.data(), w.w3.data(), w.b3.data()};
+  if (w.inputs != kObs || static_cast<std::size_t>(w.outputs) != free.size())
+    throw std::invalid_argument("evaluate_scheduled_actor: the outcome's actor does not map an operating point to these parameters");
+  SplitMetrics out;
+  out.cycles.resize(cycles.size());
+  parallel_for(cycles.size(), worker_threads(), [&](std::size_t i) {
+    const data::Cycle& cycle = dataset.cycles[cycles[i]];
+    CycleSimulation sim;
+    sim.stator_sensor.reserve(cycle.steps);
+    sim.rotor_sensor.reserve(cycle.steps);
+    double x[kMaxStates];
+    initial_state_for(model, cycle, x, estimate_initial_offsets(model, o.values, cycle));
+    auto record = [&] {
+      sim.stator_sensor.push_back(static_cast<float>(model.stator_sensor(x)));
+      sim.rotor_sensor.push_back(static_cast<float>(model.rotor_sensor(x)));
+    };
+    record();
+    for (std::size_t k = 0; k + 1 < cycle.steps; ++k) {
+      ParamVector<double> p = o.values;
+      const float torque = cycle.at(data::Channel::torque_nm, k);
+      if (!std::isnan(torque)) {
+        const float obs[kObs] = {static_cast<float>(cycle.at(data::Channel::speed_rpm, k) / o.obs_scale[0]),
+                                 static_cast<float>(torque / o.obs_scale[1])};
+        float u[32];
+        if (actor_forward<256, 32>(actor, obs, u))
+          for (std::size_t j = 0; j < free.size(); ++j)
+            p[free.index[j]] = from_normalized(static_cast<double>(u[j]), free.min[j], free.max[j]);
+      }
+      model.step(x, inputs_at(cycle, k), p.data(), cycle.dt_s);
+      record();
+    }
+    out.cycles[i].name = cycle.name;
+    out.cycles[i].stator = compare(sim.stator_sensor, cycle, data::Channel::stator_winding_c);
+    out.cycles[i].rotor = compare(sim.rotor_sensor, cycle, data::Channel::rotor_c);
+  });
+  std::vector<ErrorMetrics> stator, rotor;
+  for (const CycleMetrics& c : out.cycles) {
+    stator.push_back(c.stator);
+    if (c.rotor.samples) rotor.push_back(c.rotor);
+  }
+  out.stator = pool(stator);
+  out.rotor = pool(rotor);
+  return out;
+}
+
+EpisodeRecord record_from_json(const nlohmann::json& r) {
+  return {r.at("episode").get<int>(), r.at("cycle").get<std::string>(), r.at("reward").get<double>(),
+          r.at("average").get<double>(), r.at("mean_abs_error_k").get<double>(), r.at("seconds").get<double>(),
+          r.at("evaluation").is_null() ? std::nan("") : r.at("evaluation").get<double>()};
+}
+
 Td3Outcome train_td3(const MotorFile& motor, const data::Dataset& dataset, const std::vector<std::size_t>& train,
                      const TrainingSettings& settings, const std::filesystem::path& checkpoint_dir, bool resume,
-                     const Td3Progress& progress) {
+                     const Td3Progress& progress, const WarmStart& warm) {
   if (train.empty()) throw std::runtime_error("no training cycle");
+  if (settings.formulation == Formulation::sequential)
+    return train_sequential(motor, dataset, train, settings, checkpoint_dir, resume, progress, warm);
+  if (!warm.agent_file.empty()) throw std::runtime_error("a warm start is for the sequential formulation (--method td3) only");
   Trainer trainer(motor, dataset, train, settings);
   const nlohmann::json id = identity(settings, trainer.env());
   Td3Outcome out;
@@ -426,7 +498,7 @@ Td3Outcome train_td3(const MotorFile& motor, const data::Dataset& dataset, const
     s.curve.back().seconds = s.seconds;
     const bool reached = s.episode >= settings.averaging_window && rec.average >= settings.stop_average_reward;
     if (s.episode % settings.checkpoint_every == 0 || reached || s.episode == settings.max_episodes) {
-      s.reference = trainer.condensed();
+      trainer.set_reference(trainer.condensed());
       s.curve.back().evaluation = trainer.evaluate();
       const double rmse = trainer.train_rmse(s.reference);
       if (rmse < s.best_train_rmse_k) {

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "lptn/model.hpp"
+#include "trainer/calibrate/metrics.hpp"
 #include "trainer/data/dataset.hpp"
 #include "trainer/model/motor_file.hpp"
 #include "trainer/td3/td3_settings.hpp"
@@ -34,8 +35,9 @@ struct EpisodeRecord {
 };
 
 // One record as calibration.json's training curve and the checkpoints hold it (null evaluation
-// between checkpoints).
+// between checkpoints), and back.
 nlohmann::json to_json(const EpisodeRecord& record);
+EpisodeRecord record_from_json(const nlohmann::json& j);
 
 struct EpisodeReport {
   int episode = 0, max_episodes = 0;
@@ -46,6 +48,14 @@ struct EpisodeReport {
 
 // Called after every episode; returning false stops the run at once, as a kill would (tests).
 using Td3Progress = std::function<bool(const EpisodeReport&)>;
+
+// A retrain that starts from an earlier run's agent (`lptn calibrate --method td3 --warm-start`):
+// its networks, with no random rounds and exploration from twice its final noise. Only the
+// sequential formulation; the agent file must fit (the same free parameters).
+struct WarmStart {
+  std::filesystem::path agent_file;  // empty: from scratch
+  std::string sha256;                // of the agent file; part of the run's identity for --resume
+};
 
 struct Td3Outcome {
   // What the paper reports: one constant parameter set. At every checkpoint the policy is
@@ -68,7 +78,24 @@ struct Td3Outcome {
   bool completed = false;       // false if the progress callback stopped it
   int resumed_from = 0;         // episode the run continued after (0: fresh)
   double seconds = 0;
+  // The sequential formulation's budget: model steps simulated (coarse and fine grid alike) and
+  // gradient steps taken.
+  std::size_t simulated_steps = 0;
+  long long updates = 0;
+  // The sequential formulation: the agent as it ended (the last checkpoint's file), for a later
+  // --warm-start; and at every checkpoint the best set so far, for instruments that score it.
+  std::filesystem::path agent_file;
+  std::vector<std::pair<int, ParamVector<double>>> best_at_checkpoints;
+  std::vector<double> checkpoint_seconds;
 };
+
+// The paper's actor as it meant it: the parameters scheduled with the operating point at every
+// grid step (speed and torque in, as in training; the constant set where torque is missing, as
+// the firmware does), the model run open loop over each listed cycle from start offsets fitted
+// for the constant set. What `--use-actor` would give against the constant set on those cycles.
+// Only for the formulations whose actor maps an operating point to a set (not the sequential one).
+SplitMetrics evaluate_scheduled_actor(const Td3Outcome& outcome, const MotorFile& motor, const data::Dataset& dataset,
+                                      const std::vector<std::size_t>& cycles);
 
 // Trains on the listed cycles. Checkpoints go to `checkpoint_dir` every checkpoint_every episodes
 // (agent, replay buffer, every random generator's state, the curve), written atomically; with
@@ -76,6 +103,6 @@ struct Td3Outcome {
 // else std::runtime_error says what differs). Deterministic for a given settings.seed.
 Td3Outcome train_td3(const MotorFile& motor, const data::Dataset& dataset, const std::vector<std::size_t>& train,
                      const TrainingSettings& settings, const std::filesystem::path& checkpoint_dir, bool resume,
-                     const Td3Progress& progress = {});
+                     const Td3Progress& progress = {}, const WarmStart& warm = {});
 
 }  // namespace lptn::td3

@@ -68,7 +68,19 @@ class Reader {
 
 }  // namespace
 
-const char* to_string(Formulation f) { return f == Formulation::per_step ? "td3" : "td3-episode"; }
+const char* to_string(Formulation f) {
+  switch (f) {
+    case Formulation::sequential: return "td3";
+    case Formulation::per_step: return "td3-paper";
+    default: return "td3-episode";
+  }
+}
+
+Formulation formulation_from_method(const std::string& method) {
+  for (Formulation f : {Formulation::sequential, Formulation::per_step, Formulation::episode})
+    if (method == to_string(f)) return f;
+  throw std::invalid_argument("no TD3 formulation is called '" + method + "'");
+}
 
 TrainingSettings default_settings(Formulation formulation) {
   TrainingSettings s;
@@ -84,6 +96,22 @@ TrainingSettings default_settings(Formulation formulation) {
     s.agent.actor_lr = 1e-3;
     s.exploration_noise_final = 0.01;
     s.stop_average_reward = 0.1;  // reward = -ln(mean |error| in K + 0.1): the sensors' noise floor is about 0.8 K
+  }
+  if (formulation == Formulation::sequential) {
+    // Episodes are counted in rounds of SequentialSettings::environments; the reward (the fall
+    // in ln RMSE over an episode) depends on where it started, so no average of it ends a run.
+    s.max_episodes = 1200;
+    s.averaging_window = 20;
+    s.stop_average_reward = 1e30;
+    s.random_episodes = 10;
+    s.exploration_noise = 0.3;
+    s.exploration_noise_final = 0.05;
+    s.checkpoint_every = 20;
+    s.updates_per_episode = 0;  // updates_per_step instead
+    s.agent.hidden = 128;
+    s.agent.actor_lr = 1e-3;
+    s.agent.gamma = 0.95;
+    s.agent.buffer_capacity = 50'000;  // recent transitions: the critic learns the landscape the actor now visits
   }
   return s;
 }
@@ -133,13 +161,27 @@ TrainingSettings load_settings(const std::filesystem::path& file, Formulation fo
     r.number("w4", s.reward.w4, 1e-9, 1e9);
     r.refuse_unknown();
   }
+  if (const toml::table* t = top.table("sequential")) {
+    if (formulation != Formulation::sequential) Reader(*t, "", file).fail(t->source(), "sequential", "only for --method td3");
+    Reader r(*t, "sequential.", file);
+    SequentialSettings& q = s.sequential;
+    r.integer("steps_per_episode", q.steps_per_episode, 1, 1000);
+    r.integer("environments", q.environments, 1, 1024);
+    r.number("step_scale", q.step_scale, 1e-6, 2.0);
+    r.number("step_decay", q.step_decay, 1e-3, 1.0);
+    r.number("start_spread", q.start_spread, 0.0, 2.0);
+    r.integer("coarse_factor", q.coarse_factor, 1, 1000);
+    r.integer("updates_per_step", q.updates_per_step, 0, 100'000);
+    r.integer("rollout_starts", q.rollout_starts, 1, 1000);
+    r.refuse_unknown();
+  }
   top.refuse_unknown();
   s.agent.seed = s.seed;
   return s;
 }
 
 nlohmann::json to_json(const TrainingSettings& s) {
-  return {{"formulation", to_string(s.formulation)},
+  nlohmann::json j = {{"formulation", to_string(s.formulation)},
           {"max_episodes", s.max_episodes},
           {"averaging_window", s.averaging_window},
           {"stop_average_reward", s.stop_average_reward},
@@ -164,6 +206,14 @@ nlohmann::json to_json(const TrainingSettings& s) {
             {"batch_size", s.agent.batch_size},
             {"buffer_capacity", s.agent.buffer_capacity}}},
           {"reward", {{"w1", s.reward.w1}, {"w2", s.reward.w2}, {"w3", s.reward.w3}, {"w4", s.reward.w4}}}};
+  if (s.formulation == Formulation::sequential) {
+    const SequentialSettings& q = s.sequential;
+    j["sequential"] = {{"steps_per_episode", q.steps_per_episode}, {"environments", q.environments},
+                       {"step_scale", q.step_scale}, {"step_decay", q.step_decay}, {"start_spread", q.start_spread},
+                       {"coarse_factor", q.coarse_factor}, {"updates_per_step", q.updates_per_step},
+                       {"rollout_starts", q.rollout_starts}};
+  }
+  return j;
 }
 
 }  // namespace lptn::td3

@@ -1,5 +1,5 @@
 // What a TD3 calibration run is told: the paper's set-up (table 2 and section 3), the TD3 authors'
-// values elsewhere, all overridable from a TOML file (docs/td3.toml lists every key with its default).
+// values elsewhere, all overridable from a TOML file (docs/td3.toml lists every key with the sequential formulation's default, docs/td3-paper.toml the paper's).
 #pragma once
 
 #include <cstdint>
@@ -14,6 +14,10 @@
 namespace lptn::td3 {
 
 enum class Formulation {
+  // `--method td3`: calibration as a sequential decision problem. The state is a parameter set (normalized) and
+  // features of its residuals on the training cycles; the action a step to another set; the
+  // reward the fall in the log of the pooled RMSE. Episodes of a few steps from random starts.
+  sequential,
   per_step,  // the paper's: the action (a parameter set) is chosen every agent step from speed and torque
   episode,   // one action holds for a whole episode: a contextual bandit rewarded with the episode's error
 };
@@ -29,8 +33,24 @@ struct RewardWeights {
   double w4 = 0.1;
 };
 
+// The sequential formulation's own settings (a [sequential] table; refused for the others).
+struct SequentialSettings {
+  int steps_per_episode = 8;
+  int environments = 4;         // episodes run side by side, their sets scored together on every core
+  // Step t moves the normalized parameters by at most step_scale * step_decay^t per coordinate:
+  // far at first, then fine enough for the last per cent (0.5 * 0.6^7 = 0.014, about 1.4 % of a
+  // conductance whose bounds span three decades).
+  double step_scale = 0.5;
+  double step_decay = 0.6;
+  // Starts: the motor file's guess plus uniform noise of this half-width (normalized units), clamped.
+  double start_spread = 0.5;
+  int coarse_factor = 10;       // training scores on a grid this many times coarser (data::coarse_grid)
+  int updates_per_step = 4;     // gradient steps after each step of the environments
+  int rollout_starts = 4;       // the result: the actor's rollouts from the guess and this many - 1 fixed starts
+};
+
 struct TrainingSettings {
-  Formulation formulation = Formulation::per_step;
+  Formulation formulation = Formulation::sequential;
   // Paper, table 2.
   int max_episodes = 1000;
   int averaging_window = 100;
@@ -59,6 +79,7 @@ struct TrainingSettings {
   std::uint64_t seed = 1;
   AgentSettings agent;
   RewardWeights reward;
+  SequentialSettings sequential;
 };
 
 class SettingsError : public std::runtime_error {
@@ -67,7 +88,8 @@ class SettingsError : public std::runtime_error {
 };
 
 // The defaults above for a formulation (the episode formulation needs fewer gradient steps per
-// episode and more episodes' worth of transitions: its episodes are one transition each).
+// episode and more episodes' worth of transitions: its episodes are one transition each; the
+// sequential one counts rounds of `environments` episodes).
 TrainingSettings default_settings(Formulation formulation);
 
 // Reads a TOML file over the defaults; unknown keys and bad values throw SettingsError
@@ -75,6 +97,9 @@ TrainingSettings default_settings(Formulation formulation);
 TrainingSettings load_settings(const std::filesystem::path& file, Formulation formulation);
 
 nlohmann::json to_json(const TrainingSettings& settings);
+// "td3" (sequential), "td3-paper" (per_step), "td3-episode": the --method names.
 const char* to_string(Formulation f);
+// The inverse; throws std::invalid_argument for any other name.
+Formulation formulation_from_method(const std::string& method);
 
 }  // namespace lptn::td3

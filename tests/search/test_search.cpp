@@ -1,0 +1,65 @@
+// The search baselines on generated data: within their budget both leave the guess far behind,
+// CMA-ES gets close to Levenberg-Marquardt's fit, and each stops at its budget.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+
+#include "../cli/temp_dir.hpp"
+#include "tools/generate/generate.hpp"
+#include "trainer/calibrate/lm.hpp"
+#include "trainer/search/search.hpp"
+
+namespace lptn {
+namespace {
+
+struct Fixture {
+  testing::TempDir dir;
+  data::Dataset dataset;
+  MotorFile motor;
+  Split split;
+};
+
+const Fixture& generated() {
+  static const Fixture* f = [] {
+    auto* fx = new Fixture;
+    gen::GenerateOptions o;
+    o.cycles = 4;
+    o.seed = 11;
+    o.min_duration_s = 1200;
+    o.max_duration_s = 1500;
+    gen::generate(o, fx->dir.path());
+    fx->dataset = data::load_fleet_dump({fx->dir.path()});
+    fx->motor = load_motor_file(fx->dir.path() / "motor.toml");
+    fx->split = split_cycles(fx->dataset, {}, 0.25, 1);
+    return fx;
+  }();
+  return *f;
+}
+
+double pooled(const SplitMetrics& m) { return pool({m.stator, m.rotor}).rmse_k; }
+
+TEST(Search, BothMethodsBeatTheGuessAndCmaEsComesCloseToLm) {
+  const Fixture& f = generated();
+  const Model<double> model = f.motor.model();
+  const double guess = pooled(evaluate_split(model, f.motor.initial_values(), f.dataset, f.split.test));
+  const LmReport lm = fit_lm(f.motor, f.motor.initial_values(), f.dataset, f.split.train, LmSettings{});
+  const double lm_test = pooled(evaluate_split(model, lm.values, f.dataset, f.split.test));
+  SearchSettings s;
+  s.budget_steps = 40'000'000;
+  for (SearchMethod m : {SearchMethod::random, SearchMethod::cma_es}) {
+    const SearchOutcome o = search_calibration(m, f.motor, f.dataset, f.split.train, s);
+    const double test = pooled(evaluate_split(model, o.values, f.dataset, f.split.test));
+    std::printf("%s: test %.3f K (guess %.3f K, LM %.3f K), %zu sets, %.2e steps, %.1f s\n", to_string(m), test, guess, lm_test,
+                o.evaluations, double(o.simulated_steps), o.seconds);
+    EXPECT_LT(test, 0.5 * guess) << to_string(m);
+    EXPECT_GE(o.simulated_steps, s.budget_steps);
+    EXPECT_LT(o.simulated_steps, s.budget_steps + s.budget_steps / 10) << "stops at its budget";
+    EXPECT_NEAR(o.best_train_rmse_k, pooled(evaluate_split(model, o.values, f.dataset, f.split.train)), 1e-9);
+    if (m == SearchMethod::cma_es) {
+      EXPECT_LT(test, 1.1 * lm_test);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace lptn
