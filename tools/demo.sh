@@ -26,13 +26,13 @@ echo "== 3. simulate and compare: the paper's model with the motor file's initia
 "$lptn" simulate --data "$out/fleet" --motor "$out/fleet/motor.toml" --out "$out/simulation" --force
 echo "== 4. calibrate with Levenberg-Marquardt (Ceres): 6 cycles train, 3 test"
 "$lptn" calibrate --data "$out/fleet" --motor "$out/fleet/motor.toml" --method lm --seed 1 --out "$out/calibration-lm.json" --force
-echo "== 5. calibrate with TD3 (libtorch), one action per episode, demo budget of ${TD3_EPISODES:=300} episodes"
-echo "      (the paper's per-step formulation, --method td3, needs hundreds of episodes: see README.md, Benchmark)"
-"$lptn" calibrate --data "$out/fleet" --motor "$out/fleet/motor.toml" --method td3-episode --seed 1 --episodes "$TD3_EPISODES" \
+echo "== 5. calibrate with TD3 (libtorch), an agent stepping through parameter sets, demo budget of ${TD3_ROUNDS:=400} rounds"
+echo "      (its default, 1200 rounds, about 6 minutes here: see README.md, Benchmark)"
+"$lptn" calibrate --data "$out/fleet" --motor "$out/fleet/motor.toml" --method td3 --seed 1 --episodes "$TD3_ROUNDS" \
   --out "$out/calibration-td3.json" --checkpoint-dir "$out/td3-checkpoints" --force
-echo "== 6. export: the LM calibration as the firmware's header, and the TD3 actor with its forward pass"
+echo "== 6. export: the LM and the TD3 calibrations as the firmware's headers"
 "$lptn" export --calibration "$out/calibration-lm.json" --out "$out/thermal_calibration.hpp" --force
-"$lptn" export --calibration "$out/calibration-td3.json" --out "$out/thermal_calibration_td3.hpp" --actor --force
+"$lptn" export --calibration "$out/calibration-td3.json" --out "$out/thermal_calibration_td3.hpp" --force
 echo "== 7. on board: a test cycle as the converter would send it on CAN (lptn convert through the DBC), replayed"
 echo "      through the firmware's estimator with the LM calibration (lptn replay, what the daemon runs)"
 mkdir -p "$out/onboard"

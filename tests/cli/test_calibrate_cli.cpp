@@ -59,6 +59,22 @@ TEST_F(CalibrateCli, LmWritesTheDocumentedKeys) {
   EXPECT_EQ(e.code, 0) << e.err;
 }
 
+// The benchmark's baselines run in lptn itself (no libtorch) and write an ordinary calibration.
+TEST_F(CalibrateCli, TheSearchBaselinesWriteACalibrationWithTheirBudget) {
+  testing::TempDir t;
+  for (const char* method : {"random-search", "cma-es"}) {
+    const auto out = t.path() / (std::string(method) + ".json");
+    const Result r = run(base() + " --method " + method + " --budget-steps 3000000 --quiet --out " + out.string(), t.path());
+    ASSERT_EQ(r.code, 0) << r.err;
+    const auto j = nlohmann::json::parse(std::ifstream(out));
+    EXPECT_EQ(j["method"]["name"], method);
+    EXPECT_GE(j["method"]["details"]["simulated_steps"].get<double>(), 3e6) << method;
+    EXPECT_EQ(j["method"]["settings"]["budget_steps"], 3000000) << method;
+    // The guess is 18 K off; even this budget gets far below it.
+    EXPECT_LT(j["metrics"]["test"]["rmse_stator_k"].get<double>(), 5.0) << method;
+  }
+}
+
 TEST_F(CalibrateCli, BadInputIsOneLineAndLeavesNothing) {
   testing::TempDir t;
   const auto out = t.path() / "calibration.json";
@@ -74,7 +90,17 @@ TEST_F(CalibrateCli, BadInputIsOneLineAndLeavesNothing) {
   EXPECT_EQ(config.code, 2);
   EXPECT_NE(config.err.find("bad.toml:2: key 'agent.hidden'"), std::string::npos) << config.err;
   EXPECT_FALSE(std::filesystem::exists(out));
+  // A warm start from a file that is no td3 calibration with an agent.
+  std::ofstream(t.path() / "lm.json") << R"({"method": {"name": "lm", "details": {}}, "parameters": []})";
+  const Result warm = run(base() + " --method td3 --warm-start " + (t.path() / "lm.json").string() + " --out " + out.string(), t.path());
+  EXPECT_EQ(warm.code, 2);
+  EXPECT_NE(warm.err.find("lm.json: method.details.agent_file"), std::string::npos) << warm.err;
+  EXPECT_FALSE(std::filesystem::exists(out));
+  EXPECT_FALSE(std::filesystem::exists(t.path() / "calibration.json.agent"));
 #endif
+  const Result warm_lm = run(base() + " --method cma-es --warm-start x.json --out " + out.string(), t.path());
+  EXPECT_EQ(warm_lm.code, 2);
+  EXPECT_NE(warm_lm.err.find("--warm-start: only with --method td3"), std::string::npos) << warm_lm.err;
   std::ofstream(out) << "keep me";
   const Result exists = run(base() + " --method lm --out " + out.string(), t.path());
   EXPECT_EQ(exists.code, 2);
@@ -86,7 +112,7 @@ TEST_F(CalibrateCli, BadInputIsOneLineAndLeavesNothing) {
 TEST_F(CalibrateCli, Td3WithoutLibtorchIsBadInput) {
   testing::TempDir t;
   const auto out = t.path() / "calibration.json";
-  for (const char* method : {"td3", "td3-episode"}) {
+  for (const char* method : {"td3", "td3-paper", "td3-episode"}) {
     const Result r = run(base() + " --method " + method + " --out " + out.string(), t.path());
     EXPECT_EQ(r.code, 2) << method;
     EXPECT_NE(r.err.find("built without libtorch"), std::string::npos) << r.err;

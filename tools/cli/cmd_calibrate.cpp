@@ -137,7 +137,7 @@ void run(const CalibrateArgs& given, Td3Calibrator td3) {
   // TD3 does not: every rank would train the same agent and write the same files.
   const bool search = given.method == "random-search" || given.method == "cma-es";
   if (given.method != "lm" && launched_by_mpi())
-    throw BadInput("--method " + given.method + ": only --method lm is shared over MPI processes; run it without mpirun");
+    throw BadInput("--method " + given.method + ": not shared over MPI processes (only --method lm is); run it without mpirun");
   const ProcessGroup& group = given.method == "lm" ? ProcessGroup::world() : ProcessGroup::alone();
   CalibrateArgs a = given;
   a.quiet = a.quiet || !group.leads();
