@@ -127,7 +127,7 @@ TEST(ExportHeader, Refusals) {
   CalibrationResult c = testing::sample_result(example_motor_text());
   c.has_actor = false;
   EXPECT_EQ(error_of([&] { export_header(c, {"cal.json", true}); }),
-            "cal.json: --actor: this calibration has no actor (method 'lm'; only a TD3 calibration keeps one)");
+            "cal.json: --actor: this calibration has no actor (method 'lm'; only td3-paper and td3-episode keep one: their actor maps speed and torque to parameters)");
 
   c = testing::sample_result(example_motor_text());
   c.actor.layers.pop_back();

@@ -201,7 +201,7 @@ std::string float_array(const char* name, const V& values, bool aligned) {
 std::string actor_source(const CalibrationResult& c, const ExportOptions& o) {
   if (!c.has_actor)
     throw ExportError(cat(o.source_name, ": --actor: this calibration has no actor (method '", c.method,
-                          "'; only a TD3 calibration keeps one)"));
+                          "'; only td3-paper and td3-episode keep one: their actor maps speed and torque to parameters)"));
   const ActorExport& a = c.actor;
   if (a.layers.size() != 3 || a.layers[0].in != 2 || a.layers[1].in != a.layers[0].out ||
       a.layers[1].out != a.layers[0].out || a.layers[2].in != a.layers[1].out)

@@ -136,14 +136,18 @@ SplitMetrics evaluate_split(const Model<double>& model, const ParamVector<double
     if (!cycle.remote) out.cycles[i] = evaluate_cycle(model, params, cycle);
   });
   if (dataset.shared) join_metrics(out.cycles, dataset, cycles);
+  pool_cycles(out);
+  return out;
+}
+
+void pool_cycles(SplitMetrics& m) {
   std::vector<ErrorMetrics> stator, rotor;
-  for (const CycleMetrics& c : out.cycles) {
+  for (const CycleMetrics& c : m.cycles) {
     stator.push_back(c.stator);
     if (c.rotor.samples) rotor.push_back(c.rotor);
   }
-  out.stator = pool(stator);
-  out.rotor = pool(rotor);
-  return out;
+  m.stator = pool(stator);
+  m.rotor = pool(rotor);
 }
 
 }  // namespace lptn

@@ -58,6 +58,8 @@ CycleEvaluation simulate_and_evaluate(const Model<double>& model, const ParamVec
 std::size_t evaluation_steps(const data::Cycle& cycle);
 // The metrics alone.
 CycleMetrics evaluate_cycle(const Model<double>& model, const ParamVector<double>& params, const data::Cycle& cycle);
+// Sets m.stator and m.rotor from m.cycles (the rotor over the cycles that measure it).
+void pool_cycles(SplitMetrics& m);
 // Every listed cycle and the pooled figures (cycles simulated in parallel on `threads`).
 SplitMetrics evaluate_split(const Model<double>& model, const ParamVector<double>& params, const data::Dataset& dataset,
                             const std::vector<std::size_t>& cycles, int threads = worker_threads());

@@ -3,18 +3,16 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <fstream>
 #include <numbers>
 #include <random>
-#include <sstream>
 #include <stdexcept>
 
 #include "hostio/worker_threads.hpp"
 #include "lptn/actor.hpp"
 #include "trainer/model/initial_offsets.hpp"
 #include "trainer/calibrate/problem.hpp"
-#include "hostio/atomic_file.hpp"
 #include "trainer/model/simulate.hpp"
+#include "trainer/td3/internal/checkpoint.hpp"
 #include "trainer/td3/internal/sequential.hpp"
 
 namespace lptn::td3 {
@@ -342,21 +340,10 @@ class Trainer {
   std::vector<std::uint8_t> done_;
 };
 
-const char* kStateFile = "state.json";
-
 void save_checkpoint(Trainer& trainer, const std::filesystem::path& dir, const nlohmann::json& id) {
-  std::filesystem::create_directories(dir);
-  RunState& s = trainer.state();
-  char name[32];
-  std::snprintf(name, sizeof name, "agent-%06d.bin", s.episode);
-  trainer.agent().save(dir / name);
-  std::ostringstream rng;
-  rng << s.rng;
+  const RunState& s = trainer.state();
   nlohmann::json j;
-  j["identity"] = id;
-  j["episode"] = s.episode;
-  j["agent_file"] = name;
-  j["rng"] = rng.str();
+  j["rng"] = to_text(s.rng);
   j["seconds"] = s.seconds;
   j["reference"] = std::vector<double>(s.reference.begin(), s.reference.end());
   j["initial_evaluation"] = s.initial_evaluation;
@@ -364,34 +351,16 @@ void save_checkpoint(Trainer& trainer, const std::filesystem::path& dir, const n
   j["best_train_rmse_k"] = s.best_train_rmse_k;
   j["best_episode"] = s.best_episode;
   for (const EpisodeRecord& r : s.curve) j["curve"].push_back(to_json(r));
-  // The state file is the commit point: it names the agent file written just before it.
-  write_file_atomically(dir / kStateFile, j.dump() + "\n");
-  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
-    const std::string f = entry.path().filename().string();
-    if (f.rfind("agent-", 0) == 0 && f != name) std::filesystem::remove(entry.path());
-  }
+  write_checkpoint(dir, trainer.agent(), s.episode, id, std::move(j));
 }
 
 void load_checkpoint(Trainer& trainer, const std::filesystem::path& dir, const nlohmann::json& id) {
-  const std::filesystem::path file = dir / kStateFile;
-  std::ifstream in(file);
-  if (!in) throw std::runtime_error("--resume: no checkpoint at " + file.string());
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::exception& e) {
-    throw std::runtime_error(file.string() + ": unreadable checkpoint (" + e.what() + ")");
-  }
-  if (j.at("identity") != id)
-    throw std::runtime_error("--resume: the checkpoint in " + dir.string() +
-                             " was made with other settings, data or parameters; start afresh without --resume");
-  trainer.agent().load(dir / j.at("agent_file").get<std::string>());
+  const nlohmann::json j = read_checkpoint(dir, id, trainer.agent());
   RunState& s = trainer.state();
-  ParamVector<double> reference{};
   s.episode = j.at("episode").get<int>();
-  std::istringstream rng(j.at("rng").get<std::string>());
-  rng >> s.rng;
+  from_text(j.at("rng").get<std::string>(), s.rng);
   s.seconds = j.at("seconds").get<double>();
+  ParamVector<double> reference{};
   const auto ref = j.at("reference").get<std::vector<double>>();
   std::copy(ref.begin(), ref.end(), reference.begin());
   trainer.set_reference(reference);
@@ -452,13 +421,7 @@ SplitMetrics evaluate_scheduled_actor(const Td3Outcome& o, const MotorFile& moto
     out.cycles[i].stator = compare(sim.stator_sensor, cycle, data::Channel::stator_winding_c);
     out.cycles[i].rotor = compare(sim.rotor_sensor, cycle, data::Channel::rotor_c);
   });
-  std::vector<ErrorMetrics> stator, rotor;
-  for (const CycleMetrics& c : out.cycles) {
-    stator.push_back(c.stator);
-    if (c.rotor.samples) rotor.push_back(c.rotor);
-  }
-  out.stator = pool(stator);
-  out.rotor = pool(rotor);
+  pool_cycles(out);
   return out;
 }
 

@@ -10,16 +10,14 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <fstream>
 #include <random>
-#include <sstream>
 #include <stdexcept>
 
-#include "hostio/atomic_file.hpp"
 #include "hostio/worker_threads.hpp"
 #include "trainer/calibrate/problem.hpp"
 #include "trainer/calibrate/set_scorer.hpp"
 #include "trainer/data/coarse_grid.hpp"
+#include "trainer/td3/internal/checkpoint.hpp"
 
 namespace lptn::td3 {
 namespace {
@@ -224,8 +222,6 @@ class SequentialTrainer {
   std::vector<double> guess_, rollout_starts_;
 };
 
-const char* kStateFile = "state.json";
-
 nlohmann::json identity(const TrainingSettings& settings, const data::Dataset& dataset, const std::vector<std::size_t>& train,
                         const FreeParameters& free, const WarmStart& warm) {
   nlohmann::json cycles = nlohmann::json::array();
@@ -238,18 +234,9 @@ nlohmann::json identity(const TrainingSettings& settings, const data::Dataset& d
 
 // Returns the agent file it wrote.
 std::filesystem::path save_checkpoint(SequentialTrainer& trainer, const std::filesystem::path& dir, const nlohmann::json& id) {
-  std::filesystem::create_directories(dir);
-  RunState& s = trainer.state();
-  char name[32];
-  std::snprintf(name, sizeof name, "agent-%06d.bin", s.round);
-  trainer.agent().save(dir / name);
-  std::ostringstream rng;
-  rng << s.rng;
+  const RunState& s = trainer.state();
   nlohmann::json j;
-  j["identity"] = id;
-  j["episode"] = s.round;  // rounds, under the key every formulation's checkpoint uses
-  j["agent_file"] = name;
-  j["rng"] = rng.str();
+  j["rng"] = to_text(s.rng);
   j["seconds"] = s.seconds;
   j["initial_evaluation"] = s.initial_evaluation;
   j["best"] = std::vector<double>(s.best.begin(), s.best.end());
@@ -259,33 +246,15 @@ std::filesystem::path save_checkpoint(SequentialTrainer& trainer, const std::fil
   j["updates"] = s.updates;
   j["curve"] = nlohmann::json::array();
   for (const EpisodeRecord& r : s.curve) j["curve"].push_back(to_json(r));
-  // The state file is the commit point: it names the agent file written just before it.
-  write_file_atomically(dir / kStateFile, j.dump() + "\n");
-  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
-    const std::string f = entry.path().filename().string();
-    if (f.rfind("agent-", 0) == 0 && f != name) std::filesystem::remove(entry.path());
-  }
-  return dir / name;
+  // Rounds, under the key every formulation's checkpoint uses.
+  return write_checkpoint(dir, trainer.agent(), s.round, id, std::move(j));
 }
 
 void load_checkpoint(SequentialTrainer& trainer, const std::filesystem::path& dir, const nlohmann::json& id) {
-  const std::filesystem::path file = dir / kStateFile;
-  std::ifstream in(file);
-  if (!in) throw std::runtime_error("--resume: no checkpoint at " + file.string());
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::exception& e) {
-    throw std::runtime_error(file.string() + ": unreadable checkpoint (" + e.what() + ")");
-  }
-  if (!j.contains("identity") || j.at("identity") != id)
-    throw std::runtime_error("--resume: the checkpoint in " + dir.string() +
-                             " was made with other settings, data or parameters; start afresh without --resume");
-  trainer.agent().load(dir / j.at("agent_file").get<std::string>());
+  const nlohmann::json j = read_checkpoint(dir, id, trainer.agent());
   RunState& s = trainer.state();
   s.round = j.at("episode").get<int>();
-  std::istringstream rng(j.at("rng").get<std::string>());
-  rng >> s.rng;
+  from_text(j.at("rng").get<std::string>(), s.rng);
   s.seconds = j.at("seconds").get<double>();
   s.initial_evaluation = j.at("initial_evaluation").get<double>();
   const auto best = j.at("best").get<std::vector<double>>();
@@ -340,7 +309,7 @@ Td3Outcome train_sequential(const MotorFile& motor, const data::Dataset& dataset
       r.seconds = s.seconds;
       const double per = (s.seconds - seconds_before) / std::max(1, s.round - first);
       r.seconds_left = per * (settings.max_episodes - s.round);
-      r.random = s.round <= settings.random_episodes;
+      r.random = warm.agent_file.empty() && s.round <= settings.random_episodes;
       if (!progress(r)) {
         out.completed = false;
         break;

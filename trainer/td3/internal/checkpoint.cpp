@@ -1,0 +1,62 @@
+#include "trainer/td3/internal/checkpoint.hpp"
+
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include "hostio/atomic_file.hpp"
+
+namespace lptn::td3 {
+
+namespace {
+const char* kStateFile = "state.json";
+}
+
+std::filesystem::path write_checkpoint(const std::filesystem::path& dir, const Agent& agent, int episode,
+                                       const nlohmann::json& identity, nlohmann::json state) {
+  std::filesystem::create_directories(dir);
+  char name[32];
+  std::snprintf(name, sizeof name, "agent-%06d.bin", episode);
+  agent.save(dir / name);
+  state["identity"] = identity;
+  state["episode"] = episode;
+  state["agent_file"] = name;
+  write_file_atomically(dir / kStateFile, state.dump() + "\n");
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+    const std::string f = entry.path().filename().string();
+    if (f.rfind("agent-", 0) == 0 && f != name) std::filesystem::remove(entry.path());
+  }
+  return dir / name;
+}
+
+nlohmann::json read_checkpoint(const std::filesystem::path& dir, const nlohmann::json& identity, Agent& agent) {
+  const std::filesystem::path file = dir / kStateFile;
+  std::ifstream in(file);
+  if (!in) throw std::runtime_error("--resume: no checkpoint at " + file.string());
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception& e) {
+    throw std::runtime_error(file.string() + ": unreadable checkpoint (" + e.what() + ")");
+  }
+  if (!j.is_object() || !j.contains("identity") || j.at("identity") != identity)
+    throw std::runtime_error("--resume: the checkpoint in " + dir.string() +
+                             " was made with other settings, data or parameters; start afresh without --resume");
+  agent.load(dir / j.at("agent_file").get<std::string>());
+  return j;
+}
+
+std::string to_text(const std::mt19937_64& rng) {
+  std::ostringstream s;
+  s << rng;
+  return s.str();
+}
+
+void from_text(const std::string& text, std::mt19937_64& rng) {
+  std::istringstream s(text);
+  s >> rng;
+  if (!s) throw std::runtime_error("checkpoint: unreadable generator state");
+}
+
+}  // namespace lptn::td3
