@@ -31,6 +31,9 @@ def main(out):
         j = json.load(open(path))
         wall = path[:-5] + ".wall"
         details = j["method"].get("details", {})
+        settings = j["method"].get("settings", {})
+        if "updates" not in details and "updates_per_episode" in settings:  # the paper's formulations: updates after
+            details["updates"] = settings["updates_per_episode"] * max(0, details.get("episodes", 0) - settings.get("random_episodes", 0))
         error = max(abs(math.log(p["value"] / truth[p["name"]]["value"]))
                     for p in j["parameters"] if p.get("calibrated") and p["name"] in truth)
         runs.setdefault(method, []).append({
@@ -39,7 +42,7 @@ def main(out):
             "train": combined(j["metrics"]["train"]),
             "m": j["metrics"],
             "wall": float(open(wall).read()) if os.path.exists(wall) else float("nan"),
-            "steps": details.get("simulated_steps"),
+            "steps": details.get("simulated_steps"),  # not counted by the paper's formulations
             "updates": details.get("updates"),
             "param_error": error,
         })

@@ -84,6 +84,11 @@ void expect_learns(Formulation f, int episodes, int random) {
     EXPECT_GT(late, early);
   }
   EXPECT_LT(after.stator.rmse_k, before.stator.rmse_k);
+  // The budget is counted: at least every training cycle once per episode, one update per step asked.
+  std::size_t train_steps = 0;
+  for (std::size_t c : d.split.train) train_steps += d.dataset.cycles[c].steps;
+  EXPECT_GT(o.simulated_steps, train_steps);
+  EXPECT_GT(o.updates, 0);
 }
 
 // The sequential formulation: the actor's rollouts fall further in ln RMSE than the untrained

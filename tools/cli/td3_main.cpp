@@ -118,7 +118,6 @@ void run_td3(const CalibrateArgs& a, const MotorFile& motor, const data::Dataset
   const bool sequential = formulation == td3::Formulation::sequential;
   r.details = {{sequential ? "rounds" : "episodes", o.episodes},
                {"initial_evaluation", o.initial_evaluation},
-               {"reached_target", o.reached_target},
                {"resumed_from_episode", o.resumed_from},
                {"checkpoints", checkpoints.string()},
                {"constant_set", sequential
@@ -129,9 +128,10 @@ void run_td3(const CalibrateArgs& a, const MotorFile& motor, const data::Dataset
                {sequential ? "best_round" : "best_episode", o.best_episode},
                {"best_train_rmse_k", o.best_train_rmse_k},
                {"training_curve", curve}};
+  if (!sequential) r.details["reached_target"] = o.reached_target;  // the paper's stop rule; the sequential one has none
+  r.details["simulated_steps"] = o.simulated_steps;
+  r.details["updates"] = o.updates;
   if (sequential) {
-    r.details["simulated_steps"] = o.simulated_steps;
-    r.details["updates"] = o.updates;
     r.details["warm_start"] = a.warm_start.empty() ? nlohmann::json(nullptr) : nlohmann::json{{"file", a.warm_start}, {"agent_sha256", warm.sha256}};
     keep_agent(a, o, r);
     if (a.test_curve) r.details["test_curve"] = test_curve(motor, dataset, split, o);

@@ -109,6 +109,8 @@ struct RunState {
   double best_train_rmse_k = std::numeric_limits<double>::infinity();
   int best_episode = 0;
   double seconds = 0;
+  std::size_t simulated_steps = 0;  // model steps, offsets' fits and scores included
+  long long updates = 0;            // gradient steps
 };
 
 
@@ -136,7 +138,10 @@ class Trainer {
   void set_reference(const ParamVector<double>& p) {
     state_.reference = p;
     reference_offsets_.clear();
-    for (std::size_t ci = 0; ci < env_.cycles(); ++ci) reference_offsets_.push_back(env_.offsets_for(ci, p));
+    for (std::size_t ci = 0; ci < env_.cycles(); ++ci) {
+      reference_offsets_.push_back(env_.offsets_for(ci, p));
+      state_.simulated_steps += evaluation_steps(env_.cycle(ci)) - env_.cycle(ci).steps;  // the offsets' fit
+    }
   }
 
   Agent& agent() { return agent_; }
@@ -162,7 +167,7 @@ class Trainer {
       per_step_episode(ci, start, length, random, rec);
     else
       bandit_episode(ci, start, length, random, rec);
-    if (!random && settings_.updates_per_episode > 0) agent_.train(settings_.updates_per_episode);
+    if (!random && settings_.updates_per_episode > 0) state_.updates += agent_.train(settings_.updates_per_episode).updates;
     ++state_.episode;
     const std::size_t window = static_cast<std::size_t>(settings_.averaging_window);
     double sum = rec.reward;
@@ -175,8 +180,9 @@ class Trainer {
 
   // RMSE over the training cycles (stator and rotor residuals pooled) of a constant set, as the
   // metrics score it: the offsets re-fitted for the set (evaluate_split), on both cores.
-  double train_rmse(const ParamVector<double>& p) const {
+  double train_rmse(const ParamVector<double>& p) {
     const SplitMetrics m = evaluate_split(env_.model(), p, env_.dataset(), env_.train());
+    for (std::size_t ci = 0; ci < env_.cycles(); ++ci) state_.simulated_steps += evaluation_steps(env_.cycle(ci));
     return pool({m.stator, m.rotor}).rmse_k;
   }
 
@@ -230,8 +236,9 @@ class Trainer {
  private:
   // The state at grid step `start`: the model run from the cycle's start with `p`.
   void warm_up(std::size_t ci, std::size_t start, const ParamVector<double>& p, const InitialOffsets<double>& offsets,
-               double* x) const {
+               double* x) {
     const data::Cycle& cycle = env_.cycle(ci);
+    state_.simulated_steps += start;
     initial_state_for(env_.model(), cycle, x, offsets);
     for (std::size_t k = 0; k < start; ++k) env_.model().step(x, inputs_at(cycle, k), p.data(), cycle.dt_s);
   }
@@ -264,6 +271,7 @@ class Trainer {
     double x[kMaxStates];
     warm_up(ci, start, state_.reference, reference_offsets_[ci], x);
     rew_.resize(length);
+    state_.simulated_steps += length;
     done_.assign(length, 0);
     done_.back() = 1;
     const bool rotor = cycle.has(data::Channel::rotor_c);
@@ -308,6 +316,7 @@ class Trainer {
     // one random window alone varies between windows as much as 1.0x and 1.1x LM differ.
     double x[kMaxStates];
     initial_state_for(env_.model(), cycle, x, env_.offsets_for(ci, params));
+    state_.simulated_steps += evaluation_steps(cycle) - cycle.steps + start + length;
     const bool rotor = cycle.has(data::Channel::rotor_c);
     double stator_sum = 0, rotor_sum = 0;
     for (std::size_t k = 0; k < start + length; ++k) {
@@ -350,6 +359,8 @@ void save_checkpoint(Trainer& trainer, const std::filesystem::path& dir, const n
   j["best"] = std::vector<double>(s.best.begin(), s.best.end());
   j["best_train_rmse_k"] = s.best_train_rmse_k;
   j["best_episode"] = s.best_episode;
+  j["simulated_steps"] = s.simulated_steps;
+  j["updates"] = s.updates;
   for (const EpisodeRecord& r : s.curve) j["curve"].push_back(to_json(r));
   write_checkpoint(dir, trainer.agent(), s.episode, id, std::move(j));
 }
@@ -369,6 +380,8 @@ void load_checkpoint(Trainer& trainer, const std::filesystem::path& dir, const n
   std::copy(best.begin(), best.end(), s.best.begin());
   s.best_train_rmse_k = j.at("best_train_rmse_k").get<double>();
   s.best_episode = j.at("best_episode").get<int>();
+  s.simulated_steps = j.at("simulated_steps").get<std::size_t>();
+  s.updates = j.at("updates").get<long long>();
   s.curve.clear();
   for (const auto& r : j.value("curve", nlohmann::json::array())) s.curve.push_back(record_from_json(r));
 }
@@ -506,6 +519,8 @@ Td3Outcome train_td3(const MotorFile& motor, const data::Dataset& dataset, const
   out.initial_evaluation = s.initial_evaluation;
   out.episodes = s.episode;
   out.seconds = s.seconds;
+  out.simulated_steps = s.simulated_steps;
+  out.updates = s.updates;
   return out;
 }
 

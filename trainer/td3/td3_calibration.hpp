@@ -78,8 +78,8 @@ struct Td3Outcome {
   bool completed = false;       // false if the progress callback stopped it
   int resumed_from = 0;         // episode the run continued after (0: fresh)
   double seconds = 0;
-  // The sequential formulation's budget: model steps simulated (coarse and fine grid alike) and
-  // gradient steps taken.
+  // The budget spent: model steps simulated (every grid, the start offsets' fits and the sets'
+  // scores included) and gradient steps taken.
   std::size_t simulated_steps = 0;
   long long updates = 0;
   // The sequential formulation: the agent as it ended (the last checkpoint's file), for a later
