@@ -1,8 +1,10 @@
-// Calibration with TD3, as the paper sets it up: the parameterized model runs over a driving cycle
-// drawn at random per episode; the agent observes motor speed and torque (normalized) and acts
-// with the calibrated parameters (tanh, then scaled onto each parameter's bounds, log scale);
-// eq. 15 rewards it for every step's temperature error. A second formulation holds one action
-// for a whole episode and rewards it with the episode's error (a contextual bandit).
+// Calibration with TD3, three formulations (TrainingSettings::formulation). The sequential one
+// (`--method td3`, internal/sequential.cpp) steps through parameter sets, rewarded with the fall
+// in ln RMSE. The paper's (`td3-paper`): the parameterized model runs over a driving cycle drawn
+// at random per episode; the agent observes motor speed and torque (normalized) and acts with the
+// calibrated parameters (tanh, then scaled onto each parameter's bounds, log scale); eq. 15
+// rewards it for every step's temperature error. `td3-episode` holds one action from the cycle's
+// start to the end of a window and rewards it with that stretch's error (a contextual bandit).
 #pragma once
 
 #include <array>
@@ -63,7 +65,9 @@ struct Td3Outcome {
   // the per-step formulation, each episode-length window's context for the episode one), its tanh
   // outputs averaged, and the mean mapped onto the bounds (a geometric mean for log-scaled
   // parameters). The set returned is the one of these that fit the training cycles best (the
-  // starting guess if none did better: best_episode 0); the actor is the one at the end.
+  // starting guess if none did better: best_episode 0); the actor is the one at the end. The
+  // sequential formulation returns instead the best set its actor's rollouts visited (best_episode
+  // is then the round), and its actor (state -> step) is not one to flash.
   ParamVector<double> values{};
   int best_episode = 0;
   double best_train_rmse_k = 0;

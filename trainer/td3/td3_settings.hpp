@@ -1,5 +1,7 @@
-// What a TD3 calibration run is told: the paper's set-up (table 2 and section 3), the TD3 authors'
-// values elsewhere, all overridable from a TOML file (docs/td3.toml lists every key with the sequential formulation's default, docs/td3-paper.toml the paper's).
+// What a TD3 calibration run is told: for the paper's formulations its set-up (table 2 and
+// section 3), the TD3 authors' values elsewhere; for the sequential one its own. All overridable
+// from a TOML file: docs/td3.toml lists every key with the sequential formulation's default,
+// docs/td3-paper.toml with the paper's.
 #pragma once
 
 #include <cstdint>
