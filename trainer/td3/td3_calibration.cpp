@@ -13,6 +13,7 @@
 #include "trainer/calibrate/problem.hpp"
 #include "trainer/model/simulate.hpp"
 #include "trainer/td3/internal/checkpoint.hpp"
+#include "trainer/td3/internal/run_record.hpp"
 #include "trainer/td3/internal/sequential.hpp"
 
 namespace lptn::td3 {
@@ -169,13 +170,8 @@ class Trainer {
       bandit_episode(ci, start, length, random, rec);
     if (!random && settings_.updates_per_episode > 0) state_.updates += agent_.train(settings_.updates_per_episode).updates;
     ++state_.episode;
-    const std::size_t window = static_cast<std::size_t>(settings_.averaging_window);
-    double sum = rec.reward;
-    std::size_t n = 1;
-    for (auto it = state_.curve.rbegin(); it != state_.curve.rend() && n < window; ++it, ++n) sum += it->reward;
-    rec.average = sum / static_cast<double>(n);
-    state_.curve.push_back(rec);
-    return rec;
+    append_with_average(state_.curve, rec, settings_.averaging_window);
+    return state_.curve.back();
   }
 
   // RMSE over the training cycles (stator and rotor residuals pooled) of a constant set, as the
@@ -485,15 +481,8 @@ Td3Outcome train_td3(const MotorFile& motor, const data::Dataset& dataset, const
       save_checkpoint(trainer, checkpoint_dir, id);
     }
     if (progress) {
-      EpisodeReport r;
-      r.episode = s.episode;
-      r.max_episodes = settings.max_episodes;
-      r.reward = rec.reward;
-      r.average = rec.average;
-      r.seconds = s.seconds;
-      const double per = (s.seconds - seconds_before) / std::max(1, s.episode - first);
-      r.seconds_left = per * (settings.max_episodes - s.episode);
-      r.random = s.episode <= settings.random_episodes;
+      const EpisodeReport r = progress_report(rec, s.episode, settings.max_episodes, first, s.seconds, seconds_before,
+                                              s.episode <= settings.random_episodes);
       if (!progress(r)) {
         out.completed = false;
         break;

@@ -18,6 +18,7 @@
 #include "trainer/calibrate/set_scorer.hpp"
 #include "trainer/data/coarse_grid.hpp"
 #include "trainer/td3/internal/checkpoint.hpp"
+#include "trainer/td3/internal/run_record.hpp"
 
 namespace lptn::td3 {
 namespace {
@@ -119,13 +120,8 @@ class SequentialTrainer {
       rec.mean_abs_error_k += now[e].rmse_k / static_cast<double>(n);
     }
     ++state_.round;
-    const std::size_t window = static_cast<std::size_t>(settings_.averaging_window);
-    double sum = rec.reward;
-    std::size_t k = 1;
-    for (auto it = state_.curve.rbegin(); it != state_.curve.rend() && k < window; ++it, ++k) sum += it->reward;
-    rec.average = sum / static_cast<double>(k);
-    state_.curve.push_back(rec);
-    return rec;
+    append_with_average(state_.curve, rec, settings_.averaging_window);
+    return state_.curve.back();
   }
 
   // The deterministic actor's rollouts from the fixed starts: their mean fall in ln RMSE, and the
@@ -301,15 +297,8 @@ Td3Outcome train_sequential(const MotorFile& motor, const data::Dataset& dataset
     }
     s.curve.back().seconds = s.seconds;
     if (progress) {
-      EpisodeReport r;
-      r.episode = s.round;
-      r.max_episodes = settings.max_episodes;
-      r.reward = rec.reward;
-      r.average = rec.average;
-      r.seconds = s.seconds;
-      const double per = (s.seconds - seconds_before) / std::max(1, s.round - first);
-      r.seconds_left = per * (settings.max_episodes - s.round);
-      r.random = warm.agent_file.empty() && s.round <= settings.random_episodes;
+      const EpisodeReport r = progress_report(rec, s.round, settings.max_episodes, first, s.seconds, seconds_before,
+                                              warm.agent_file.empty() && s.round <= settings.random_episodes);
       if (!progress(r)) {
         out.completed = false;
         break;
