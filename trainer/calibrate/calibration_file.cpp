@@ -94,6 +94,10 @@ ordered_json build(const CalibrationResult& r) {
   j["format_version"] = r.format_version;
   j["created_utc"] = r.created_utc;
   j["lptn_version"] = r.lptn_version;
+  j["status"] = r.status;
+  j["warnings"] = ordered_json::array();
+  for (const CalibrationWarning& w : r.warnings)
+    j["warnings"].push_back({{"code", w.code}, {"message", w.message}, {"parameters", w.parameters}});
   j["motor"] = {{"name", r.motor_name}, {"file", r.motor_file}, {"text", r.motor_text}};
   j["effects"] = ordered_json::array();
   for (int e = 0; e < kNumEffects; ++e)
@@ -108,7 +112,9 @@ ordered_json build(const CalibrationResult& r) {
                                {"min", p.min},
                                {"max", p.max},
                                {"calibrated", p.calibrated},
-                               {"std_error", number_or_null(p.std_error)}});
+                               {"std_error", number_or_null(p.std_error)},
+                               {"identifiable", p.identifiable},
+                               {"identifiability", p.identifiability}});
   j["correlated"] = ordered_json::array();
   for (const CorrelatedPair& c : r.correlated) j["correlated"].push_back({{"a", c.a}, {"b", c.b}, {"correlation", c.correlation}});
 
@@ -176,7 +182,7 @@ SplitMetrics read_split(const JsonField& f) {
 // Every parameter of the model must be listed, except those of effects the calibration does not
 // enable: a file written before an effect was appended to the library (docs/effects.md) lacks
 // them, and they take no part in its model.
-std::vector<ParameterResult> read_parameters(const JsonField& list, EffectSet effects) {
+std::vector<ParameterResult> read_parameters(const JsonField& list, EffectSet effects, int version) {
   std::vector<ParameterResult> out(kNumParams);
   std::vector<bool> seen(kNumParams, false);
   for (std::size_t i = 0; i < list.size(); ++i) {
@@ -195,6 +201,10 @@ std::vector<ParameterResult> read_parameters(const JsonField& list, EffectSet ef
     r.max = p["max"].number();
     r.calibrated = p["calibrated"].boolean();
     r.std_error = p["std_error"].number_or_null();
+    if (version >= 2) {
+      r.identifiable = p["identifiable"].boolean();
+      r.identifiability = p["identifiability"].string();
+    }
   }
   for (int i = 0; i < kNumParams; ++i) {
     if (seen[i]) continue;
@@ -287,8 +297,24 @@ CalibrationResult calibration_from_json(const nlohmann::json& j, const std::stri
   // The version first: a file of another version may differ in any other key.
   const JsonField version = root["format_version"];
   r.format_version = static_cast<int>(version.integer());
-  if (r.format_version != kCalibrationFormatVersion)
-    version.fail("version " + std::to_string(r.format_version) + ", this lptn reads " + std::to_string(kCalibrationFormatVersion));
+  if (r.format_version < kOldestReadCalibrationFormatVersion || r.format_version > kCalibrationFormatVersion)
+    version.fail("version " + std::to_string(r.format_version) + ", this lptn reads " +
+                 std::to_string(kOldestReadCalibrationFormatVersion) + " to " + std::to_string(kCalibrationFormatVersion));
+  if (r.format_version >= 2) {
+    r.status = root["status"].string();
+    if (r.status != kStatusOk && r.status != kStatusWarnings && r.status != kStatusFailed)
+      root["status"].fail("'" + r.status + "', expected ok, warnings or failed");
+    const JsonField warnings = root["warnings"];
+    for (std::size_t i = 0; i < warnings.size(); ++i) {
+      const JsonField w = warnings.at(i);
+      r.warnings.push_back({w["code"].string(), w["message"].string(), strings(w["parameters"])});
+    }
+  } else {
+    r.status = kStatusUnchecked;
+    r.warnings.push_back({"unchecked", "made by an lptn that did not judge its outcome (format 1): a parameter marked "
+                                       "calibrated may be the motor file's guess; calibrate again to know",
+                          {}});
+  }
   r.created_utc = root["created_utc"].string();
   r.lptn_version = root["lptn_version"].string();
 
@@ -305,7 +331,7 @@ CalibrationResult calibration_from_json(const nlohmann::json& j, const std::stri
     r.effects |= effect_bit(e);
   }
 
-  r.parameters = read_parameters(root["parameters"], r.effects);
+  r.parameters = read_parameters(root["parameters"], r.effects, r.format_version);
   const JsonField correlated = root["correlated"];
   for (std::size_t i = 0; i < correlated.size(); ++i) {
     const JsonField c = correlated.at(i);

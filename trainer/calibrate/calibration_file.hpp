@@ -16,8 +16,11 @@
 
 namespace lptn {
 
-// Bumped whenever a key changes meaning; a reader refuses any other version.
-inline constexpr int kCalibrationFormatVersion = 1;
+// Bumped whenever a key changes meaning; a reader refuses any other version but the one before,
+// which it reads as "unchecked" (version 1 had no status and marked every free parameter
+// calibrated, pinned by the data or not).
+inline constexpr int kCalibrationFormatVersion = 2;
+inline constexpr int kOldestReadCalibrationFormatVersion = 1;
 
 // A bad calibration file; one line: "FILE: field 'a.b[3].c': reason".
 class CalibrationFileError : public std::runtime_error {
@@ -33,7 +36,27 @@ struct ParameterResult {
   double min = 0, max = 0;
   bool calibrated = false;
   double std_error = std::numeric_limits<double>::quiet_NaN();  // LM only; NaN where unknown
+  // Whether the data pinned it (LM judges; other methods leave it true). A parameter the data
+  // cannot pin is left at the motor file's value, calibrated = false, with the reason in words.
+  bool identifiable = true;
+  std::string identifiability;  // empty where identifiable
 };
+
+// Something a user must know about a calibration before using it (docs/calibration.md lists the
+// codes): a parameter at a bound, one the data could not pin, a fit that did not converge...
+struct CalibrationWarning {
+  std::string code;                     // stable, e.g. "at_bound", "not_identifiable"
+  std::string message;                  // one line, in words
+  std::vector<std::string> parameters;  // the parameters it concerns (may be empty)
+};
+
+// The calibration's outcome: ok (use it), warnings (written; read them first), failed (written
+// for inspection only; lptn export refuses it), unchecked (a version-1 file, made before lptn
+// judged outcomes).
+inline constexpr const char* kStatusOk = "ok";
+inline constexpr const char* kStatusWarnings = "warnings";
+inline constexpr const char* kStatusFailed = "failed";
+inline constexpr const char* kStatusUnchecked = "unchecked";
 
 // A parameter pair the data cannot tell apart (LM): |correlation| at or above the flag threshold.
 struct CorrelatedPair {
@@ -83,6 +106,9 @@ struct CalibrationResult {
 
   std::vector<ParameterResult> parameters;  // kNumParams entries, model order
   std::vector<CorrelatedPair> correlated;   // LM only
+
+  std::string status = kStatusOk;  // kStatus*: what the warnings add up to (calibration_outcome.hpp)
+  std::vector<CalibrationWarning> warnings;
 
   std::string method;         // "lm", "td3" (the paper's per-step formulation) or "td3-episode"
   nlohmann::json settings;    // the method's settings as used (free form, method-specific)
