@@ -13,6 +13,8 @@
 #include "hostio/process_group.hpp"
 #include "hostio/progress_line.hpp"
 #include "tools/cli/commands.hpp"
+#include "tools/cli/exit_code.hpp"
+#include "trainer/calibrate/calibration_outcome.hpp"
 #include "trainer/calibrate/calibration_result.hpp"
 #include "trainer/calibrate/lm.hpp"
 #include "trainer/calibrate/lm_result.hpp"
@@ -27,6 +29,7 @@ namespace {
 void run_lm(const CalibrateArgs& a, const MotorFile& motor, const data::Dataset& dataset, const Split& split,
             CalibrationResult& r) {
   LmSettings settings;
+  settings.judge_identifiability = true;  // what the data cannot pin stays the motor file's, said so
   ProgressLine line(a.quiet);
   const LmReport rep = fit_lm(motor, motor.initial_values(), dataset, split.train, settings,
                               [&](int it, double rmse, double seconds) {
@@ -168,25 +171,46 @@ void run(const CalibrateArgs& given, Td3Calibrator td3) {
                 split.train.size(), split.test.size(), split.rule.c_str());
   std::fflush(stdout);  // before the progress lines on stderr
 
-  if (a.method == "lm") run_lm(a, motor, dataset, split, r);
-  else if (search) run_search(a, motor, dataset, split, r);
-  else td3(a, motor, dataset, split, r);
+  try {
+    if (a.method == "lm") run_lm(a, motor, dataset, split, r);
+    else if (search) run_search(a, motor, dataset, split, r);
+    else td3(a, motor, dataset, split, r);
+  } catch (const ModelNotSimulable& e) {
+    throw BadInput(a.motor + ": " + e.what());
+  }
 
   score_calibration(r, motor, dataset, split);
+  judge_outcome(r);
+  set_exit_code(r.status == kStatusFailed ? kExitFailed : (r.status == kStatusWarnings ? kExitWarnings : 0));
   if (!group.leads()) return;
   save_calibration(r, a.out);
   if (!a.quiet) {
     for (const ParameterResult& p : r.parameters) {
-      if (!p.calibrated) continue;
+      if (!p.calibrated && p.identifiable) continue;
       std::printf("  %-24s %12.5g %-8s", p.name.c_str(), p.value, p.unit.c_str());
+      if (!p.identifiable) {
+        std::printf("   not identifiable: the motor file's value\n");
+        continue;
+      }
       if (std::isfinite(p.std_error)) std::printf(" +- %.3g", p.std_error);
-      std::printf("   (start %g)\n", p.initial);
+      std::printf("   (start %g)%s\n", p.initial, at_bound(p) ? "   AT ITS BOUND" : "");
     }
     for (const CorrelatedPair& c : r.correlated)
       std::printf("  note: %s and %s are %+.3f correlated: this data pins their combination better than either\n", c.a.c_str(), c.b.c_str(), c.correlation);
     print_metrics("train", r.train);
     if (!r.test.cycles.empty()) print_metrics("test", r.test);
-    std::printf("%s written (%.1f s of calibration)\n", a.out.c_str(), r.seconds);
+  }
+  // The warnings go to stderr, quiet or not: a script that ignores stdout must still see them.
+  for (const CalibrationWarning& w : r.warnings) std::fprintf(stderr, "warning: %s\n", w.message.c_str());
+  if (!a.quiet || r.status != kStatusOk) {
+    if (r.status == kStatusFailed)
+      std::printf("%s written with status FAILED, for inspection only (lptn export refuses it): %zu warning%s above\n",
+                  a.out.c_str(), r.warnings.size(), r.warnings.size() == 1 ? "" : "s");
+    else if (r.status == kStatusWarnings)
+      std::printf("%s written with status warnings (%zu; read them before using it; %.1f s of calibration)\n", a.out.c_str(),
+                  r.warnings.size(), r.seconds);
+    else
+      std::printf("%s written, status ok (%.1f s of calibration)\n", a.out.c_str(), r.seconds);
   }
 }
 

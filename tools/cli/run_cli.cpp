@@ -6,6 +6,7 @@
 
 #include "hostio/process_group.hpp"
 #include "tools/cli/commands.hpp"
+#include "tools/cli/exit_code.hpp"
 #include "trainer/calibrate/calibration_file.hpp"
 #include "trainer/data/dataset.hpp"
 #include "trainer/model/motor_file.hpp"
@@ -19,6 +20,16 @@ int bad_input(const char* program, const std::exception& e) {
 }
 }  // namespace
 
+namespace {
+int& outcome_code() {
+  static int code = 0;
+  return code;
+}
+}  // namespace
+
+void set_exit_code(int code) { outcome_code() = code; }
+int exit_code() { return outcome_code(); }
+
 std::vector<std::string>& invocation() {
   static std::vector<std::string> args;
   return args;
@@ -30,8 +41,9 @@ int parse_and_run(CLI::App& app, int argc, char** argv);
 
 int run_cli(CLI::App& app, int argc, char** argv) {
   const int code = parse_and_run(app, argc, argv);
-  // In an MPI job one rank's failure must end the others, which would wait for it in a sum.
-  if (code != 0 && ProcessGroup::joined()) ProcessGroup::world().abort(code);
+  // In an MPI job one rank's failure must end the others, which would wait for it in a sum (an
+  // outcome the command set as it finished, such as calibrate's 3, is every rank's and no failure).
+  if (code != 0 && code != exit_code() && ProcessGroup::joined()) ProcessGroup::world().abort(code);
   return code;
 }
 
@@ -75,7 +87,7 @@ int parse_and_run(CLI::App& app, int argc, char** argv) {
     std::fprintf(stderr, "%s: failed: %s\n", program.c_str(), e.what());
     return 1;
   }
-  return 0;
+  return exit_code();
 }
 }  // namespace
 

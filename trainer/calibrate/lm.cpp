@@ -10,7 +10,9 @@
 #include <cmath>
 #include <cstdint>
 #include <memory>
+#include <limits>
 #include <stdexcept>
+#include <string>
 
 #include "trainer/calibrate/correlation_time.hpp"
 #include "trainer/calibrate/grid_residuals.hpp"
@@ -351,11 +353,17 @@ class Progress final : public ceres::IterationCallback {
   std::chrono::steady_clock::time_point start_;
 };
 
-}  // namespace
 
-LmReport fit_lm(const MotorFile& motor, const ParamVector<double>& start, const data::Dataset& dataset,
-                const std::vector<std::size_t>& cycles, const LmSettings& settings, const LmProgress& progress,
-                const std::vector<double>& cooling) {
+// What one fit tells the identifiability judgement beyond its report.
+struct FitExtras {
+  bool judge = false;          // stop before solving where a free parameter moves nothing
+  std::vector<int> blind;      // model indices of free parameters with no effect on the residuals at the start
+  std::vector<double> log_std;  // per free parameter: 1-sigma error in internal coordinates (inf: unpinned)
+};
+
+LmReport fit_once(const MotorFile& motor, const ParamVector<double>& start, const data::Dataset& dataset,
+                  const std::vector<std::size_t>& cycles, const LmSettings& settings, const LmProgress& progress,
+                  const std::vector<double>& cooling, FitExtras& extras) {
   const auto t0 = std::chrono::steady_clock::now();
   if (!cooling.empty() && cooling.size() != cycles.size())
     throw std::invalid_argument("fit_lm: one cooling factor per cycle, or none");
@@ -415,6 +423,31 @@ LmReport fit_lm(const MotorFile& motor, const ParamVector<double>& start, const 
     problem.SetParameterUpperBound(theta.data(), static_cast<int>(j), free.to_internal(j, free.max[j]));
   }
 
+  // Before any iteration: the model must simulate at the start (a motor file whose values run
+  // away gives non-finite residuals, which Ceres' linear algebra must never see), and each free
+  // parameter must move the residuals at all. The Jacobian found here is the one the first
+  // iteration needs (CycleResiduals keeps it), so this costs no simulation.
+  {
+    ceres::CRSMatrix j0;
+    double cost0 = 0;
+    ceres::Problem::EvaluateOptions at_start;
+    at_start.parameter_blocks = {theta.data()};
+    at_start.num_threads = 1;
+    const bool ok = problem.Evaluate(at_start, &cost0, nullptr, nullptr, &j0);
+    Eigen::VectorXd information = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(nf));
+    if (ok && std::isfinite(cost0)) {
+      const Eigen::MatrixXd jtj0 = gram(j0);
+      information = jtj0.diagonal();
+    }
+    if (!ok || !std::isfinite(cost0) || !information.allFinite())
+      throw ModelNotSimulable("the model cannot be simulated on the training data with the motor file's values "
+                              "(temperatures or losses not finite at the start)");
+    const double most = information.maxCoeff();
+    for (std::size_t j = 0; j < nf; ++j)
+      if (!(information(static_cast<Eigen::Index>(j)) > 1e-12 * most)) extras.blind.push_back(free.index[j]);
+    if (extras.judge && !extras.blind.empty()) return report;
+  }
+
   ceres::Solver::Options options;
   options.minimizer_type = ceres::TRUST_REGION;
   options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
@@ -472,9 +505,35 @@ LmReport fit_lm(const MotorFile& motor, const ParamVector<double>& start, const 
   }
   report.correlation_time = std::max(tau[0], tau[1]);
   const double s2 = 2.0 * cost / dof * report.correlation_time;
+  if (!jtj.allFinite() || !std::isfinite(s2)) {
+    report.converged = false;
+    report.termination = "the fit ended where the model's residuals are not finite";
+    extras.log_std.assign(nf, std::numeric_limits<double>::infinity());
+    report.at_bound.assign(nf, false);
+    report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return report;
+  }
   Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(jtj);
   const Eigen::MatrixXd cov = s2 * cod.pseudoInverse();
   const bool full_rank = cod.rank() == static_cast<Eigen::Index>(nf);
+  {
+    // Each parameter's error in internal coordinates from the eigen-decomposition of J^T J: a
+    // direction the data does not see (eigenvalue at rounding level) makes every parameter in it
+    // unpinned (infinite), where the pseudo-inverse would hide it.
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(jtj);
+    const Eigen::VectorXd& lambda = eig.eigenvalues();
+    const double floor = 1e-12 * std::max(lambda.maxCoeff(), 0.0);
+    extras.log_std.assign(nf, 0.0);
+    for (std::size_t j = 0; j < nf; ++j) {
+      double var = 0;
+      for (Eigen::Index k = 0; k < lambda.size(); ++k) {
+        const double v = eig.eigenvectors()(static_cast<Eigen::Index>(j), k);
+        if (v * v < 1e-6) continue;  // this direction hardly involves parameter j
+        var = lambda(k) > floor ? var + v * v / lambda(k) : std::numeric_limits<double>::infinity();
+      }
+      extras.log_std[j] = std::sqrt(s2 * var);
+    }
+  }
   report.correlation.assign(nf, std::vector<double>(nf, 0.0));
   report.at_bound.assign(nf, false);
   for (std::size_t a = 0; a < nf; ++a) {
@@ -496,6 +555,107 @@ LmReport fit_lm(const MotorFile& motor, const ParamVector<double>& start, const 
                                      std::string(param_spec(free.index[b]).name), report.correlation[a][b]});
   report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return report;
+}
+
+
+// Whether any of the listed cycles has a rotor reading (over every process of a shared dataset).
+bool any_rotor_reading(const data::Dataset& dataset, const std::vector<std::size_t>& cycles) {
+  std::vector<double> found{0.0};
+  for (std::size_t c : cycles)
+    if (!dataset.cycles[c].remote && dataset.cycles[c].has(data::Channel::rotor_c)) found[0] = 1.0;
+  group_of(dataset).sum(found);
+  return found[0] > 0;
+}
+
+std::string blind_reason(bool rotor_readings) {
+  return rotor_readings ? "it does not change what the sensors read on the training data (an input it acts through may "
+                          "be absent or constant): fixed at the motor file's value"
+                        : "no rotor readings in the training data, and it does not reach the stator winding sensor: it "
+                          "moves only nodes no sensor sees; fixed at the motor file's value";
+}
+
+std::string weak_reason(const FreeParameters& free, std::size_t j, double log_std, const LmReport& fit) {
+  char buf[240];
+  if (!std::isfinite(log_std))
+    std::snprintf(buf, sizeof buf, "the training data leaves it unpinned (a direction of the fit the sensors do not see)");
+  else if (free.log_scale[j])
+    std::snprintf(buf, sizeof buf, "the training data pins it only within a factor of %.3g at 1 sigma", std::exp(log_std));
+  else
+    std::snprintf(buf, sizeof buf, "the training data pins it only to +-%.3g at 1 sigma (its range is %g..%g)", log_std,
+                  free.min[j], free.max[j]);
+  std::string out = buf;
+  // The partner it is confounded with, where one stands out.
+  std::size_t partner = j;
+  double strongest = 0;
+  for (std::size_t b = 0; b < free.size() && j < fit.correlation.size(); ++b)
+    if (b != j && std::abs(fit.correlation[j][b]) > strongest) {
+      strongest = std::abs(fit.correlation[j][b]);
+      partner = b;
+    }
+  if (partner != j && strongest >= 0.9) {
+    std::snprintf(buf, sizeof buf, " (%+.2f correlated with %s)", fit.correlation[j][partner],
+                  std::string(param_spec(free.index[partner]).name).c_str());
+    out += buf;
+  }
+  return out + "; fixed at the motor file's value";
+}
+
+}  // namespace
+
+LmReport fit_lm(const MotorFile& motor, const ParamVector<double>& start, const data::Dataset& dataset,
+                const std::vector<std::size_t>& cycles, const LmSettings& settings, const LmProgress& progress,
+                const std::vector<double>& cooling) {
+  if (!settings.judge_identifiability) {
+    FitExtras extras;
+    return fit_once(motor, start, dataset, cycles, settings, progress, cooling, extras);
+  }
+  // Fix what the data cannot pin, one parameter at a time (the least pinned first: fixing it
+  // may pin its partner), and refit the rest from where the last fit ended.
+  const auto t0 = std::chrono::steady_clock::now();
+  const bool rotor_readings = any_rotor_reading(dataset, cycles);
+  MotorFile m = motor;
+  ParamVector<double> from = start;
+  std::vector<NotIdentifiable> fixed;
+  for (;;) {
+    FitExtras extras;
+    extras.judge = true;
+    if (FreeParameters::from_motor(m).size() == 0)
+      throw std::runtime_error("no parameter this data can pin: " + fixed.front().reason);
+    LmReport fit = fit_once(m, from, dataset, cycles, settings, progress, cooling, extras);
+    const FreeParameters free = FreeParameters::from_motor(m);
+    if (!extras.blind.empty()) {
+      for (int i : extras.blind) {
+        fixed.push_back({i, blind_reason(rotor_readings)});
+        m.parameters[static_cast<std::size_t>(i)].calibrate = false;
+      }
+      continue;
+    }
+    std::size_t worst = free.size();
+    double worst_excess = 1.0;
+    for (std::size_t j = 0; j < free.size() && j < extras.log_std.size(); ++j) {
+      const double bound = free.log_scale[j] ? settings.max_log_std : 0.25 * (free.max[j] - free.min[j]);
+      const double excess = extras.log_std[j] / bound;
+      if (excess > worst_excess) {
+        worst_excess = excess;
+        worst = j;
+      }
+    }
+    if (worst < free.size() && free.size() > 1) {
+      const int i = free.index[worst];
+      fixed.push_back({i, weak_reason(free, worst, extras.log_std[worst], fit)});
+      m.parameters[static_cast<std::size_t>(i)].calibrate = false;
+      from = fit.values;
+      from[i] = start[i];
+      continue;
+    }
+    fit.not_identifiable = fixed;
+    for (const NotIdentifiable& n : fixed) {
+      fit.values[n.index] = start[n.index];
+      fit.std_error[n.index] = std::nan("");
+    }
+    fit.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return fit;
+  }
 }
 
 NormalEquations normal_equations(const Model<double>& model, const FreeParameters& free, const ParamVector<double>& at,

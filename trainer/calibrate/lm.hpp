@@ -6,6 +6,7 @@
 #pragma once
 
 #include <functional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -21,6 +22,25 @@ struct LmSettings {
   double parameter_tolerance = 1e-9;  // relative step that ends the fit
   int threads = worker_threads();     // residual blocks (cycles) evaluated in parallel
   double correlation_flag = 0.95;     // |correlation| from which a parameter pair is flagged
+  // Judge which free parameters the data pins (docs/calibration.md, "Identifiability"): one
+  // the data cannot move, or pins only within a factor of exp(max_log_std) at 1 sigma, is fixed
+  // at its start and the rest refit. Off for diagnose's refits, which judge their terms otherwise.
+  bool judge_identifiability = false;
+  double max_log_std = 0.69314718055994531;  // ln 2: known within a factor of two at 1 sigma
+};
+
+// A free parameter the data could not pin, left at its start (LmReport::not_identifiable).
+struct NotIdentifiable {
+  int index = -1;      // model parameter index
+  std::string reason;  // in words, for calibration.json and the console
+};
+
+// The motor file's values give a model that cannot be simulated on the training data (losses or
+// temperatures not finite at the start): nothing to fit. The message says so; the caller names
+// the implausible values.
+class ModelNotSimulable : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
 };
 
 struct LmReport {
@@ -30,6 +50,9 @@ struct LmReport {
   std::vector<std::vector<double>> correlation;  // free x free, order of FreeParameters::index
   std::vector<InitialOffsets<double>> offsets;  // per fitted cycle, in the order given
   std::vector<bool> at_bound;    // per free parameter: ended on its bound (its std error is then local only)
+  // With judge_identifiability: the parameters fixed because the data could not pin them (then
+  // not among the free ones above, std_error NaN, value the start's).
+  std::vector<NotIdentifiable> not_identifiable;
   int iterations = 0;
   double initial_cost = 0, final_cost = 0;  // 1/2 sum of squared residuals, K^2
   std::size_t residuals = 0;
@@ -53,7 +76,8 @@ struct LmReport {
 using LmProgress = std::function<void(int, double, double)>;
 
 // Fits the free parameters of `motor` starting from `start`, on the listed cycles, together with
-// each cycle's initial offsets. Residuals are
+// each cycle's initial offsets. Throws ModelNotSimulable if the model cannot be simulated at
+// `start` (before any iteration). Residuals are
 // model minus measurement of the stator winding sensor and, where measured, the rotor, at every
 // grid step where the measurement exists. Throws std::runtime_error if no cycle has a measurement.
 //

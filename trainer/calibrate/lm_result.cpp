@@ -7,14 +7,33 @@ namespace lptn {
 nlohmann::json to_json(const LmSettings& s) {
   return {{"max_iterations", s.max_iterations}, {"function_tolerance", s.function_tolerance},
           {"parameter_tolerance", s.parameter_tolerance}, {"threads", s.threads},
-          {"correlation_flag", s.correlation_flag}, {"initial_offsets", "estimated per cycle (stator core, rotor core)"}};
+          {"correlation_flag", s.correlation_flag}, {"judge_identifiability", s.judge_identifiability},
+          {"max_log_std", s.max_log_std}, {"initial_offsets", "estimated per cycle (stator core, rotor core)"}};
 }
 
-void record_lm_fit(CalibrationResult& r, const LmReport& fit, const FreeParameters& free,
+void record_lm_fit(CalibrationResult& r, const LmReport& fit, const FreeParameters& given,
                    const std::vector<std::string>& fitted, nlohmann::json settings) {
+  // The parameters the last fit moved: the given ones but those it found it could not pin (the
+  // order of its at_bound flags and correlation matrix).
+  FreeParameters free;
+  for (std::size_t j = 0; j < given.size(); ++j) {
+    bool dropped = false;
+    for (const NotIdentifiable& n : fit.not_identifiable) dropped = dropped || n.index == given.index[j];
+    if (dropped) continue;
+    free.index.push_back(given.index[j]);
+    free.min.push_back(given.min[j]);
+    free.max.push_back(given.max[j]);
+    free.log_scale.push_back(given.log_scale[j]);
+  }
   for (int i = 0; i < kNumParams; ++i) {
     r.parameters[static_cast<std::size_t>(i)].value = fit.values[i];
     r.parameters[static_cast<std::size_t>(i)].std_error = fit.std_error[i];
+  }
+  for (const NotIdentifiable& n : fit.not_identifiable) {
+    ParameterResult& p = r.parameters[static_cast<std::size_t>(n.index)];
+    p.calibrated = false;
+    p.identifiable = false;
+    p.identifiability = n.reason;
   }
   r.correlated = fit.correlated;
   r.method = "lm";

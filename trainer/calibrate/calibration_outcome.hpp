@@ -1,0 +1,27 @@
+// A calibration's outcome: what a user must know before using it, as warnings, and the status
+// they add up to (ok, warnings, failed). One judge for every method, so that LM, TD3 and the
+// search baselines are held to the same rules (docs/calibration.md, "Status and warnings").
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "trainer/calibrate/calibration_file.hpp"
+
+namespace lptn {
+
+// Sets result.warnings and result.status from a scored calibration (parameters and metrics set),
+// keeping warnings already there (`data_findings`: what inspecting the data found, one line each).
+//
+// failed:   a parameter or a metric is not finite; or the fit stopped without converging with a
+//           parameter on a bound (the optimizer ran into a wall: data and model disagree at the root,
+//           e.g. temperatures in the wrong unit or another motor's file)
+// warnings: a parameter on a bound; one the data could not pin; not converged; a test error far
+//           above the training error; anything the data's inspection found
+// ok:       none of these
+void judge_outcome(CalibrationResult& result, const std::vector<std::string>& data_findings = {});
+
+// Whether a calibrated parameter ended on (or within rounding of) one of its bounds.
+bool at_bound(const ParameterResult& p);
+
+}  // namespace lptn
