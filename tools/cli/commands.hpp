@@ -23,6 +23,7 @@ void add_export(CLI::App& app);
 void add_convert(CLI::App& app);
 void add_replay(CLI::App& app);
 void add_report(CLI::App& app);
+void add_check(CLI::App& app);
 
 // The program's own arguments as main() received them, for handing a command over to another
 // program (lptn calibrate --method td3 to lptn-td3).

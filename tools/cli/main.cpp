@@ -16,5 +16,6 @@ int main(int argc, char** argv) {
   lptn::cli::add_convert(app);
   lptn::cli::add_replay(app);
   lptn::cli::add_report(app);
+  lptn::cli::add_check(app);
   return lptn::cli::run_cli(app, argc, argv);
 }

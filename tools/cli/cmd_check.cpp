@@ -1,0 +1,160 @@
+// lptn check: does a calibration still hold on this data (trainer/check/)? Exit 0 it holds, 1 it
+// does not, 2 bad input: a fleet pipeline scripts on the code.
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "hostio/atomic_file.hpp"
+#include "hostio/progress_line.hpp"
+#include "hostio/worker_threads.hpp"
+#include "tools/cli/commands.hpp"
+#include "tools/cli/exit_code.hpp"
+#include "trainer/calibrate/calibration_file.hpp"
+#include "trainer/check/check.hpp"
+#include "trainer/data/dataset.hpp"
+#include "trainer/fleet/fleet_dump.hpp"
+#include "trainer/fleet/fleet_file.hpp"
+
+namespace lptn::cli {
+namespace {
+
+struct Args {
+  std::vector<std::string> data;
+  std::string fleet, calibration, json_out;
+  bool json = false, force = false, quiet = false;
+};
+
+bool is_fleet_file(const std::string& path) {
+  const nlohmann::json j = read_json_file(path);
+  return j.is_object() && j.contains("pooled") && j.contains("motors");
+}
+
+// One motor's cycles as a dataset of their own (names stay "<motor_id>/<cycle>", as fleet.json's
+// data lists them); the loader's reports come along for the sensors' reading periods.
+data::Dataset motor_dataset(const FleetDump& fleet, std::size_t m) {
+  data::Dataset d;
+  for (std::size_t i : fleet.motor_cycles[m]) d.cycles.push_back(fleet.dataset.cycles[i]);
+  d.reports = fleet.dataset.reports;
+  return d;
+}
+
+bool check_data(const Args& a) {
+  if (is_fleet_file(a.calibration))
+    throw BadInput(a.calibration + ": a fleet calibration (lptn calibrate --fleet): use --fleet FLEET, each motor against "
+                                   "its own cooling factor");
+  const CalibrationResult calibration = load_calibration(a.calibration);
+  const std::vector<std::filesystem::path> paths(a.data.begin(), a.data.end());
+  const data::Dataset dataset = data::load_fleet_dump(paths);
+  check::Check c;
+  {
+    ProgressLine line(a.quiet || a.json);
+    line.update("check: " + std::to_string(dataset.cycles.size()) + " cycles", true);
+    c = check::check(calibration, dataset, check::motor_beside(a.data), worker_threads());
+  }
+  nlohmann::json j = check::to_json(c);
+  j["calibration"] = a.calibration;
+  j["data"]["paths"] = a.data;
+  if (!a.json_out.empty()) write_file_atomically(a.json_out, j.dump(2) + "\n");
+  if (a.json) {
+    std::printf("%s\n", j.dump(2).c_str());
+  } else {
+    std::printf("checking %s (%s, %s, motor %s) on %zu cycles\n", a.calibration.c_str(), calibration.method.c_str(),
+                calibration.created_utc.c_str(), calibration.motor_name.c_str(), dataset.cycles.size());
+    std::printf("%s", check::describe(c).c_str());
+  }
+  return c.holds;
+}
+
+bool check_fleet(const Args& a) {
+  std::optional<FleetFile> fleet_file;
+  CalibrationResult single;
+  if (is_fleet_file(a.calibration)) fleet_file = load_fleet_file(a.calibration);
+  else single = load_calibration(a.calibration);
+  const FleetDump fleet = load_fleet(a.fleet);
+  const std::optional<MotorFile> data_motor = check::motor_beside({a.fleet});
+  nlohmann::json motors = nlohmann::json::array();
+  std::vector<std::string> failing, reasons;
+  ProgressLine line(a.quiet || a.json);
+  for (std::size_t m = 0; m < fleet.motor_ids.size(); ++m) {
+    const std::string& id = fleet.motor_ids[m];
+    line.update("check: " + id + " (" + std::to_string(m + 1) + "/" + std::to_string(fleet.motor_ids.size()) + ")", true);
+    // With fleet.json each motor against the type and its own cooling factor; a motor the fleet
+    // calibration does not know, and every motor under a calibration.json, against that calibration.
+    std::string against = fleet_file ? "the type (not in " + a.calibration + ")" : a.calibration;
+    CalibrationResult calibration = single;
+    if (fleet_file) {
+      calibration = fleet_file->pooled;
+      for (const FleetFileMotor& fm : fleet_file->motors)
+        if (fm.id == id) {
+          calibration = motor_calibration(*fleet_file, id);
+          char factor[96];
+          std::snprintf(factor, sizeof factor, "the type with its own cooling factor %.3f", fm.cooling_factor);
+          against = factor;
+        }
+    }
+    const check::Check c = check::check(calibration, motor_dataset(fleet, m), data_motor, worker_threads());
+    nlohmann::json j = check::to_json(c);
+    j["motor_id"] = id;
+    j["against"] = against;
+    motors.push_back(j);
+    if (!c.holds) {
+      failing.push_back(id);
+      for (const std::string& r : c.reasons) reasons.push_back(id + ": " + r);
+    }
+    if (!a.json) {
+      line.finish();
+      std::printf("%s (against %s): %s\n", id.c_str(), against.c_str(), c.holds ? "holds" : "does NOT hold");
+      for (const std::string& r : c.reasons) std::printf("  %s\n", r.c_str());
+      if (!c.provenance.all_seen()) std::printf("  %s\n", c.provenance.summary().c_str());
+    }
+  }
+  line.finish();
+  nlohmann::json j = {{"holds", failing.empty()}, {"reasons", reasons}, {"not_holding", failing},
+                      {"calibration", a.calibration}, {"fleet", a.fleet}, {"motors", motors}};
+  if (!a.json_out.empty()) write_file_atomically(a.json_out, j.dump(2) + "\n");
+  if (a.json) {
+    std::printf("%s\n", j.dump(2).c_str());
+  } else if (failing.empty()) {
+    std::printf("every motor's calibration holds (%zu motors)\n", fleet.motor_ids.size());
+  } else {
+    std::string list;
+    for (const std::string& id : failing) list += (list.empty() ? "" : ", ") + id;
+    std::printf("%zu of %zu motors' calibration no longer holds: %s\n", failing.size(), fleet.motor_ids.size(), list.c_str());
+  }
+  return failing.empty();
+}
+
+void run(const Args& a) {
+  refuse_overwrite(a.json_out, a.force);
+  if (a.data.empty() == a.fleet.empty()) throw BadInput("check: give --data DIR or --fleet FLEET (one of them)");
+  if (!std::filesystem::is_regular_file(a.calibration)) throw BadInput(a.calibration + ": no such file");
+  if (!a.fleet.empty() && !std::filesystem::is_directory(a.fleet)) throw BadInput(a.fleet + ": no such directory");
+  // "Does not hold" is an answer, not a failure: run_cli returns the code once the command returned.
+  const bool holds = a.fleet.empty() ? check_data(a) : check_fleet(a);
+  if (!holds) set_exit_code(kExitDoesNotHold);
+}
+
+}  // namespace
+
+void add_check(CLI::App& app) {
+  auto* cmd = app.add_subcommand(
+      "check", "Does a calibration still hold on this data? Each cycle's error against its sensors' noise and the "
+               "calibration's own test error, and its cooling factor against the calibration's; exit 0 it holds, 1 it "
+               "does not, 2 bad input (docs/check.md)");
+  auto a = std::make_shared<Args>();
+  cmd->add_option("--data", a->data, "Directories of cycle CSVs, or CSV files: the data to check the calibration on")
+      ->expected(1, -1);
+  cmd->add_option("--fleet", a->fleet,
+                  "A fleet dump (FLEET/<motor_id>/): every motor checked, against its own cooling factor with a fleet.json");
+  cmd->add_option("--calibration", a->calibration, "calibration.json (lptn calibrate), or fleet.json with --fleet")->required();
+  cmd->add_flag("--json", a->json, "Print the verdict as JSON: {\"holds\", \"reasons\", \"sensors\", \"cycles\": [...]}");
+  cmd->add_option("--json-out", a->json_out, "Also write that JSON to this file");
+  cmd->add_flag("--force", a->force, "Replace --json-out if it exists");
+  cmd->add_flag("--quiet", a->quiet, "No progress output");
+  cmd->callback([a] { run(*a); });
+}
+
+}  // namespace lptn::cli

@@ -1,0 +1,124 @@
+#include "trainer/check/provenance.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <type_traits>
+
+#include "lptn/motor_constant_fields.hpp"
+#include "lptn/motor_constants.hpp"
+
+namespace lptn::check {
+namespace {
+
+// "3" or "0.14": a constant as a person reads it.
+std::string shown(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
+// Constants are read from text: equal files give equal doubles, so any difference is a real one
+// (a relative 1e-9 only forgives the last digit of a rewritten file).
+bool differ(double a, double b) { return std::abs(a - b) > 1e-9 * std::max(std::abs(a), std::abs(b)); }
+
+template <class T>
+void compare_member(std::string_view name, const T& data, const T& calibration, std::vector<std::string>& out) {
+  if constexpr (std::is_array_v<T>) {
+    for (std::size_t i = 0; i < std::extent_v<T>; ++i)
+      if (differ(static_cast<double>(data[i]), static_cast<double>(calibration[i]))) {
+        out.push_back(std::string(name) + "[" + std::to_string(i) + "] " + shown(static_cast<double>(data[i])) +
+                      " (calibration: " + shown(static_cast<double>(calibration[i])) + ")");
+        return;  // one line per key
+      }
+  } else if constexpr (std::is_arithmetic_v<T>) {
+    if (differ(static_cast<double>(data), static_cast<double>(calibration)))
+      out.push_back(std::string(name) + " " + shown(static_cast<double>(data)) + " (calibration: " +
+                    shown(static_cast<double>(calibration)) + ")");
+  }
+}
+
+}  // namespace
+
+bool Provenance::all_seen() const { return unseen() == 0 && constants.empty(); }
+
+std::size_t Provenance::unseen() const {
+  return static_cast<std::size_t>(std::count_if(cycles.begin(), cycles.end(), [](const auto& c) { return !c.seen; }));
+}
+
+std::vector<std::string> Provenance::unseen_names() const {
+  std::vector<std::string> out;
+  for (const CycleProvenance& c : cycles)
+    if (!c.seen) out.push_back(c.name);
+  return out;
+}
+
+std::string Provenance::summary() const {
+  std::string out;
+  const std::size_t n = unseen();
+  if (n > 0) {
+    std::size_t renamed = 0;
+    for (const CycleProvenance& c : cycles) renamed += !c.seen && c.why == "same name, another file";
+    out = std::to_string(n) + " of " + std::to_string(cycles.size()) + " cycles are data this calibration never saw";
+    if (renamed == n) out += " (the calibration's cycle names, other files)";
+    else if (renamed == 0) out += " (names it does not know)";
+    else out += " (" + std::to_string(renamed) + " with the calibration's cycle names but other files)";
+  }
+  if (!constants.empty()) {
+    out += out.empty() ? "the data's motor.toml has other motor constants than the calibration's: "
+                       : "; the data's motor.toml has other motor constants: ";
+    for (std::size_t i = 0; i < constants.size() && i < 3; ++i) out += (i ? ", " : "") + constants[i];
+    if (constants.size() > 3) out += ", ...";
+  }
+  return out;
+}
+
+Provenance provenance(const CalibrationResult& calibration, const data::Dataset& dataset,
+                      const std::optional<MotorFile>& data_motor) {
+  std::map<std::string, std::string> hash_of;  // the calibration's cycle -> its file's hash
+  for (const DataFile& f : calibration.data) hash_of[f.cycle] = f.sha256;
+  std::map<std::string, std::string> file_hash;  // a file is hashed once however many segments it holds
+  Provenance p;
+  for (const data::Cycle& c : dataset.cycles) {
+    CycleProvenance cp;
+    cp.name = c.name;
+    const auto known = hash_of.find(c.name);
+    if (known == hash_of.end()) {
+      cp.why = "not among the calibration's cycles";
+    } else {
+      const std::string file = c.file.string();
+      if (!file_hash.count(file)) file_hash[file] = c.file_sha256.empty() ? sha256_file(c.file) : c.file_sha256;
+      cp.seen = file_hash[file] == known->second;
+      if (!cp.seen) cp.why = "same name, another file";
+    }
+    if (cp.seen) {
+      const auto in = [&](const std::vector<std::string>& v) { return std::find(v.begin(), v.end(), c.name) != v.end(); };
+      cp.role = in(calibration.train_cycles) ? "train" : in(calibration.test_cycles) ? "test" : "";
+    }
+    p.cycles.push_back(std::move(cp));
+  }
+  if (data_motor) {
+    const MotorFile motor = parse_motor_file(calibration.motor_text, calibration.motor_file);
+    for_each_motor_constant([&](const MotorField& f, const auto& data, const auto& cal) { compare_member(f.name, data, cal, p.constants); },
+                            data_motor->constants, motor.constants);
+  }
+  return p;
+}
+
+std::optional<MotorFile> motor_beside(const std::vector<std::string>& data_paths) {
+  for (const std::string& d : data_paths) {
+    const std::filesystem::path file = std::filesystem::path(d) / "motor.toml";
+    std::error_code ec;
+    if (!std::filesystem::is_directory(d, ec) || !std::filesystem::is_regular_file(file, ec)) continue;
+    try {
+      return load_motor_file(file);
+    } catch (const MotorFileError&) {
+      return std::nullopt;  // not the user's input here: a motor file they did not give is not judged
+    }
+  }
+  return std::nullopt;
+}
+
+}  // namespace lptn::check

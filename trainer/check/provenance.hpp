@@ -1,0 +1,46 @@
+// Whether the data at hand is the data a calibration was fitted on: cycle by cycle, by name and by
+// the SHA-256 of its file (calibration.json's data.files[]), and the data's motor constants (its
+// motor.toml, where it has one) against the calibration's. A cycle of the same name in another
+// file is another drive: it is never called "train" or "test" because of its name.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "trainer/calibrate/calibration_file.hpp"
+#include "trainer/data/dataset.hpp"
+#include "trainer/model/motor_file.hpp"
+
+namespace lptn::check {
+
+struct CycleProvenance {
+  std::string name;
+  bool seen = false;  // the calibration read this very file under this name
+  std::string role;   // seen: "train", "test" or "" (read but in neither list); else ""
+  std::string why;    // not seen: "not among the calibration's cycles" or "same name, another file"
+};
+
+struct Provenance {
+  std::vector<CycleProvenance> cycles;  // in the dataset's order
+  // The data's motor constants that differ from the calibration's, e.g. "pole_pairs 3 (calibration: 2)";
+  // empty where they agree or the data has no motor file.
+  std::vector<std::string> constants;
+  bool all_seen() const;    // every cycle, and no constant differs: the calibration's own data
+  std::size_t unseen() const;
+  std::vector<std::string> unseen_names() const;
+  // One sentence for a person, e.g. "4 of 4 cycles are data this calibration never saw (same
+  // names, other files: cycle_01_regional, ...)"; "" for the calibration's own data.
+  std::string summary() const;
+};
+
+// `data_motor`: the motor file found beside the data (DIR/motor.toml), if any. Hashes the cycles'
+// files where the loader has not.
+Provenance provenance(const CalibrationResult& calibration, const data::Dataset& dataset,
+                      const std::optional<MotorFile>& data_motor = std::nullopt);
+
+// The motor file beside a fleet dump directory (DIR/motor.toml), if it is there and reads; the
+// data's own description of its motor.
+std::optional<MotorFile> motor_beside(const std::vector<std::string>& data_paths);
+
+}  // namespace lptn::check
