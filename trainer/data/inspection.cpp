@@ -178,4 +178,20 @@ std::vector<Finding> check_against_nameplate(const Dataset& dataset, const Namep
   return out;
 }
 
+std::vector<std::string> inspection_warnings(const Dataset& dataset) {
+  std::vector<std::string> out;
+  for (const CycleReport& r : dataset.reports) {
+    for (const Finding& f : r.findings)
+      if (f.severity == Finding::Severity::warning) out.push_back(f.message);
+  }
+  return out;
+}
+
+std::vector<std::string> inspection_warnings(const Dataset& dataset, const Nameplate& nameplate) {
+  std::vector<std::string> out = inspection_warnings(dataset);
+  for (const Finding& f : check_against_nameplate(dataset, nameplate))
+    if (f.severity == Finding::Severity::warning) out.push_back(f.message);
+  return out;
+}
+
 }  // namespace lptn::data

@@ -31,4 +31,12 @@ using Nameplate = lptn::Nameplate<double>;
 // Throws std::invalid_argument when pole_pairs, rated current or rated voltage is not positive.
 std::vector<Finding> check_against_nameplate(const Dataset& dataset, const Nameplate& nameplate);
 
+// Every warning `lptn inspect` finds in this dump, one line each (each names its file), for the
+// commands that read a dump to repeat before their results: what the loader tolerated (unknown or
+// misnamed columns, ignored; gaps it could not bridge; segments dropped) and, with the motor's
+// nameplate, check_against_nameplate's (another pole count, a channel's scaling). The loader's
+// "info" findings (an optional column absent) are not warnings and are left out.
+std::vector<std::string> inspection_warnings(const Dataset& dataset);
+std::vector<std::string> inspection_warnings(const Dataset& dataset, const Nameplate& nameplate);
+
 }  // namespace lptn::data

@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstddef>
+#include <iterator>
 #include <cstdint>
 #include <limits>
 #include <string>
@@ -10,6 +12,7 @@
 #include <vector>
 
 #include "trainer/data/dataset.hpp"
+#include "trainer/data/did_you_mean.hpp"
 #include "trainer/data/internal/csv.hpp"
 #include "trainer/data/internal/raw_cycle.hpp"
 #include "trainer/data/internal/text.hpp"
@@ -56,6 +59,43 @@ std::string_view header_name(std::string_view cell) {
 constexpr int kTimeSlot = -2;
 constexpr int kIgnoredSlot = -1;
 
+// A temperature sensor logged in kelvin reads 273 K plus the motor's rise above the air. The
+// hottest insulation classes (200 and 220 degC at the hot spot) over 40 degC of air allow at most
+// 180 K of rise at the hottest point, and most of a cycle lies well below its peak; a column that
+// lies this far above the ambient's median for three quarters of its readings reads kelvin, not a
+// motor hotter than any insulation.
+constexpr double kKelvinRiseK = 230.0;
+
+// The channels compared with ambient_c for kelvin; ambient_c itself is beyond its own range in kelvin.
+constexpr Channel kSensorChannels[] = {Channel::stator_winding_c, Channel::rotor_c};
+
+bool is_sensor_channel(std::size_t slot) {
+  return std::any_of(std::begin(kSensorChannels), std::end(kSensorChannels),
+                     [&](Channel c) { return index_of(c) == slot; });
+}
+
+// " (did you mean 'rotor_c'?)" for a column name that is a typo of the contract's.
+std::string column_suggestion(std::string_view name) {
+  std::vector<std::string_view> known{kTimeColumn};
+  for (Channel c : kAllChannels) known.push_back(channel_name(c));
+  return did_you_mean(name, known);
+}
+
+// The value below which `share` of the values lie (a copy is partly sorted): robust to spikes.
+double quantile(std::vector<double> v, double share) {
+  const auto at = v.begin() + static_cast<std::ptrdiff_t>(share * static_cast<double>(v.size() - 1));
+  std::nth_element(v.begin(), at, v.end());
+  return *at;
+}
+
+// The first out-of-range reading of a sensor column, held back until the whole column has been seen:
+// a column in kelvin is better told as that than as its first reading above 400 degC.
+struct DeferredRangeError {
+  std::size_t line = 0;
+  std::string_view column;
+  std::string reason;
+};
+
 }  // namespace
 
 RawCycle parse_csv(std::string_view text, const std::filesystem::path& file) {
@@ -98,8 +138,8 @@ RawCycle parse_csv(std::string_view text, const std::filesystem::path& file) {
         raw.findings.push_back(
             {Finding::Severity::warning,
              name.empty() ? strf("%s:%zu: column %zu has no name; ignored", where.c_str(), header_line, column)
-                          : strf("%s:%zu: column '%.*s': unknown column; ignored", where.c_str(), header_line,
-                                 static_cast<int>(name.size()), name.data())});
+                          : strf("%s:%zu: column '%.*s': unknown column; ignored%s", where.c_str(), header_line,
+                                 static_cast<int>(name.size()), name.data(), column_suggestion(name).c_str())});
       }
     }
   }
@@ -126,6 +166,7 @@ RawCycle parse_csv(std::string_view text, const std::filesystem::path& file) {
     }
   }
 
+  DeferredRangeError deferred;
   const std::size_t columns = slots.size();
   const std::size_t expected_rows =
       static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n')) + 1;
@@ -175,10 +216,11 @@ RawCycle parse_csv(std::string_view text, const std::filesystem::path& file) {
       } else {
         const ChannelInfo& info = kChannelTable[static_cast<std::size_t>(slot)];
         if (v < info.min || v > info.max) {
-          fail(file, n, name,
-               strf("%s %.*s is outside the physically possible %s..%s", quoted(cell).c_str(),
-                    static_cast<int>(info.unit.size()), info.unit.data(), num(info.min).c_str(),
-                    num(info.max).c_str()));
+          std::string reason = strf("%s %.*s is outside the physically possible %s..%s", quoted(cell).c_str(),
+                                    static_cast<int>(info.unit.size()), info.unit.data(), num(info.min).c_str(),
+                                    num(info.max).c_str());
+          if (!is_sensor_channel(static_cast<std::size_t>(slot))) fail(file, n, name, reason);
+          if (deferred.line == 0) deferred = {n, name, std::move(reason)};
         }
         RawChannel& ch = raw.channels[static_cast<std::size_t>(slot)];
         ch.rows.push_back(row);
@@ -190,6 +232,24 @@ RawCycle parse_csv(std::string_view text, const std::filesystem::path& file) {
   }
 
   if (raw.time.empty()) fail(file, header_line, {}, "header but no data rows");
+  const RawChannel& ambient = raw.channels[index_of(Channel::ambient_c)];
+  if (!ambient.values.empty()) {
+    const double ambient_median = quantile(ambient.values, 0.5);
+    for (Channel c : kSensorChannels) {
+      const RawChannel& ch = raw.channels[index_of(c)];
+      if (ch.values.empty()) continue;
+      // Decided on the lower quartile: a column in kelvin is shifted whole, while a real motor that
+      // runs hot spends a part of the file cooler (and a few readings above 400 degC stay what they are).
+      if (quantile(ch.values, 0.25) - ambient_median > kKelvinRiseK) {
+        const double sensor_median = quantile(ch.values, 0.5);
+        fail(file, header_line, channel_name(c),
+             strf("kelvin? this column reads %.0f while ambient_c reads %.0f (medians over the file; the contract "
+                  "is degrees Celsius)",
+                  sensor_median, ambient_median));
+      }
+    }
+  }
+  if (deferred.line != 0) fail(file, deferred.line, deferred.column, deferred.reason);
   for (Channel c : kAllChannels) {
     const RawChannel& ch = raw.channels[index_of(c)];
     if (!ch.present || !ch.values.empty()) continue;

@@ -8,9 +8,12 @@
 #include <set>
 #include <sstream>
 #include <string_view>
+#include <nlohmann/json.hpp>
 #include <toml++/toml.h>
 #include <type_traits>
 #include <vector>
+
+#include "trainer/data/did_you_mean.hpp"
 
 namespace lptn {
 namespace {
@@ -35,11 +38,18 @@ class TableReader {
   TableReader(const toml::table& table, std::string prefix, const std::filesystem::path& file)
       : table_(table), prefix_(std::move(prefix)), file_(file) {}
 
+  // The keys this table may hold, for "did you mean" when a required one is missing because it
+  // was misspelt (the misspelling is then what is named, at its own line).
+  void expect(std::vector<std::string> keys) { expected_ = std::move(keys); }
+
   double number(std::string_view key, bool required = true, double fallback = 0.0) {
     seen_.insert(std::string(key));
     const toml::node* node = table_.get(key);
     if (!node) {
-      if (required) fail(file_, table_.source(), full(key), "missing (required)");
+      if (required) {
+        refuse_misspelling_of(key);
+        fail(file_, table_.source(), full(key), "missing (required)");
+      }
       return fallback;
     }
     const auto value = node->value<double>();
@@ -103,8 +113,11 @@ class TableReader {
   void allow(std::string_view key) { seen_.insert(std::string(key)); }
 
   void refuse_unknown() const {
+    std::vector<std::string> known(seen_.begin(), seen_.end());
+    known.insert(known.end(), expected_.begin(), expected_.end());
     for (const auto& [key, node] : table_) {
-      if (!seen_.count(std::string(key.str()))) fail(file_, node.source(), full(key.str()), "unknown key");
+      if (!seen_.count(std::string(key.str())))
+        fail(file_, node.source(), full(key.str()), "unknown key" + did_you_mean(key.str(), known));
     }
   }
 
@@ -115,10 +128,23 @@ class TableReader {
   std::string full(std::string_view key) const { return prefix_.empty() ? std::string(key) : prefix_ + "." + std::string(key); }
 
  private:
+  // A key of the table that is none of the expected ones and a typo of `missing`: refused as unknown.
+  void refuse_misspelling_of(std::string_view missing) const {
+    if (expected_.empty()) return;
+    for (const auto& [key, node] : table_) {
+      const std::string_view k = key.str();
+      if (std::find(expected_.begin(), expected_.end(), k) != expected_.end()) continue;
+      const std::string_view candidates[] = {missing};
+      if (!closest_name(k, candidates).empty())
+        fail(file_, node.source(), full(k), "unknown key" + did_you_mean(k, candidates));
+    }
+  }
+
   const toml::table& table_;
   std::string prefix_;
   const std::filesystem::path& file_;
   std::set<std::string> seen_;
+  std::vector<std::string> expected_;
 };
 
 // The motor file's sections that hold constants, in the order of their list.
@@ -131,6 +157,25 @@ std::vector<std::string_view> constant_sections() {
       },
       c);
   return sections;
+}
+
+// Every key of a constants section (the loss-split factors of [losses] included).
+std::vector<std::string> section_keys(std::string_view section) {
+  std::vector<std::string> keys;
+  const MotorConstants<double> c;
+  for_each_motor_constant(
+      [&](const MotorField& f, const auto&) {
+        if (f.section != section || f.shape == FieldShape::table_size) return;
+        if (f.shape == FieldShape::per_node) {
+          for (const std::string_view k : f.node_keys) keys.emplace_back(k);
+        } else {
+          keys.emplace_back(f.name);
+        }
+      },
+      c);
+  if (section == "losses")
+    for (int i = kKStemp; i <= kKPfe; ++i) keys.emplace_back(param_spec(i).name);
+  return keys;
 }
 
 // What `rule` says about v (the previous row's value given for a table column), or nullptr.
@@ -250,6 +295,7 @@ void read_loss_split(TableReader& t, const toml::table& losses, const toml::tabl
       if (losses.get(key))
         fail(file, t.where(key), "losses." + std::string(key),
              "given both here and as [parameters." + std::string(key) + "]; keep one");
+      t.allow(key);
       continue;
     }
     const double v = i <= kKRtemp ? t.positive(key) : t.fraction(key);
@@ -292,14 +338,15 @@ MotorFile parse_motor_file(const std::string& text, const std::filesystem::path&
   motor.text = text;
   motor.parameters = default_parameter_settings();
   TableReader top(root, "", shown_as);
+  top.allow("name");
   if (const toml::node* n = root.get("name")) {
-    top.allow("name");
     if (!n->is_string()) fail(shown_as, n->source(), "name", "must be a string");
     motor.name = n->value<std::string>().value_or("");
   }
   for (const std::string_view section : constant_sections()) {
     const toml::table& table = top.sub_table(section);
     TableReader t(table, std::string(section), shown_as);
+    t.expect(section_keys(section));
     ConstantsReader(t, shown_as).read(section, motor.constants);
     if (section == "losses") read_loss_split(t, table, root, shown_as, motor);
     t.refuse_unknown();
@@ -308,7 +355,11 @@ MotorFile parse_motor_file(const std::string& text, const std::filesystem::path&
     for (const auto& [key, node] : *params) {
       const std::string name(key.str());
       const int index = param_index(name);
-      if (index < 0) fail(shown_as, node.source(), "parameters." + name, "unknown parameter");
+      if (index < 0) {
+        std::vector<std::string_view> known;
+        for (int i = 0; i < kNumParams; ++i) known.push_back(param_spec(i).name);
+        fail(shown_as, node.source(), "parameters." + name, "unknown parameter" + did_you_mean(name, known));
+      }
       const toml::table* pt = node.as_table();
       if (!pt) fail(shown_as, node.source(), "parameters." + name, "must be a table with initial, min, max");
       TableReader t(*pt, "parameters." + name, shown_as);
@@ -352,12 +403,57 @@ MotorFile parse_motor_file(const std::string& text, const std::filesystem::path&
   return motor;
 }
 
+InputKind input_kind(std::string_view text) {
+  if (text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);  // a byte order mark
+  const std::size_t first = text.find_first_not_of(" \t\r\n");
+  if (first == std::string_view::npos) return InputKind::motor_toml;
+  if (text[first] == '{') {
+    const nlohmann::json j = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
+    if (!j.is_object()) return InputKind::other_json;
+    if (j.contains("pooled") && j.contains("motors")) return InputKind::fleet_calibration_json;
+    if (j.contains("parameters") && (j.contains("motor") || j.contains("metrics") || j.contains("created_utc")))
+      return InputKind::calibration_json;
+    return InputKind::other_json;
+  }
+  const std::string_view line = text.substr(first, text.find('\n', first) - first);
+  if (line.find(',') != std::string_view::npos && line.find("time_s") != std::string_view::npos)
+    return InputKind::cycle_csv;
+  return InputKind::motor_toml;
+}
+
+std::string_view input_kind_words(InputKind kind) {
+  switch (kind) {
+    case InputKind::motor_toml: return "a motor file (TOML)";
+    case InputKind::calibration_json: return "a calibration file (JSON)";
+    case InputKind::fleet_calibration_json: return "a fleet calibration (JSON)";
+    case InputKind::other_json: return "a JSON file";
+    case InputKind::cycle_csv: return "a fleet-dump cycle (CSV)";
+  }
+  return "?";
+}
+
 MotorFile load_motor_file(const std::filesystem::path& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    throw MotorFileError(path.string() + ": is a directory, not a motor file (TOML)");
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw MotorFileError(path.string() + ": cannot open the motor file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parse_motor_file(text.str(), path);
+  if (!in) {
+    throw MotorFileError(path.string() +
+                         (std::filesystem::exists(path, ec) ? ": cannot open the motor file" : ": no such motor file"));
+  }
+  std::ostringstream read;
+  read << in.rdbuf();
+  const std::string text = read.str();
+  const InputKind kind = input_kind(text);
+  const std::string what = path.string() + " is " + std::string(input_kind_words(kind)) + ", not a motor file (TOML)";
+  switch (kind) {
+    case InputKind::motor_toml: break;
+    case InputKind::calibration_json: throw MotorFileError(what + ": give it as --calibration");
+    case InputKind::fleet_calibration_json: throw MotorFileError(what + ": give it as --fleet");
+    case InputKind::cycle_csv: throw MotorFileError(what + ": give it as --data");
+    case InputKind::other_json: throw MotorFileError(what);
+  }
+  return parse_motor_file(text, path);
 }
 
 namespace {
