@@ -96,7 +96,15 @@ std::string describe(const Check& c) {
       out += line;
     }
   out += "the model against its sensors' noise on this data (as lptn diagnose judges it):\n";
-  for (const diagnose::SensorAdequacy& a : c.adequacy.sensors) out += "  " + diagnose::describe(a) + "\n";
+  for (const diagnose::SensorAdequacy& a : c.adequacy.sensors) {
+    // Every cycle given is one side here: diagnose's describe() would call it "train".
+    std::snprintf(line, sizeof line, "  %s: RMSE %.3f K = %.1fx its noise of %.3f K (estimated from its readings): %s",
+                  a.sensor.c_str(), a.train_rmse_k, a.train_rmse_k / a.noise_k, a.noise_k,
+                  a.adequate ? "adequate" : "something is missing");
+    out += line;
+    if (!a.adequate && !a.cycles.empty()) out += " (worst: " + a.cycles.front() + ")";
+    out += "\n";
+  }
   if (!c.provenance.all_seen()) out += c.provenance.summary() + ".\n";
   if (c.holds) {
     std::snprintf(line, sizeof line, "the calibration holds on this data (cooling factor %.3f, 1 = as calibrated)\n",
