@@ -108,7 +108,7 @@ bool check_fleet(const Args& a) {
       line.finish();
       std::printf("%s (against %s): %s\n", id.c_str(), against.c_str(), c.holds ? "holds" : "does NOT hold");
       for (const std::string& r : c.reasons) std::printf("  %s\n", r.c_str());
-      if (!c.provenance.all_seen()) std::printf("  %s\n", c.provenance.summary().c_str());
+      if (!c.provenance.all_seen()) std::printf("  data this calibration never saw: %s\n", c.provenance.summary().c_str());
     }
   }
   line.finish();

@@ -9,6 +9,7 @@
 #include <optional>
 #include <utility>
 
+#include "hostio/worker_threads.hpp"
 #include "lptn/model.hpp"
 #include "tools/report/fleet_section.hpp"
 #include "tools/report/signatures.hpp"
@@ -16,6 +17,7 @@
 #include "trainer/calibrate/calibration_file.hpp"
 #include "trainer/calibrate/problem.hpp"
 #include "trainer/calibrate/sensor_noise.hpp"
+#include "trainer/check/check.hpp"
 #include "trainer/data/dataset.hpp"
 #include "trainer/model/motor_file.hpp"
 #include "trainer/model/simulate.hpp"
@@ -42,7 +44,9 @@ constexpr std::size_t kSignatureBins = 20;
 // One cycle with the calibrated model run over it.
 struct CycleRun {
   const data::Cycle* cycle = nullptr;
-  std::string role;  // "train", "test" or "" (in neither list)
+  // "train" or "test" where the calibration was fitted or tested on this very file (name and hash),
+  // "unseen" where it never saw it (a cycle of the same name in another file included), else "".
+  std::string role;
   CycleSimulation sim;
   CycleMetrics metrics;
   std::vector<float> stator_residual, rotor_residual;  // model - measured, per grid step
@@ -108,11 +112,9 @@ CalibratedModel calibrated_model(const CalibrationResult& cal) {
   return {Model<double>(motor.constants, cal.effects), cal.values()};
 }
 
-std::string role_of(const CalibrationResult& cal, const std::string& cycle) {
-  if (std::find(cal.train_cycles.begin(), cal.train_cycles.end(), cycle) != cal.train_cycles.end()) return "train";
-  if (std::find(cal.test_cycles.begin(), cal.test_cycles.end(), cycle) != cal.test_cycles.end()) return "test";
-  return "";
-}
+// Never by name alone: a drive of another motor, or of the same motor a month later, may carry the
+// calibration's cycle names.
+std::string role_of(const check::CycleProvenance& p) { return p.seen ? p.role : "unseen"; }
 
 std::vector<float> residual(const std::vector<float>& model, const data::Cycle& cycle, Channel measured) {
   std::vector<float> r(cycle.steps);
@@ -488,6 +490,18 @@ json history_json(const std::filesystem::path& dir, const std::filesystem::path&
   return {{"dir", dir.string()}, {"runs", runs}, {"skipped", skipped}};
 }
 
+// Where the data is not the calibration's own: which cycles it never saw and lptn check's verdict
+// on them (null for the calibration's own data).
+json check_json(const CalibrationResult& cal, const data::Dataset& ds, const check::Provenance& provenance,
+                const std::optional<MotorFile>& data_motor) {
+  if (provenance.all_seen()) return nullptr;
+  const check::Check c = check::check(cal, ds, data_motor, worker_threads());
+  json j = check::to_json(c);
+  return {{"holds", j["holds"]}, {"reasons", j["reasons"]}, {"summary", provenance.summary()},
+          {"never_seen", j["data"]["never_seen"]}, {"cycles", j["cycles"]}, {"thresholds", j["thresholds"]},
+          {"cooling_factor", j["cooling_factor"]}};
+}
+
 json meta_json(const ReportOptions& o, const CalibrationResult& cal, const data::Dataset& ds) {
   double hours = 0;
   for (const auto& c : ds.cycles) hours += c.duration_s() / 3600;
@@ -533,20 +547,27 @@ nlohmann::json report_data(const ReportOptions& o, const std::function<void(cons
   if (!o.diagnosis.empty()) diagnosis = load_diagnosis(o.diagnosis);  // before the long part: bad input fails fast
   const CalibratedModel cm = calibrated_model(cal);
   const data::Dataset ds = data::load_fleet_dump({o.data});
+  const std::optional<MotorFile> data_motor = check::motor_beside({o.data.string()});
+  const check::Provenance provenance = check::provenance(cal, ds, data_motor);
 
   std::vector<CycleRun> runs;
   json cycles = json::array();
   for (const data::Cycle& cycle : ds.cycles) {
     progress("cycle " + std::to_string(runs.size() + 1) + "/" + std::to_string(ds.cycles.size()) + " " + cycle.name);
-    runs.push_back(run_cycle_model(cm, cycle, role_of(cal, cycle.name)));
+    runs.push_back(run_cycle_model(cm, cycle, role_of(provenance.cycles[runs.size()])));
     runs.back().stator_period = reading_period(ds, cycle, Channel::stator_winding_c);
     runs.back().rotor_period = reading_period(ds, cycle, Channel::rotor_c);
     cycles.push_back(compare_cycle(runs.back()));
   }
   progress("statistics");
+  json checked = nullptr;
+  if (!provenance.all_seen()) {
+    progress("lptn check: data this calibration never saw");
+    checked = check_json(cal, ds, provenance, data_motor);
+  }
   const StatSeries stats = stat_series(runs);
   const std::filesystem::path history = o.history.empty() ? std::filesystem::absolute(o.calibration).parent_path() : o.history;
-  return {{"meta", meta_json(o, cal, ds)}, {"cycles", cycles}, {"failures", failures_json(stats, runs)},
+  return {{"meta", meta_json(o, cal, ds)}, {"check", checked}, {"cycles", cycles}, {"failures", failures_json(stats, runs)},
           {"diagnosis", diagnosis_json(diagnosis, cm, runs, stats)}, {"history", history_json(history, o.calibration)},
           {"fleet", fleet}, {"generated_utc", utc_now()}};
 }

@@ -105,7 +105,7 @@ std::string describe(const Check& c) {
     if (!a.adequate && !a.cycles.empty()) out += " (worst: " + a.cycles.front() + ")";
     out += "\n";
   }
-  if (!c.provenance.all_seen()) out += c.provenance.summary() + ".\n";
+  if (!c.provenance.all_seen()) out += "data this calibration never saw: " + c.provenance.summary() + "\n";
   if (c.holds) {
     std::snprintf(line, sizeof line, "the calibration holds on this data (cooling factor %.3f, 1 = as calibrated)\n",
                   c.cooling_factor);

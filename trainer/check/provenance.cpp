@@ -61,7 +61,7 @@ std::string Provenance::summary() const {
   if (n > 0) {
     std::size_t renamed = 0;
     for (const CycleProvenance& c : cycles) renamed += !c.seen && c.why == "same name, another file";
-    out = std::to_string(n) + " of " + std::to_string(cycles.size()) + " cycles are data this calibration never saw";
+    out = std::to_string(n) + " of " + std::to_string(cycles.size()) + " cycles";
     if (renamed == n) out += " (the calibration's cycle names, other files)";
     else if (renamed == 0) out += " (names it does not know)";
     else out += " (" + std::to_string(renamed) + " with the calibration's cycle names but other files)";

@@ -29,8 +29,8 @@ struct Provenance {
   bool all_seen() const;    // every cycle, and no constant differs: the calibration's own data
   std::size_t unseen() const;
   std::vector<std::string> unseen_names() const;
-  // One sentence for a person, e.g. "4 of 4 cycles are data this calibration never saw (same
-  // names, other files: cycle_01_regional, ...)"; "" for the calibration's own data.
+  // What of the data this calibration never saw, e.g. "4 of 4 cycles (the calibration's cycle
+  // names, other files)", and constants that differ; "" for the calibration's own data.
   std::string summary() const;
 };
 

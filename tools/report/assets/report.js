@@ -93,7 +93,10 @@
     return [m.rmse_k, m.mean_abs_k, m.max_abs_k, m.bias_k].map(function (v) { return el('td', {}, [fixed(v, 3)]); });
   }
 
-  function roleBadge(role) { return role ? el('span', {class: 'badge ' + role}, [role]) : el('span', {}, ['–']); }
+  // 'unseen': a cycle the calibration never read (by name and file hash), never called train or test.
+  function roleBadge(role) {
+    return role ? el('span', {class: 'badge ' + role}, [role === 'unseen' ? 'never seen' : role]) : el('span', {}, ['–']);
+  }
 
   function renderCompareTable() {
     var rows = R.cycles.map(function (c) {
@@ -107,9 +110,12 @@
     var box = document.getElementById('compare-table');
     box.appendChild(table(headers, rows, {'data-table': 'metrics'}));
     var m = R.meta, rotor = m.train_rmse_rotor_k !== null || m.test_rmse_rotor_k !== null;
-    box.appendChild(el('p', {class: 'note'}, ['Calibration\'s pooled RMSE: stator train ' + fixed(m.train_rmse_stator_k, 3) +
-      ' K, test ' + fixed(m.test_rmse_stator_k, 3) + ' K' + (rotor ? '; rotor train ' + fixed(m.train_rmse_rotor_k, 3) +
-      ' K, test ' + fixed(m.test_rmse_rotor_k, 3) + ' K' : '') + '.']));
+    var figures = 'stator train ' + fixed(m.train_rmse_stator_k, 3) + ' K, test ' + fixed(m.test_rmse_stator_k, 3) + ' K' +
+      (rotor ? '; rotor train ' + fixed(m.train_rmse_rotor_k, 3) + ' K, test ' + fixed(m.test_rmse_rotor_k, 3) + ' K' : '');
+    // On data the calibration never saw its own figures describe other data: said so, not shown as this data's.
+    box.appendChild(el('p', {class: 'note', 'data-note': R.check ? 'calibration-own-data' : 'calibration-pooled'}, [R.check ?
+      'On the data it was fitted on (not this data), the calibration reported: ' + figures + '. This data\'s figures are the table\'s.' :
+      'Calibration\'s pooled RMSE: ' + figures + '.']));
   }
 
   // dygraphs' custom bars: each value is [min, mean, max] of its bucket.
@@ -352,6 +358,20 @@
     parent.appendChild(box);
   }
 
+  // At the very top where the data is not the calibration's own: which cycles it never saw, and
+  // lptn check's verdict on them.
+  function renderCheck() {
+    var c = R.check, parent = document.getElementById('verdict');
+    if (!c) return;
+    var box = el('div', {class: 'verdict ' + (c.holds ? 'adequate' : 'missing'), 'data-verdict': 'check'});
+    box.appendChild(el('p', {}, [el('strong', {}, ['Data this calibration never saw']), ': ' + c.summary + '.']));
+    box.appendChild(el('p', {}, [el('code', {}, ['lptn check']), c.holds ?
+      ': the calibration holds on this data (cooling factor ' + fixed(c.cooling_factor, 3) + ', 1 = as calibrated).' :
+      ': the calibration does NOT hold on this data:']));
+    c.reasons.forEach(function (r) { box.appendChild(el('p', {}, ['• ' + r])); });
+    parent.appendChild(box);
+  }
+
   // The per-cycle factor of the drifting group, with the cycles the drift names marked.
   function renderDrift(parent, drift) {
     if (!drift || !drift.factors || !drift.factors.length) return;
@@ -569,6 +589,7 @@
       R.fleet.created_utc + '). Generated ' + R.generated_utc + '.';
   } else {
     guarded('header', renderMeta);
+    guarded('check', renderCheck);
     guarded('verdict', renderVerdict);
     guarded('metrics table', renderCompareTable);
     guarded('compare charts', renderCycles);
