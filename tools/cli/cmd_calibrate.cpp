@@ -100,14 +100,18 @@ void run_fleet(const CalibrateArgs& a, const MotorFile& motor, const ProcessGrou
                 motor.name.c_str(), fleet.motor_ids.size(), split.train.size(), split.test.size(), split.rule.c_str());
   std::fflush(stdout);
   FleetSettings settings;
+  settings.lm.judge_identifiability = true;
   ProgressLine line(a.quiet);
   const FleetFit fit = fit_fleet(motor, fleet, split.train, settings, [&](const std::string& s) { line.update(s, true); });
   line.finish();
   record_lm_fit(r, fit.shared, FreeParameters::from_motor(motor), r.train_cycles, to_json(settings.lm));
   r.seconds = fit.seconds;
   score_calibration(r, motor, fleet.dataset, split);
+  judge_outcome(r);
+  set_exit_code(r.status == kStatusFailed ? kExitFailed : (r.status == kStatusWarnings ? kExitWarnings : 0));
   if (!group.leads()) return;
   save_fleet(a.out, r, fit, settings);
+  for (const CalibrationWarning& w : r.warnings) std::fprintf(stderr, "warning: %s\n", w.message.c_str());
   if (a.quiet) return;
   std::vector<ErrorMetrics> stator, rotor;
   for (const FleetMotorResult& m : fit.motors) {
@@ -165,7 +169,20 @@ void run(const CalibrateArgs& given, Td3Calibrator td3) {
   const Split split = split_cycles(dataset, a.test_cycles, a.test_fraction, a.seed);
   balance_training(dataset, split.train, group);  // only LM runs shared
 
+  // LM judges what the data pins as it fits; the other methods would move a parameter the data
+  // cannot see at random and call it calibrated: it stays the motor file's, said so.
+  std::vector<NotIdentifiable> unseen;
+  try {
+    if (a.method != "lm") unseen = unseen_parameters(motor, motor.initial_values(), dataset, split.train);
+  } catch (const ModelNotSimulable& e) {
+    throw BadInput(a.motor + ": " + e.what());
+  }
+  for (const NotIdentifiable& n : unseen) motor.parameters[static_cast<std::size_t>(n.index)].calibrate = false;
   CalibrationResult r = new_calibration(motor, a.motor, dataset, split);
+  for (const NotIdentifiable& n : unseen) {
+    r.parameters[static_cast<std::size_t>(n.index)].identifiable = false;
+    r.parameters[static_cast<std::size_t>(n.index)].identifiability = n.reason;
+  }
   if (!a.quiet)
     std::printf("calibrating %s with %s on %zu cycles, testing on %zu (%s)\n", motor.name.c_str(), a.method.c_str(),
                 split.train.size(), split.test.size(), split.rule.c_str());

@@ -292,6 +292,9 @@ nlohmann::json to_json(const CalibrationResult& result) { return nlohmann::json(
 
 CalibrationResult calibration_from_json(const nlohmann::json& j, const std::string& shown_as) {
   if (!j.is_object()) throw CalibrationFileError(shown_as + ": not a calibration file (expected a JSON object)");
+  if (j.contains("pooled") && j.contains("fleet") && j.contains("motors"))
+    throw CalibrationFileError(shown_as + ": a fleet calibration (fleet.json), not one motor's: give it as --fleet "
+                                          "(lptn export --fleet F --motor-id ID, lptn report --fleet F, lptn check --fleet)");
   const JsonField root(j, "", shown_as);
   CalibrationResult r;
   // The version first: a file of another version may differ in any other key.

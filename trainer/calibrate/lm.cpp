@@ -357,6 +357,7 @@ class Progress final : public ceres::IterationCallback {
 // What one fit tells the identifiability judgement beyond its report.
 struct FitExtras {
   bool judge = false;          // stop before solving where a free parameter moves nothing
+  bool check_only = false;     // stop before solving in any case (the start's checks only)
   std::vector<int> blind;      // model indices of free parameters with no effect on the residuals at the start
   std::vector<double> log_std;  // per free parameter: 1-sigma error in internal coordinates (inf: unpinned)
 };
@@ -445,7 +446,7 @@ LmReport fit_once(const MotorFile& motor, const ParamVector<double>& start, cons
     const double most = information.maxCoeff();
     for (std::size_t j = 0; j < nf; ++j)
       if (!(information(static_cast<Eigen::Index>(j)) > 1e-12 * most)) extras.blind.push_back(free.index[j]);
-    if (extras.judge && !extras.blind.empty()) return report;
+    if (extras.check_only || (extras.judge && !extras.blind.empty())) return report;
   }
 
   ceres::Solver::Options options;
@@ -576,8 +577,8 @@ std::string blind_reason(bool rotor_readings) {
 
 std::string weak_reason(const FreeParameters& free, std::size_t j, double log_std, const LmReport& fit) {
   char buf[240];
-  if (!std::isfinite(log_std))
-    std::snprintf(buf, sizeof buf, "the training data leaves it unpinned (a direction of the fit the sensors do not see)");
+  if (!std::isfinite(log_std) || (free.log_scale[j] && log_std > std::log(1000.0)))
+    std::snprintf(buf, sizeof buf, "the training data leaves it unpinned (a direction of the fit the sensors hardly see)");
   else if (free.log_scale[j])
     std::snprintf(buf, sizeof buf, "the training data pins it only within a factor of %.3g at 1 sigma", std::exp(log_std));
   else
@@ -601,6 +602,19 @@ std::string weak_reason(const FreeParameters& free, std::size_t j, double log_st
 }
 
 }  // namespace
+
+std::vector<NotIdentifiable> unseen_parameters(const MotorFile& motor, const ParamVector<double>& start,
+                                               const data::Dataset& dataset, const std::vector<std::size_t>& cycles) {
+  FitExtras extras;
+  extras.judge = true;
+  extras.check_only = true;
+  LmSettings settings;
+  fit_once(motor, start, dataset, cycles, settings, {}, {}, extras);
+  const bool rotor_readings = any_rotor_reading(dataset, cycles);
+  std::vector<NotIdentifiable> out;
+  for (int i : extras.blind) out.push_back({i, blind_reason(rotor_readings)});
+  return out;
+}
 
 LmReport fit_lm(const MotorFile& motor, const ParamVector<double>& start, const data::Dataset& dataset,
                 const std::vector<std::size_t>& cycles, const LmSettings& settings, const LmProgress& progress,

@@ -88,6 +88,12 @@ LmReport fit_lm(const MotorFile& motor, const ParamVector<double>& start, const 
                 const std::vector<std::size_t>& cycles, const LmSettings& settings, const LmProgress& progress = {},
                 const std::vector<double>& cooling = {});
 
+// The free parameters of `motor` that move no residual of the listed cycles at `start` (for a
+// calibrator that does not judge identifiability itself, TD3 and the search baselines: it then
+// leaves them at the motor file's values). Throws ModelNotSimulable as fit_lm does.
+std::vector<NotIdentifiable> unseen_parameters(const MotorFile& motor, const ParamVector<double>& start,
+                                               const data::Dataset& dataset, const std::vector<std::size_t>& cycles);
+
 // The Gauss-Newton normal equations of fit_lm's problem at a given point, for tests of directions
 // fit_lm did not search (lptn diagnose's score test). Columns: `free`'s parameters in its internal
 // coordinates, then the two initial offsets (stator core, rotor core) of each cycle that has a

@@ -69,6 +69,9 @@ double number(const nlohmann::json& j, const std::string& file, const std::strin
 FleetFile load_fleet_file(const std::filesystem::path& path) {
   const std::string shown = path.string();
   const nlohmann::json j = read_json_file(path);
+  if (j.is_object() && j.contains("parameters") && j.contains("motor") && !j.contains("pooled"))
+    throw CalibrationFileError(shown + ": a single motor's calibration (calibration.json), not a fleet calibration: give "
+                                       "it as --calibration");
   if (!j.is_object() || !j.contains("format_version")) bad(shown, "format_version", "missing: is this a fleet.json?");
   if (j["format_version"] != kFleetFormatVersion)
     bad(shown, "format_version", "version " + j["format_version"].dump() + ", this lptn reads " +
