@@ -15,6 +15,7 @@
 #include "hostio/progress_line.hpp"
 #include "trainer/calibrate/calibration_file.hpp"
 #include "trainer/calibrate/shared_dataset.hpp"
+#include "trainer/check/provenance.hpp"
 #include "trainer/data/dataset.hpp"
 #include "trainer/diagnose/diagnose.hpp"
 #include "hostio/atomic_file.hpp"
@@ -55,9 +56,44 @@ std::string factor_range(const diagnose::Drift& drift) {
   return buf;
 }
 
+std::string joined(const std::vector<std::string>& v) {
+  std::string out;
+  for (const std::string& x : v) out += (out.empty() ? "" : " ") + x;
+  return out;
+}
+
+// "before" as the calibration file has it, whatever the data given: its own figures on its own data.
+std::string file_figures(const CalibrationResult& c) {
+  auto side = [](const char* name, const SplitMetrics& m) {
+    std::string out = std::string(name) + " stator " + (m.stator.samples ? kelvin(m.stator.rmse_k) : "-") + " K";
+    if (m.rotor.samples) out += ", rotor " + kelvin(m.rotor.rmse_k) + " K";
+    return out;
+  };
+  return side("train", c.train) + "; " + side("test", c.test);
+}
+
+nlohmann::json file_figures_json(const CalibrationResult& c) {
+  auto number = [](const ErrorMetrics& m) { return m.samples ? nlohmann::json(m.rmse_k) : nlohmann::json(nullptr); };
+  return {{"train", {{"rmse_stator_k", number(c.train.stator)}, {"rmse_rotor_k", number(c.train.rotor)}}},
+          {"test", {{"rmse_stator_k", number(c.test.stator)}, {"rmse_rotor_k", number(c.test.rotor)}}}};
+}
+
+// The data's relation to the calibration and what diagnose did with it, for --json: the figures
+// the calibration file has, whether this is its data, and that the baseline is a refit.
+nlohmann::json provenance_json(const CalibrationResult& c, const check::Provenance& p, const diagnose::Diagnosis& d) {
+  return {{"calibration_figures", file_figures_json(c)},
+          {"calibration_data", p.all_seen()},
+          {"never_seen", p.unseen_names()},
+          {"constants", p.constants},
+          {"summary", p.summary()},
+          {"refit", true},
+          {"refit_iterations", d.baseline.iterations}};
+}
+
 void print_table(const diagnose::Diagnosis& d, double level) {
-  std::printf("training RMSE %.3f K (stator %s K), test stator %s K; %.0f effective residuals (correlation time %.1f steps)\n",
-              d.rmse_k, kelvin(d.train_stator_rmse_k).c_str(), kelvin(d.test_stator_rmse_k).c_str(),
+  std::printf("the baseline refit from the calibration's values (%d LM iterations) on the training cycles: "
+              "training RMSE %.3f K (stator %s K), test stator %s K; %.0f effective residuals (correlation time %.1f steps)\n",
+              d.baseline.iterations, d.rmse_k, kelvin(d.train_stator_rmse_k).c_str(), kelvin(d.test_stator_rmse_k).c_str(),
               d.effective_residuals, d.baseline.correlation_time);
   std::printf("the model against its sensors' noise (adequate within %.1fx):\n", diagnose::kAdequateRatio);
   for (const diagnose::SensorAdequacy& s : d.adequacy.sensors) std::printf("  %s\n", diagnose::describe(s).c_str());
@@ -150,14 +186,25 @@ void run(const Args& given) {
   std::vector<std::filesystem::path> paths(a.data.begin(), a.data.end());
   data::Dataset dataset = data::load_fleet_dump(paths);
   share_work(dataset, group);
+  // By name and file hash: a dump that only shares the calibration's cycle names is not its data.
+  const check::Provenance provenance = check::provenance(calibration, dataset, check::motor_beside(a.data));
   const Split split = a.test_cycles.empty() ? split_of(calibration, dataset)
                                             : split_cycles(dataset, a.test_cycles, 0.0, 0);
   diagnose::Settings settings;
   settings.level = a.level;
 
-  if (!a.json)
+  if (!a.json) {
     std::printf("diagnosing %s (effects: %s) on %zu training cycles, testing on %zu\n", motor.name.c_str(),
                 effect_list(motor.effects).c_str(), split.train.size(), split.test.size());
+    std::printf("before, as the calibration file has it (on the data it was fitted on): %s\n",
+                file_figures(calibration).c_str());
+    if (!provenance.all_seen())
+      std::printf("this is not the calibration's data: %s never seen by it. The training and test cycles below are "
+                  "diagnose's split of this data by the calibration's cycle names, and every figure below is a refit's "
+                  "on it, not the calibration's. Whether the calibration holds on this data: lptn check --data %s "
+                  "--calibration %s\n",
+                  provenance.summary().c_str(), joined(a.data).c_str(), a.calibration.c_str());
+  }
   std::fflush(stdout);  // before the progress lines on stderr
   const auto t0 = std::chrono::steady_clock::now();
   ProgressLine line(a.quiet);
@@ -169,7 +216,8 @@ void run(const Args& given) {
   if (!a.automatic) {
     const diagnose::Diagnosis d = diagnose::diagnose(motor, calibration.values(), dataset, split, settings, progress);
     line.finish();
-    const nlohmann::json j = diagnose::to_json(d);
+    nlohmann::json j = diagnose::to_json(d);
+    j["data"] = provenance_json(calibration, provenance, d);
     if (a.json) std::printf("%s\n", j.dump(2).c_str());
     else print_table(d, a.level);
     if (!a.json_out.empty() && group.leads()) write_file_atomically(a.json_out, j.dump(2) + "\n");
@@ -186,6 +234,7 @@ void run(const Args& given) {
       });
   const diagnose::Diagnosis& last = s.rounds.back();
   nlohmann::json j = diagnose::to_json(last);  // the final model's figures
+  j["data"] = provenance_json(calibration, provenance, s.rounds.front());
   j["added"] = s.added;
   j["rounds"] = nlohmann::json::array();
   for (const diagnose::Diagnosis& d : s.rounds) j["rounds"].push_back(diagnose::to_json(d));
