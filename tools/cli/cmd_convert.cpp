@@ -153,7 +153,7 @@ void convert_file(const CLI::App& cmd, const Args& args) {
   const fs::path in(args.in), out(args.out);
   if (fs::exists(out) && fs::equivalent(in, out)) throw BadInput(args.out + ": is the input");
   if (fs::is_directory(out)) throw BadInput(args.out + ": is a directory (one input file makes one output file)");
-  refuse_overwrite(args.out, args.force);
+  check_output_path(args.out, args.force);
   const bool from_log = is_log(in, args);
   if (from_log) {
     reject_log_options(cmd, in);
@@ -186,6 +186,7 @@ void convert_directory(const CLI::App& cmd, const Args& args) {
     throw BadInput(args.in + ": holds both *.csv and log files; convert one kind at a time");
   if (csvs.empty() && logs.empty()) throw BadInput(args.in + ": no *.csv, *.log, *.asc or *.blf files in this directory");
   if (fs::exists(args.out) && fs::equivalent(in, args.out)) throw BadInput(args.out + ": is the input directory");
+  check_output_path(args.out, args.force);
   const bool from_log = !logs.empty();
   const canfile::LogFormat log_format = given_format(args).value_or(canfile::LogFormat::candump);
   if (from_log) {
@@ -249,6 +250,7 @@ void add_convert(CLI::App& app) {
   cmd->add_flag("--force", args->force, "Replace --out if it exists");
   cmd->footer(footer());
   cmd->callback([cmd, args] {
+    if (!args->bus.empty()) check_input_path(args->bus, "--bus", InputPath::file);
     if (!args->bus.empty()) args->map = read_bus_map(args->bus);
     if (fs::is_directory(args->in)) {
       convert_directory(*cmd, *args);

@@ -113,6 +113,7 @@ void add_generate(CLI::App& app) {
   cmd->add_flag("--force", args->force, "Replace the output directory if it exists");
   cmd->callback([args, cycles] {
     if (args->minutes_max < args->minutes_min) throw BadInput("--minutes-max must not be below --minutes-min");
+    check_output_path(args->out, args->force);
     args->options.hidden = parse_effects(args->hidden);
     args->options.plant = parse_plant(args->plant);
     args->options.truth_overrides = parse_truth(args->truth);

@@ -1,4 +1,5 @@
 // lptn simulate: run the model over every cycle of a fleet dump and compare it with the sensors.
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -11,6 +12,7 @@
 #include "tools/cli/commands.hpp"
 #include "trainer/data/dataset.hpp"
 #include "trainer/model/motor_file.hpp"
+#include "trainer/model/motor_plausibility.hpp"
 #include "trainer/model/simulate.hpp"
 
 namespace lptn::cli {
@@ -72,6 +74,10 @@ void add_simulate(CLI::App& app) {
   cmd->add_flag("--json", args->json, "Print the metrics as JSON");
   cmd->add_flag("--force", args->force, "Replace --out if it exists");
   cmd->callback([args] {
+    // Inputs first, then the output, then the work: nothing long runs into a bad path.
+    for (const std::string& d : args->data) check_input_path(d, "--data");
+    check_input_path(args->motor, "--motor", InputPath::file);
+    check_output_path(args->out, args->force);
     const MotorFile motor = load_motor_file(args->motor);
     ParamVector<double> params = motor.initial_values();
     for (const std::string& s : args->set) {
@@ -87,6 +93,9 @@ void add_simulate(CLI::App& app) {
     std::vector<std::filesystem::path> paths(args->data.begin(), args->data.end());
     const data::Dataset dataset = data::load_fleet_dump(paths);
     const Model<double> model = motor.model();
+    // What lptn inspect --motor would warn of, repeated before the results (one line each, stderr).
+    const std::vector<std::string> warnings = input_warnings(dataset, motor);
+    print_input_warnings(warnings);
 
     std::unique_ptr<AtomicDirectory> out;
     if (!args->out.empty()) out = std::make_unique<AtomicDirectory>(args->out, args->force);
@@ -112,6 +121,16 @@ void add_simulate(CLI::App& app) {
     const ErrorMetrics st = pool(all_stator), rt = pool(all_rotor);
     j["overall"]["stator"] = metrics_json(st);
     if (rt.samples) j["overall"]["rotor"] = metrics_json(rt);
+    j["warnings"] = warnings;
+    // A model whose temperatures run away (to inf or NaN, or errors no motor survives: an insulation
+    // is gone 300 K above its rating) says which of the motor file's values is the likely why.
+    constexpr double kRunawayErrorK = 1000;
+    const double worst = std::max(st.max_abs_k, rt.samples ? rt.max_abs_k : 0.0);
+    if (!(worst < kRunawayErrorK)) {
+      const std::string why = implausible_values_summary(motor);
+      std::fprintf(stderr, "lptn: warning: the model's temperatures run away (error up to %.3g K)%s%s\n", worst,
+                   why.empty() ? "" : "; the most implausible value: ", why.c_str());
+    }
     if (args->json) {
       std::printf("%s\n", j.dump(2).c_str());
     } else {
