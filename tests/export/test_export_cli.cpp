@@ -50,6 +50,38 @@ class ExportCli : public ::testing::Test {
   std::filesystem::path out_ = t_.path() / "thermal_calibration.hpp";
 };
 
+// A failed calibration: exit 2, one line naming the file and why, nothing written.
+TEST_F(ExportCli, RefusesAFailedCalibration) {
+  CalibrationResult c = testing::sample_result(slurp(LPTN_MOTOR_EXAMPLE));
+  c.has_actor = false;
+  c.status = kStatusFailed;
+  c.warnings = {{"not_converged", "the fit did not converge", {}}};
+  const auto failed = t_.path() / "failed.json";
+  save_calibration(c, failed);
+  const Result r = run("export --calibration " + failed.string() + " --out " + out_.string(), t_.path());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("failed.json: status 'failed', not exported: the fit did not converge"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(out_));
+}
+
+// Warnings: each printed on a line of its own, the header written with them as comments.
+TEST_F(ExportCli, PrintsEachWarning) {
+  CalibrationResult c = testing::sample_result(slurp(LPTN_MOTOR_EXAMPLE));
+  c.has_actor = false;
+  c.status = kStatusWarnings;
+  c.warnings = {{"at_bound", "lambda_1s ended at its lower bound", {"lambda_1s"}},
+                {"not_converged", "the fit did not converge", {}}};
+  const auto warned = t_.path() / "warned.json";
+  save_calibration(c, warned);
+  const Result r = run("export --calibration " + warned.string() + " --out " + out_.string(), t_.path());
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(lines(r.err), 2) << r.err;
+  EXPECT_NE(r.err.find("warning: warned.json: lambda_1s ended at its lower bound\n"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("warning: warned.json: the fit did not converge\n"), std::string::npos) << r.err;
+  EXPECT_NE(slurp(out_).find("//   warning      at_bound: lambda_1s ended at its lower bound\n"), std::string::npos);
+}
+
 TEST_F(ExportCli, Help) {
   const Result r = run("export --help", t_.path());
   EXPECT_EQ(r.code, 0);

@@ -75,19 +75,56 @@ TEST(ExportHeader, HasEverySection) {
   const std::string h = export_header(c, {"cal.json", true});
   for (const char* s : {"#pragma once", "#include \"lptn/model.hpp\"", "#include \"lptn/motor_constants.hpp\"",
                         "#include \"lptn/actor.hpp\"", "namespace lptn::calibration {", "kMethod[] = \"lm\"",
-                        "kSourceFile[] = \"cal.json\"", "kCalibrationFormatVersion = 1",
+                        "kSourceFile[] = \"cal.json\"",
                         "kEffects = effect_bit(effect_index(\"airgap\")) | effect_bit(effect_index(\"sensor_lag\"))",
                         "static_assert(param_index(\"lambda_1s\") == 0", "ParamVector<double> kParams = {{",
                         "constexpr MotorConstants<double> motor_constants()", "m.harmonic_loss_w[4] = 900.0;",
                         "kHasRotorMetrics = false", "alignas(16) inline constexpr float kActorW1[]",
                         "inline constexpr ActorView kActor{2, 3, 2, kActorW1", "kActorChecks = 2;"})
     EXPECT_NE(h.find(s), std::string::npos) << s;
+  EXPECT_NE(h.find("kCalibrationFormatVersion = " + std::to_string(kCalibrationFormatVersion) + ";"), std::string::npos);
   EXPECT_NE(h.find("// [1] lambda_2s [W/K] (calibrated)"), std::string::npos);  // NaN std_error: none shown
   EXPECT_NE(h.find("// [0] lambda_1s [W/K] +- 0.00143 (calibrated)"), std::string::npos);
 
   const std::string without = export_header(c, {"cal.json", false});
   EXPECT_EQ(without.find("actor"), std::string::npos);
   EXPECT_EQ(without.find("kActor"), std::string::npos);
+}
+
+// A failed calibration is refused, on one line that says why (its warnings' messages).
+TEST(ExportHeader, RefusesAFailedCalibration) {
+  CalibrationResult c = testing::sample_result(example_motor_text());
+  c.status = kStatusFailed;
+  c.warnings = {{"not_converged", "the fit did not converge in 60 iterations", {}},
+                {"at_bound", "lambda_1s ended at its lower bound 1 W/K", {"lambda_1s"}}};
+  const std::string e = error_of([&] { export_header(c, {"cal.json", false}); });
+  EXPECT_EQ(e, "cal.json: status 'failed', not exported: the fit did not converge in 60 iterations; lambda_1s ended at "
+               "its lower bound 1 W/K");
+  c.status = kStatusWarnings;
+  EXPECT_EQ(error_of([&] { export_header(c, {"cal.json", false}); }), "");
+}
+
+// Warnings are comments in the header; a parameter the data could not pin says so, and carries
+// the wide prior in kParamLnStd; a calibrated one its standard error over its value.
+TEST(ExportHeader, CarriesWarningsAndEachParametersSpread) {
+  CalibrationResult c = testing::sample_result(example_motor_text());
+  c.status = kStatusWarnings;
+  c.warnings = {{"not_identifiable", "lambda_1r is not identifiable from this data: no rotor readings", {"lambda_1r"}}};
+  ParameterResult& r = c.parameters[3];
+  r.identifiable = false;
+  r.calibrated = false;
+  r.std_error = std::nan("");
+  c.parameters[0].calibrated = true;
+  c.parameters[0].std_error = 0.25;
+  c.parameters[0].value = 25.0;
+  const std::string h = export_header(c, {"cal.json", false});
+  EXPECT_NE(h.find("//   status       warnings, read these warnings first:\n"), std::string::npos);
+  EXPECT_NE(h.find("//   warning      not_identifiable: lambda_1r is not identifiable from this data: no rotor readings\n"),
+            std::string::npos);
+  EXPECT_NE(h.find("// [3] lambda_1r [W/K] (not identifiable from this data: the motor file's value)\n"), std::string::npos);
+  EXPECT_EQ(h.find("// [3] lambda_1r [W/K] (calibrated)"), std::string::npos);
+  EXPECT_NE(h.find("inline constexpr double kParamLnStd[kNumParams] = {\n    0.01,  // [0] lambda_1s\n"), std::string::npos);
+  EXPECT_NE(h.find("    0.4054651081081644,  // [3] lambda_1r\n"), std::string::npos);
 }
 
 // Every constant in the field list is in motor_constants(), with its value; a table's rows up to

@@ -41,7 +41,11 @@ void add_export(CLI::App& app) {
       options.source_name = std::filesystem::path(args->fleet.empty() ? args->calibration : args->fleet).filename().string();
       if (!args->fleet.empty()) options.source_name += ", motor " + args->motor_id;
       options.actor = args->actor;
-      write_file_atomically(args->out, export_header(calibration, options));
+      const std::string header = export_header(calibration, options);  // refuses a failed calibration
+      // Each warning on a line of its own (the header carries them too, as comments).
+      for (const CalibrationWarning& w : calibration.warnings)
+        std::fprintf(stderr, "lptn: warning: %s: %s\n", options.source_name.c_str(), w.message.c_str());
+      write_file_atomically(args->out, header);
       std::printf("wrote %s (%s calibration of %s%s)\n", args->out.c_str(), calibration.method.c_str(),
                   calibration.motor_name.c_str(), args->actor ? ", with the actor" : "");
     } catch (const CalibrationFileError& e) {

@@ -69,6 +69,8 @@ void add_replay(CLI::App& app) {
         map ? map->decoder() : lptn::bus::decoder());
     if (args->use_actor && !cal->config.actor.actor)
       throw BadInput(source + ": --use-actor: this calibration has no actor");
+    // A type's pooled calibration: this motor may differ from the type by the fleet's scatter.
+    if (!args->fleet.empty()) cal->config.observer.cooling_initial_std = fw::ObserverSettings<double>{}.cooling_initial_std;
     cal->config.fuse_stator_sensor = !args->open_loop;
     cal->config.use_actor = args->use_actor;
     ReplaySummary r;
@@ -90,6 +92,17 @@ void add_replay(CLI::App& app) {
                   r.rmse_stator_k);
     if (r.rotor_samples)
       std::printf("  rotor winding estimate vs rotor telemetry (never fused): rmse %.3f K\n", r.rmse_rotor_k);
+    // The spread's honesty: how often the +-2 sigma band (widened by the telemetry's own noise)
+    // holds the reading. Fused, the stator estimate follows its sensor, so its figure says less.
+    auto coverage = [](const char* what, const BandCoverage& c) {
+      if (c.ticks == 0) return;
+      std::printf("  %s: +-2 sigma covers the telemetry on %.1f %% of %zu ticks (|estimate - reading| <= "
+                  "2 sqrt(sigma^2 + noise^2), noise %.2f K from the log)\n",
+                  what, 100.0 * c.share(), c.ticks, c.sensor_noise_k);
+    };
+    coverage(args->open_loop ? "stator winding (open loop)" : "stator winding (fused: follows this sensor)",
+             r.stator_coverage);
+    coverage("rotor winding (never fused)", r.rotor_coverage);
     if (r.cooling_state != fw::CoolingState::off)
       std::printf("  cooling factor at the end %.3f +- %.3f (%s); cooling alarm %s\n", r.cooling_factor,
                   r.cooling_factor_std, r.cooling_state == fw::CoolingState::tracking ? "tracking" : "frozen: open loop",

@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "lptn/firmware/parameter_uncertainty.hpp"
 #include "tools/export/cpp_literals.hpp"
 #include "trainer/model/motor_file.hpp"
 
@@ -74,6 +75,8 @@ std::string provenance(const CalibrationResult& c, const ExportOptions& o) {
   s += cat("//   test RMSE    stator ", rmse_text(c.test.stator), ", rotor ", rmse_text(c.test.rotor), "\n");
   s += cat("//   effects      ", effects.empty() ? std::string("none (the paper's model)") : join(effects, ", "), "\n");
   if (o.actor) s += cat("//   actor        TD3, drives ", str(static_cast<long long>(c.actor.param_indices.size())), " parameters\n");
+  s += cat("//   status       ", comment_text(c.status), c.warnings.empty() ? "" : ", read these warnings first:", "\n");
+  for (const CalibrationWarning& w : c.warnings) s += cat("//   warning      ", comment_text(w.code), ": ", comment_text(w.message), "\n");
   return s;
 }
 
@@ -137,10 +140,23 @@ std::string parameters_source(const CalibrationResult& c, const ExportOptions& o
     const std::string name(param_spec(i).name);
     s += cat("    ", double_literal(p.value, cat("parameters.", name, ".value")), ",  // [", str(i), "] ", name, " [",
              param_spec(i).unit, "]", std::isnan(p.std_error) ? std::string() : fmt(" +- %.3g", p.std_error),
-             p.calibrated ? " (calibrated)" : " (fixed)", "\n");
+             !p.identifiable ? " (not identifiable from this data: the motor file's value)"
+                             : (p.calibrated ? " (calibrated)" : " (fixed)"),
+             "\n");
   }
   s += "}};\n";
   s += "static_assert(kParams.size() == kNumParams);\n";
+  s += "\n// Each parameter's 1-sigma spread in ln terms, as the observer's consider states take it\n";
+  s += "// (lptn/firmware/parameter_uncertainty.hpp: the standard error over the value; a parameter the data\n";
+  s += "// could not pin, or with no standard error, ln 1.5; one pinned in the motor file, 0).\n";
+  s += "inline constexpr double kParamLnStd[kNumParams] = {\n";
+  for (int i = 0; i < kNumParams; ++i) {
+    const ParameterResult& p = c.parameters[i];
+    const double ln_std = fw::parameter_ln_std(p.value, p.std_error, p.calibrated, p.identifiable);
+    s += cat("    ", double_literal(ln_std, cat("parameters.", std::string(param_spec(i).name), ".std_error")), ",  // [",
+             str(i), "] ", std::string(param_spec(i).name), "\n");
+  }
+  s += "};\n";
   return s;
 }
 
@@ -252,8 +268,19 @@ std::string actor_source(const CalibrationResult& c, const ExportOptions& o) {
   return s;
 }
 
+// A failed calibration is kept for inspection only: no firmware gets it. The reason is its
+// warnings' messages, on one line.
+void refuse_failed(const CalibrationResult& c, const ExportOptions& o) {
+  if (c.status != kStatusFailed) return;
+  std::vector<std::string> why;
+  for (const CalibrationWarning& w : c.warnings) why.push_back(w.message);
+  throw ExportError(cat(o.source_name, ": status 'failed', not exported: ",
+                        why.empty() ? std::string("no reason recorded") : join(why, "; ")));
+}
+
 // The whole header: provenance, constants, effects, parameters, motor constants, the actor.
 std::string header(const CalibrationResult& c, const ExportOptions& o) {
+  refuse_failed(c, o);
   const std::string actor = o.actor ? actor_source(c, o) : "";  // first: a missing actor fails before any work
   std::string s = provenance(c, o);
   s += "#pragma once\n\n#include \"lptn/model.hpp\"\n#include \"lptn/motor_constants.hpp\"\n";

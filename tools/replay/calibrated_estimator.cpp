@@ -1,5 +1,6 @@
 #include "tools/replay/calibrated_estimator.hpp"
 
+#include "lptn/firmware/parameter_uncertainty.hpp"
 #include "trainer/model/motor_file.hpp"
 
 namespace lptn {
@@ -9,6 +10,14 @@ std::unique_ptr<CalibratedEstimatorConfig> estimator_config_from(const Calibrati
   auto out = std::make_unique<CalibratedEstimatorConfig>();
   const MotorConstants<double> motor = parse_motor_file(c.motor_text, shown_as + ": motor.text").constants;
   out->config = fw::default_config<double>(motor, c.effects, c.values(), bus);
+  double ln_std[kNumParams];
+  for (int j = 0; j < kNumParams; ++j) {
+    ln_std[j] = 0.0;
+    if (static_cast<std::size_t>(j) >= c.parameters.size()) continue;
+    const ParameterResult& p = c.parameters[static_cast<std::size_t>(j)];
+    ln_std[j] = fw::parameter_ln_std(p.value, p.std_error, p.calibrated, p.identifiable);
+  }
+  fw::apply_calibration_uncertainty(out->config, ln_std, c.test.stator.samples > 0, c.test.stator.rmse_k);
   if (!c.has_actor) return out;
 
   const ActorExport& a = c.actor;

@@ -12,6 +12,43 @@
 #include "hostio/progress_line.hpp"
 
 namespace lptn {
+namespace {
+
+// One node's track: the estimate, its spread and the fresh reading (NaN: none) per tick.
+struct Track {
+  std::vector<double> estimate, spread, reading;
+  void add(double e, double s, double y) {
+    estimate.push_back(e);
+    spread.push_back(s);
+    reading.push_back(y);
+  }
+};
+
+constexpr std::size_t kNoiseLagTicks = 20;  // 2 s at the 0.1 s step (BandCoverage says why)
+
+BandCoverage coverage_of(const Track& t) {
+  BandCoverage c;
+  const std::vector<double>& y = t.reading;
+  double sum = 0;
+  std::size_t n = 0;
+  for (std::size_t k = 0; k + 2 * kNoiseLagTicks < y.size(); ++k) {
+    const double d = y[k] - 2 * y[k + kNoiseLagTicks] + y[k + 2 * kNoiseLagTicks];
+    if (std::isnan(d)) continue;
+    sum += d * d;
+    ++n;
+  }
+  if (n == 0) return c;  // too few readings to know their noise: no coverage claimed
+  c.sensor_noise_k = std::sqrt(sum / static_cast<double>(n) / 6.0);
+  for (std::size_t k = 0; k < y.size(); ++k) {
+    if (std::isnan(y[k])) continue;
+    ++c.ticks;
+    const double band = 2 * std::sqrt(t.spread[k] * t.spread[k] + c.sensor_noise_k * c.sensor_noise_k);
+    if (std::abs(t.estimate[k] - y[k]) <= band) ++c.within;
+  }
+  return c;
+}
+
+}  // namespace
 
 ReplaySummary replay_to_csv(const std::string& log_path, const fw::EstimatorConfig<double>& config,
                               const std::string& csv_path, bool quiet, const canfile::LogSelection& select) {
@@ -31,6 +68,7 @@ ReplaySummary replay_to_csv(const std::string& log_path, const fw::EstimatorConf
   ProgressLine progress(quiet);
   fw::ReplaySinks sinks;
   double sum_stator = 0, sum_rotor = 0;
+  Track stator, rotor;
   sinks.row = [&](const fw::EstimatorOutput<double>& o, fw::TimeUs start) {
     fw::write_estimate_row(csv.get(), o, start);
     summary.cooling_factor = o.cooling_factor;
@@ -38,6 +76,8 @@ ReplaySummary replay_to_csv(const std::string& log_path, const fw::EstimatorConf
     summary.cooling_state = o.cooling_state;
     if (o.cooling_alarm && summary.cooling_alarm_from_s < 0)
       summary.cooling_alarm_from_s = static_cast<double>(o.time_us - start) / 1e6;
+    stator.add(o.node_c[kStatorWinding], o.node_std_k[kStatorWinding], o.stator_reading_c);
+    rotor.add(o.node_c[kRotorWinding], o.node_std_k[kRotorWinding], o.rotor_reading_c);
     if (!std::isnan(o.stator_reading_c)) {
       sum_stator += (o.node_c[kStatorWinding] - o.stator_reading_c) * (o.node_c[kStatorWinding] - o.stator_reading_c);
       ++summary.stator_samples;
@@ -69,6 +109,8 @@ ReplaySummary replay_to_csv(const std::string& log_path, const fw::EstimatorConf
                  log->record_name());
   if (summary.stator_samples) summary.rmse_stator_k = std::sqrt(sum_stator / static_cast<double>(summary.stator_samples));
   if (summary.rotor_samples) summary.rmse_rotor_k = std::sqrt(sum_rotor / static_cast<double>(summary.rotor_samples));
+  summary.stator_coverage = coverage_of(stator);
+  summary.rotor_coverage = coverage_of(rotor);
   bool fatal = false;
   const std::string channels = canfile::channel_problem(log_path, *log, select, fatal);
   if (fatal) throw std::invalid_argument(channels);

@@ -5,6 +5,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "lptn/firmware/estimator_config.hpp"
 #include "firmware/linux/replay.hpp"
@@ -12,12 +13,26 @@
 
 namespace lptn {
 
+// How often a node's reported spread covers its telemetry: the share of ticks with a fresh reading
+// where |estimate - reading| <= 2 sqrt(sigma^2 + noise^2). sigma is the estimate's spread about the
+// TRUE temperature; the reading is the truth plus the sensor's noise, independent of the estimate,
+// so the difference spreads by both (2 sigma alone would call an exact estimate wrong whenever the
+// sensor's noise exceeds it). The noise is the telemetry's own, from the log: second differences of
+// its readings 2 s apart (y0 - 2 y1 + y2 has variance 6 noise^2; 2 s is beyond the sender's or a
+// converter's holding or interpolating between its samples, and a linear trend cancels).
+struct BandCoverage {
+  std::size_t ticks = 0, within = 0;
+  double sensor_noise_k = 0;
+  double share() const { return ticks ? static_cast<double>(within) / static_cast<double>(ticks) : 0.0; }
+};
+
 struct ReplaySummary {
   fw::ReplayStats stats;
   // The estimates against the readings on the bus: the stator winding's (which the filter fuses,
   // so this is near its noise) and the rotor telemetry's (never fused: a check of an unmeasured node).
   double rmse_stator_k = 0, rmse_rotor_k = 0;
   std::size_t stator_samples = 0, rotor_samples = 0;
+  BandCoverage stator_coverage, rotor_coverage;  // of the stator winding's and the rotor winding's spread
   // The cooling factor's estimate at the log's end, and when the cooling alarm first rose (s from
   // the log's start; negative: never).
   double cooling_factor = 1, cooling_factor_std = 0;

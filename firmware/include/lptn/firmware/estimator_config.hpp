@@ -119,4 +119,58 @@ EstimatorConfig<T> default_config(const MotorConstants<T>& m, EffectSet effects,
   return c;
 }
 
+// What a calibration says of its own uncertainty, into the observer: each parameter's spread in ln
+// terms (parameter_ln_std, parameter_uncertainty.hpp; the header's kParamLnStd, or computed from
+// calibration.json by the replay with the same function), and the process noise from the model's
+// error on the calibration's test cycles beyond the stator sensor's noise. Both the firmware
+// (exported_calibration.hpp) and `lptn replay` (tools/replay/calibrated_estimator.cpp) call this.
+//
+// The process noise: a random walk of q per sqrt(s) on a node that relaxes to the others with its
+// own time constant tau = C / (sum of its conductances) stands at a spread of q sqrt(tau / 2).
+// Setting that spread to the model's own error e_m (the test RMSE with the sensor's noise taken
+// out: e_m^2 = rmse^2 - r^2) gives q = e_m sqrt(2 / tau) per node. The parameters' share of the
+// error is then counted twice (it is in the test RMSE and in the consider states): conservative.
+// A model that fits to the sensor's noise (e_m = 0) keeps kMinProcessNoiseShare of its default
+// walk: what a float step and the inputs' quantization add, not a model error.
+inline constexpr double kMinProcessNoiseShare = 0.0;
+template <class T>
+void apply_calibration_uncertainty(EstimatorConfig<T>& c, const double (&ln_std)[kNumParams], bool has_test_rmse,
+                                   double test_rmse_stator_k) {
+  using std::sqrt;
+  for (int j = 0; j < kNumParams; ++j) c.observer.param_ln_std[j] = T(ln_std[j]);
+  // The cooling factor is this motor's departure from the calibration. A calibration of this very
+  // motor holds its conductances to air with their standard errors (the consider states above), so
+  // the factor starts at no further spread and walks from there while readings are fused; whether
+  // the calibration still holds at all is `lptn check`'s question, not a spread to guess. A type's
+  // pooled calibration flashed into many motors (fleet.json) starts at the type's scatter instead
+  // (ObserverSettings' default; `lptn replay --fleet` restores it).
+  c.observer.cooling_initial_std = T(0);
+  if (!has_test_rmse) return;  // no test cycles: no evidence of the model's error, the defaults stand
+  const double r = static_cast<double>(c.observer.sensor_noise_k);
+  const double excess = test_rmse_stator_k * test_rmse_stator_k - r * r;
+  const double model_error_k = excess > 0.0 ? sqrt(excess) : 0.0;
+  // The calibration started every cycle as the observer starts (unseen nodes at the stator's
+  // reading, a soaked motor) and fitted its test cycles to within model_error_k beyond the sensor's
+  // noise, start included: so far can a start put a node no sensor sees.
+  c.observer.initial_std_soaked_k = T(sqrt(r * r + model_error_k * model_error_k));
+  // Each node's own time constant at nominal airflow, standstill, 20 C air.
+  const Model<T> model(c.motor, c.effects);
+  Inputs<T> in{};
+  in.airflow_m3s = c.motor.nominal_airflow_m3s;
+  in.ambient_c = T(20);
+  HeatBalance<T> sys;
+  model.assemble(in, c.params.data(), sys);
+  auto walk = [&](int i, T fallback) {
+    const double rate = -static_cast<double>(sys.a[i][i]);  // 1 / tau
+    if (!(rate > 0.0)) return fallback;
+    const double q = model_error_k * sqrt(2.0 * rate);
+    const double floor_q = kMinProcessNoiseShare * static_cast<double>(fallback);
+    return T(q > floor_q ? q : floor_q);
+  };
+  for (int i = 0; i < kNumNodes; ++i)
+    c.observer.process_noise_k_per_sqrt_s[i] = walk(i, c.observer.process_noise_k_per_sqrt_s[i]);
+  c.observer.process_noise_extra_k_per_sqrt_s =
+      walk(kStatorWinding, c.observer.process_noise_extra_k_per_sqrt_s);
+}
+
 }  // namespace lptn::fw

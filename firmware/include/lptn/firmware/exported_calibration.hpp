@@ -14,6 +14,7 @@ EstimatorConfig<T> config_from_exported_header() {
   ParamVector<T> params{};
   for (int i = 0; i < kNumParams; ++i) params[i] = T(cal::kParams[i]);
   EstimatorConfig<T> c = default_config<T>(cal::motor_constants().template cast<T>(), cal::kEffects, params);
+  apply_calibration_uncertainty(c, cal::kParamLnStd, cal::kHasTestMetrics, cal::kTestRmseStatorK);
 #ifdef LPTN_CALIBRATION_HAS_ACTOR
   c.actor.actor = &cal::kActor;
   for (int k = 0; k < 2; ++k) {

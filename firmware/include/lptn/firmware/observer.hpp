@@ -18,6 +18,18 @@
 // stator nodes: a motor whose winding runs hotter than its load explains is cooled less. While no
 // reading is fused (open loop), the caller freezes it: no process noise, so the estimate and its
 // spread stand until readings return.
+// Parameter uncertainty (Schmidt-Kalman "consider" filter): each parameter with a spread
+// (settings.param_ln_std, from the calibration's standard errors: parameter_uncertainty.hpp) is a
+// consider state d_j = ln(p_j / calibrated p_j) with prior variance s_j^2. Its value stays 0 (the
+// calibrated one) and it is never updated, but its cross-covariance with the states C = P_x,d is
+// carried, so each node's reported spread includes what the parameters' errors do to it:
+//     C+ = Phi C + Psi S,   P+ = Phi P Phi' + Phi C Psi' + Psi C' Phi' + Psi S Psi' + Q
+// with Psi the step's sensitivity dt d(dx/dt)/d d_j (a difference of rates, as theta's column) and
+// S = diag(s_j^2). A fusion updates C with the states, C -= K C_s, so the stator reading's
+// information about the parameters' combination lowers every correlated node's spread; S stands.
+// Why consider and not estimate the parameters: the stator winding alone cannot pin six
+// conductances on board (the calibration with hours of data could not always), and an estimated
+// parameter would drift with the model's transient errors, as theta's slow walk is there to avoid.
 // Plain library: settings struct, setters, no heap, no exceptions, bounded loops.
 #pragma once
 
@@ -32,6 +44,9 @@ inline constexpr int kMaxFilterStates = kMaxStates + 1;
 // The cooling factor stays within 1/5..5 (ln 5): beyond, no cooling this model describes; held
 // there, the network stays a passive one whatever the readings do.
 inline constexpr double kMaxLnCoolingFactor = 1.6094379124341003;
+// The step of a parameter for its sensitivity column: large enough for a float to resolve the
+// difference of rates, small enough for first order in a nonlinear one.
+inline constexpr double kParamStep = 1.1;
 
 template <class T>
 struct ObserverSettings {
@@ -43,7 +58,10 @@ struct ObserverSettings {
   // model's error on unseen cycles.
   T process_noise_k_per_sqrt_s[kNumNodes] = {T(0.02), T(0.02), T(0.03), T(0.03)};
   T process_noise_extra_k_per_sqrt_s = T(0.02);  // effects' extra states (e.g. the lagged sensor)
-  T initial_std_unmeasured_k = T(5);  // nodes no sensor sees at start (soaked-motor guess)
+  T initial_std_unmeasured_k = T(5);  // every node, started without a stator reading
+  // Nodes no sensor sees, started at the stator's reading (a soaked motor, as the trainer starts
+  // every cycle). 5 K unless the calibration says better (apply_calibration_uncertainty).
+  T initial_std_soaked_k = T(5);
   T gate_sigma = T(4);  // innovations beyond this many predicted standard deviations are rejected
   // Cooling factor (ln units). The start: nominal (the calibration's own motor), 1 sigma 15 %, as
   // far as motors of a type scatter new and a filter clogs between services. The random walk lets
@@ -52,6 +70,9 @@ struct ObserverSettings {
   bool estimate_cooling = true;
   T cooling_initial_std = T(0.15);
   T cooling_process_noise_per_sqrt_s = T(0.001);
+  // Each parameter's 1-sigma spread in ln terms (parameter_ln_std); 0: taken as exact, no consider
+  // state. All zero: the filter of process noise alone.
+  T param_ln_std[kNumParams]{};
 };
 
 // One fusion's figures, published every tick for the last reading (EKF2's innovation reporting).
@@ -84,9 +105,16 @@ class Observer {
     const int n = num_states();
     for (int i = 0; i < kMaxFilterStates; ++i)
       for (int j = 0; j < kMaxFilterStates; ++j) p_[i][j] = T(0);
+    // The start's errors (the readings') are independent of the parameters'.
+    num_consider_ = 0;
+    for (int j = 0; j < kNumParams; ++j)
+      if (settings_.param_ln_std[j] > T(0)) consider_[num_consider_++] = j;
+    for (int i = 0; i < kMaxFilterStates; ++i)
+      for (int c = 0; c < kNumParams; ++c) cross_[i][c] = T(0);
     x_[n] = T(0);  // ln 1: nominal cooling
     if (settings_.estimate_cooling) p_[n][n] = settings_.cooling_initial_std * settings_.cooling_initial_std;
-    const T unmeasured = settings_.initial_std_unmeasured_k * settings_.initial_std_unmeasured_k;
+    const T unmeasured = stator_measured ? settings_.initial_std_soaked_k * settings_.initial_std_soaked_k
+                                         : settings_.initial_std_unmeasured_k * settings_.initial_std_unmeasured_k;
     const T stator = stator_measured ? settings_.sensor_noise_k * settings_.sensor_noise_k : unmeasured;
     const T rotor = rotor_measured ? settings_.rotor_sensor_noise_k * settings_.rotor_sensor_noise_k : unmeasured;
     for (int i = 0; i < n; ++i) p_[i][i] = unmeasured;
@@ -123,9 +151,24 @@ class Observer {
       const T scale = settings_.dt_s / T(log(kStep));
       for (int i = 0; i < n; ++i) phi[i][n] = (stepped.derivative(i, x_) - sys.derivative(i, x_)) * scale;
       phi[n][n] = T(1);
+      for (int i : kConductancesToAir) p[i] = params[i] * factor;
+    }
+    // Each consider parameter's column: a 10 % step of the parameter, divided by the step's 0.1 in
+    // p (the rates are linear in every conductance and loss factor, so this is d rate / d ln p at
+    // the calibrated value; for the effects' exponents, first order).
+    T (&psi)[kMaxFilterStates][kNumParams] = psi_;  // a member: kNumParams columns are too many for a small stack
+    for (int c = 0; c < num_consider_; ++c) {
+      const int j = consider_[c];
+      const T base = p[j];
+      p[j] = base * T(kParamStep);
+      HeatBalance<T> stepped;
+      model_.assemble(in, p.data(), stepped);
+      p[j] = base;
+      const T scale = settings_.dt_s / T(kParamStep - 1.0);
+      for (int i = 0; i < n; ++i) psi[i][c] = (stepped.derivative(i, x_) - sys.derivative(i, x_)) * scale;
     }
     Sdirk2<T>::step(sys, x_, settings_.dt_s);
-    propagate_covariance(phi, freeze_cooling);
+    propagate_covariance(phi, psi, freeze_cooling);
     return true;
   }
 
@@ -173,8 +216,10 @@ class Observer {
   const OperatingLosses<T>& losses() const { return losses_; }
 
  private:
-  void propagate_covariance(const T (&phi)[kMaxFilterStates][kMaxFilterStates], bool freeze_cooling) {
+  void propagate_covariance(const T (&phi)[kMaxFilterStates][kMaxFilterStates],
+                            const T (&psi)[kMaxFilterStates][kNumParams], bool freeze_cooling) {
     const int n = num_filter_states();
+    const int m = num_consider_;
     T tmp[kMaxFilterStates][kMaxFilterStates];  // Phi P
     for (int i = 0; i < n; ++i)
       for (int j = 0; j < n; ++j) {
@@ -182,11 +227,28 @@ class Observer {
         for (int k = 0; k < n; ++k) acc += phi[i][k] * p_[k][j];
         tmp[i][j] = acc;
       }
+    T (&phi_c)[kMaxFilterStates][kNumParams] = phi_cross_;  // Phi C
+    for (int i = 0; i < n; ++i)
+      for (int c = 0; c < m; ++c) {
+        T acc = T(0);
+        for (int k = 0; k < n; ++k) acc += phi[i][k] * cross_[k][c];
+        phi_c[i][c] = acc;
+      }
     for (int i = 0; i < n; ++i)
       for (int j = 0; j < n; ++j) {
         T acc = T(0);
         for (int k = 0; k < n; ++k) acc += tmp[i][k] * phi[j][k];
+        // + Phi C Psi' + Psi C' Phi' + Psi S Psi'
+        for (int c = 0; c < m; ++c) {
+          const T s = settings_.param_ln_std[consider_[c]];
+          acc += phi_c[i][c] * psi[j][c] + psi[i][c] * phi_c[j][c] + psi[i][c] * s * s * psi[j][c];
+        }
         p_[i][j] = acc;
+      }
+    for (int i = 0; i < n; ++i)
+      for (int c = 0; c < m; ++c) {
+        const T s = settings_.param_ln_std[consider_[c]];
+        cross_[i][c] = phi_c[i][c] + psi[i][c] * s * s;
       }
     for (int i = 0; i < num_states(); ++i) {
       const T q = i < kNumNodes ? settings_.process_noise_k_per_sqrt_s[i] : settings_.process_noise_extra_k_per_sqrt_s;
@@ -211,6 +273,11 @@ class Observer {
       for (int j = 0; j < n; ++j) ap[i][j] = p_[i][j] - k[i] * p_[s][j];
     for (int i = 0; i < n; ++i)
       for (int j = 0; j < n; ++j) p_[i][j] = ap[i][j] - ap[i][s] * k[j] + r * k[i] * k[j];
+    // The consider states stand; their cross-covariance follows the states': C = A C.
+    for (int c = 0; c < num_consider_; ++c) {
+      const T cs = cross_[s][c];
+      for (int i = 0; i < n; ++i) cross_[i][c] -= k[i] * cs;
+    }
     symmetrize();
   }
 
@@ -228,6 +295,13 @@ class Observer {
   ObserverSettings<T> settings_;
   T x_[kMaxFilterStates]{};  // the model's states, then theta
   T p_[kMaxFilterStates][kMaxFilterStates]{};
+  // The consider parameters (indices into the parameter vector) and their cross-covariance with
+  // the states, column c for parameter consider_[c].
+  int consider_[kNumParams]{};
+  int num_consider_ = 0;
+  T cross_[kMaxFilterStates][kNumParams]{};
+  T psi_[kMaxFilterStates][kNumParams]{};        // predict's scratch: the step's parameter sensitivities
+  T phi_cross_[kMaxFilterStates][kNumParams]{};  // propagate's scratch: Phi C
   OperatingLosses<T> losses_{};
 };
 
