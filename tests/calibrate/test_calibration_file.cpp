@@ -196,9 +196,49 @@ TEST(CalibrationFile, WrongTypeNamesTheField) {
 
 TEST(CalibrationFile, OtherVersionIsRefused) {
   nlohmann::json j = to_json(testing::sample_result(kMotorText));
-  j["format_version"] = 2;
+  j["format_version"] = 3;
   j.erase("parameters");  // the version is checked before anything else
-  EXPECT_EQ(error_for(j), "cal.json: field 'format_version': version 2, this lptn reads 1");
+  EXPECT_EQ(error_for(j), "cal.json: field 'format_version': version 3, this lptn reads 1 to 2");
+  j["format_version"] = 0;
+  EXPECT_EQ(error_for(j), "cal.json: field 'format_version': version 0, this lptn reads 1 to 2");
+}
+
+// A file of the format before outcomes were judged is read, but never as "ok": its parameters
+// marked calibrated may be a motor file's guesses.
+TEST(CalibrationFile, VersionOneIsReadAsUnchecked) {
+  nlohmann::json j = to_json(testing::sample_result(kMotorText));
+  j["format_version"] = 1;
+  j.erase("status");
+  j.erase("warnings");
+  for (auto& p : j["parameters"]) {
+    p.erase("identifiable");
+    p.erase("identifiability");
+  }
+  const CalibrationResult r = calibration_from_json(j, "old.json");
+  EXPECT_EQ(r.status, kStatusUnchecked);
+  ASSERT_EQ(r.warnings.size(), 1u);
+  EXPECT_EQ(r.warnings[0].code, "unchecked");
+  EXPECT_TRUE(r.parameters[0].identifiable);
+}
+
+// Status, warnings and identifiability survive a round trip; an unknown status is refused.
+TEST(CalibrationFile, OutcomeRoundTrips) {
+  CalibrationResult a = testing::sample_result(kMotorText);
+  a.status = kStatusWarnings;
+  a.warnings.push_back({"not_identifiable", "lambda_1r is not identifiable", {"lambda_1r"}});
+  a.parameters[3].calibrated = false;
+  a.parameters[3].identifiable = false;
+  a.parameters[3].identifiability = "no rotor readings";
+  const CalibrationResult b = calibration_from_json(to_json(a), "cal.json");
+  EXPECT_EQ(b.status, kStatusWarnings);
+  ASSERT_EQ(b.warnings.size(), 1u);
+  EXPECT_EQ(b.warnings[0].code, "not_identifiable");
+  EXPECT_EQ(b.warnings[0].parameters, std::vector<std::string>{"lambda_1r"});
+  EXPECT_FALSE(b.parameters[3].identifiable);
+  EXPECT_EQ(b.parameters[3].identifiability, "no rotor readings");
+  nlohmann::json j = to_json(a);
+  j["status"] = "fine";
+  EXPECT_EQ(error_for(j), "cal.json: field 'status': 'fine', expected ok, warnings or failed");
 }
 
 TEST(CalibrationFile, UnknownNamesAreRefused) {

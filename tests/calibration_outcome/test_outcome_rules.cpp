@@ -1,0 +1,134 @@
+// judge_outcome's rules, one at a time: each warning, and the status the warnings add up to.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "trainer/calibrate/calibration_outcome.hpp"
+
+namespace lptn {
+namespace {
+
+// A calibration that is fine in every respect: two calibrated conductances well inside their
+// bounds, a converged LM fit, test errors like the training ones.
+CalibrationResult fine() {
+  CalibrationResult r;
+  for (const char* name : {"lambda_1s", "lambda_2s"}) {
+    ParameterResult p;
+    p.name = name;
+    p.unit = "W/K";
+    p.value = 30;
+    p.initial = 40;
+    p.min = 1;
+    p.max = 1000;
+    p.calibrated = true;
+    p.std_error = 0.1;
+    r.parameters.push_back(p);
+  }
+  r.details = {{"converged", true}, {"iterations", 5}, {"termination", "Function tolerance reached."}};
+  r.train.stator = {0.35, 0.28, 1.5, 0.0, 1000};
+  r.test.stator = {0.37, 0.29, 1.6, 0.05, 500};
+  return r;
+}
+
+bool has_code(const CalibrationResult& r, const std::string& code) {
+  for (const CalibrationWarning& w : r.warnings)
+    if (w.code == code) return true;
+  return false;
+}
+
+TEST(OutcomeRules, FineIsOk) {
+  CalibrationResult r = fine();
+  judge_outcome(r);
+  EXPECT_EQ(r.status, kStatusOk);
+  EXPECT_TRUE(r.warnings.empty());
+}
+
+TEST(OutcomeRules, AParameterOnItsBoundIsAWarning) {
+  for (double value : {1.0, 1000.0, 1000.0 * (1 - 1e-9)}) {
+    CalibrationResult r = fine();
+    r.parameters[0].value = value;
+    judge_outcome(r);
+    EXPECT_EQ(r.status, kStatusWarnings) << value;
+    ASSERT_TRUE(has_code(r, "at_bound")) << value;
+    EXPECT_EQ(r.warnings[0].parameters, std::vector<std::string>{"lambda_1s"});
+    EXPECT_NE(r.warnings[0].message.find(value < 2 ? "lower bound" : "upper bound"), std::string::npos);
+  }
+  // Near a bound but not on it: no warning.
+  CalibrationResult r = fine();
+  r.parameters[0].value = 1.01;
+  judge_outcome(r);
+  EXPECT_EQ(r.status, kStatusOk);
+}
+
+TEST(OutcomeRules, APinnedParameterOnItsBoundIsNoWarning) {
+  CalibrationResult r = fine();
+  r.parameters[1].calibrated = false;  // the motor file pins it, at whatever value it likes
+  r.parameters[1].value = 1000;
+  judge_outcome(r);
+  EXPECT_EQ(r.status, kStatusOk);
+}
+
+TEST(OutcomeRules, NotIdentifiableIsAWarningWithItsReason) {
+  CalibrationResult r = fine();
+  r.parameters[1].calibrated = false;
+  r.parameters[1].identifiable = false;
+  r.parameters[1].identifiability = "no rotor readings";
+  judge_outcome(r);
+  EXPECT_EQ(r.status, kStatusWarnings);
+  ASSERT_TRUE(has_code(r, "not_identifiable"));
+  EXPECT_NE(r.warnings[0].message.find("no rotor readings"), std::string::npos);
+}
+
+TEST(OutcomeRules, NotConvergedIsAWarningAndWithABoundAFailure) {
+  CalibrationResult r = fine();
+  r.details["converged"] = false;
+  judge_outcome(r);
+  EXPECT_EQ(r.status, kStatusWarnings);
+  EXPECT_TRUE(has_code(r, "not_converged"));
+
+  CalibrationResult f = fine();
+  f.details["converged"] = false;
+  f.parameters[0].value = 1.0;
+  judge_outcome(f);
+  EXPECT_EQ(f.status, kStatusFailed);
+  EXPECT_TRUE(has_code(f, "failed_fit"));
+}
+
+TEST(OutcomeRules, NonFiniteIsAFailure) {
+  CalibrationResult r = fine();
+  r.train.stator.rmse_k = std::numeric_limits<double>::infinity();
+  judge_outcome(r);
+  EXPECT_EQ(r.status, kStatusFailed);
+  EXPECT_TRUE(has_code(r, "not_finite"));
+
+  CalibrationResult p = fine();
+  p.parameters[0].value = std::nan("");
+  judge_outcome(p);
+  EXPECT_EQ(p.status, kStatusFailed);
+}
+
+TEST(OutcomeRules, ATestErrorFarAboveTrainingIsAWarning) {
+  CalibrationResult r = fine();
+  r.test.stator.rmse_k = 5.4;  // the motor with a thermal mass the model lacks: 5.0x
+  judge_outcome(r);
+  EXPECT_EQ(r.status, kStatusWarnings);
+  EXPECT_TRUE(has_code(r, "test_error_high"));
+  // Twice a small training error but within half a kelvin of it: noise, not overfitting.
+  CalibrationResult small = fine();
+  small.train.stator.rmse_k = 0.2;
+  small.test.stator.rmse_k = 0.5;
+  judge_outcome(small);
+  EXPECT_EQ(small.status, kStatusOk);
+}
+
+TEST(OutcomeRules, DataFindingsAreWarnings) {
+  CalibrationResult r = fine();
+  judge_outcome(r, {"cycle_01.csv: pole pairs: the motor file says 3, the data's speed and frequency say 2"});
+  EXPECT_EQ(r.status, kStatusWarnings);
+  EXPECT_TRUE(has_code(r, "data"));
+}
+
+}  // namespace
+}  // namespace lptn
