@@ -261,6 +261,22 @@ TEST_F(SemanticInput, CapacityOf60JoulePerKelvinIsFlagged) {
   expect_ran(run("simulate --data " + dump().string() + " --motor " + m.string()));
 }
 
+TEST_F(SemanticInput, RatedPowerInKilowattsComesFirstAmongWhatItDrags) {
+  // 310 for 310e3: every range scaled by rated power moves with it; the cause is named first.
+  const fs::path m = scratch("motor.toml");
+  ASSERT_GT(edit_motor(motor(), m, "rated_power_w", "310.0"), 0);
+  const nlohmann::json f = motor_findings(run(inspect_args(dump()) + " --motor " + m.string() + " --json"));
+  ASSERT_GT(f.size(), 1u) << f.dump();
+  EXPECT_EQ(f[0]["key"], "nameplate.rated_power_w");
+  // "151 kW..378 kW" (sqrt(3) x 1900 V x 115 A x 0.4..1): the plant's 310 kW inside, the typo not.
+  const std::string plausible = f[0]["plausible"];
+  ASSERT_EQ(plausible.find(" kW.."), plausible.find(" kW")) << plausible;
+  const auto [lo_kw, hi_kw] = range_of(plausible);
+  EXPECT_LT(lo_kw, 310);
+  EXPECT_GT(hi_kw, 310);
+  EXPECT_GT(lo_kw * 1e3, 310.0);
+}
+
 TEST_F(SemanticInput, MisspeltKeyGetsDidYouMean) {
   const fs::path m = scratch("motor.toml");
   const int line = edit_motor(motor(), m, "stator_resistance_20c_ohm", "stator_resistence_20c_ohm", true);
@@ -273,6 +289,15 @@ TEST_F(SemanticInput, MisspeltKeyGetsDidYouMean) {
   const int beta = edit_motor(motor(), m, "iron_beta", "iron_betta", true);
   expect_bad_input(run("simulate --data " + dump().string() + " --motor " + m.string()),
                    m.string() + ":" + std::to_string(beta) + ": key 'losses.iron_betta': unknown key (did you mean 'iron_beta'?)");
+  // And a parameter's table.
+  std::ifstream src(motor());
+  std::string text((std::istreambuf_iterator<char>(src)), {});
+  const std::size_t at = text.find("[parameters.lambda_12s]");
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, 23, "[parameters.lambda_12z]");
+  std::ofstream(m) << text;
+  expect_bad_input(run("simulate --data " + dump().string() + " --motor " + m.string()),
+                   "key 'parameters.lambda_12z': unknown parameter (did you mean 'lambda_12s'?)");
 }
 
 TEST_F(SemanticInput, MisnamedColumnIsRepeatedBySimulate) {

@@ -47,14 +47,16 @@ std::string si(double v, std::string_view unit) {
 
 struct Range {
   double lo, hi;
-  bool log_scale = true;  // values spanning decades: how far is counted in decades
+  // Ahead of every other finding: the value the others are scaled by (rated power).
+  bool root_cause = false;
 
   bool holds(double v) const { return v >= lo && v <= hi; }
+  // In decades of the value over the range's nearest end, so that findings of different kinds
+  // compare (a capacitance 1000x too small before an exponent 20 % too large).
   double how_far(double v) const {
     if (holds(v)) return 0;
-    if (!log_scale) return (v < lo ? lo - v : v - hi) / (hi - lo);
-    if (v <= 0) return 10;  // no ratio to a positive range: as far as it gets
-    return v < lo ? std::log10(lo / v) : std::log10(v / hi);
+    const double decades = v <= 0 ? 10 : v < lo ? std::log10(lo / v) : std::log10(v / hi);
+    return root_cause ? 1000 + decades : decades;
   }
 };
 
@@ -106,9 +108,9 @@ std::string said(const std::string& key, double value) { return leaf(key) + " = 
 void check_nameplate(Checker& c, const MotorConstants<double>& m) {
   const double apparent = std::sqrt(3.0) * m.rated_voltage_v * m.rated_current_a;
   const double p = m.rated_power_w;
-  c.check("nameplate.rated_power_w", p, {0.4 * apparent, apparent},
+  c.check("nameplate.rated_power_w", p, {0.4 * apparent, apparent, true},
           said("rated_power_w", p) + " is " + num2(100 * p / apparent) + " % of sqrt(3) x rated voltage x rated current (" +
-              si(apparent, "VA") + ")",
+              si(apparent, "VA") + "; the ranges that scale with rated power follow it)",
           si(0.4 * apparent, "W") + ".." + si(apparent, "W") + " (efficiency times power factor 0.4..1)");
 }
 
@@ -150,22 +152,22 @@ void check_losses(Checker& c, const MotorFile& motor) {
   const MotorConstants<double>& m = motor.constants;
   const double p = m.rated_power_w;
   const auto share = [&](const std::string& key, double w, double most, const char* usual) {
-    c.check(key, w, {0, most * p, false},
+    c.check(key, w, {0, most * p},
             said(key, w) + " W is " + num2(100 * w / p) + " % of rated power (" + si(p, "W") + ")",
-            "0.." + si(most * p, "W") + " (0.." + num2(100 * most) + " % of rated power; " + usual + ")");
+            "0.." + si(most * p, "W") + " (0.." + num(100 * most) + " % of rated power; " + usual + ")");
   };
   share("losses.stray_rated_w", m.stray_rated_w, 0.05, "0.5..2.5 % usual");
   share("losses.iron_rated_w", m.iron_rated_w, 0.10, "1..3 % usual");
   double harmonic_peak = 0;
   for (int k = 0; k < m.harmonic_points; ++k) harmonic_peak = std::max(harmonic_peak, m.harmonic_loss_w[k]);
-  c.check("losses.harmonic_loss_w", harmonic_peak, {0, 0.1 * p, false},
+  c.check("losses.harmonic_loss_w", harmonic_peak, {0, 0.1 * p},
           "harmonic_loss_w reaches " + si(harmonic_peak, "W") + ", " + num2(100 * harmonic_peak / p) +
               " % of rated power (" + si(p, "W") + ")",
           "0.." + si(0.1 * p, "W") + " at every point (0..10 % of rated power)");
-  c.check("losses.iron_alpha", m.iron_alpha, {1.0, 2.0, false},
+  c.check("losses.iron_alpha", m.iron_alpha, {1.0, 2.0},
           said("iron_alpha", m.iron_alpha) + ": the iron loss's frequency exponent",
           "1..2 (hysteresis grows with f, eddy currents with f^2)");
-  c.check("losses.iron_beta", m.iron_beta, {1.5, 3.0, false},
+  c.check("losses.iron_beta", m.iron_beta, {1.5, 3.0},
           said("iron_beta", m.iron_beta) + ": the iron loss's flux-density exponent",
           "1.5..3 (Steinmetz; eddy currents grow with B^2)");
   // The shares k_stray, k_harm, k_pfe are held to [0, 1] by the loader already.
@@ -173,7 +175,7 @@ void check_losses(Checker& c, const MotorFile& motor) {
     const std::string name(param_spec(k).name);
     const std::string key = c.has("parameters." + name) ? "parameters." + name + ".initial" : "losses." + name;
     const double v = motor.parameters[k].initial;
-    c.check(key, v, {0.5, 2.0, false},
+    c.check(key, v, {0.5, 2.0},
             said(name, v) + ": a factor on the " +
                 (k == kKStemp ? "stator" : "rotor") + " copper loss",
             "0.5..2 (a correction of the copper loss, not another loss)");
@@ -203,10 +205,10 @@ void check_thermal(Checker& c, const MotorConstants<double>& m) {
           said("nominal_airflow_m3s", m.nominal_airflow_m3s) + " m^3/s for a rated power of " + si(p, "W"),
           num2(airflow.lo) + ".." + num2(airflow.hi) +
               " m^3/s (losses of 1..15 % of rated power carried off with the air warming 2..50 K)");
-  c.check("thermal.airflow_exponent", m.airflow_exponent, {0.3, 1.0, false},
+  c.check("thermal.airflow_exponent", m.airflow_exponent, {0.3, 1.0},
           said("airflow_exponent", m.airflow_exponent) + ": how the conductances to air follow the airflow",
           "0.3..1 (forced convection: 0.5 laminar .. 0.8 turbulent)");
-  c.check("thermal.min_airflow_fraction", m.min_airflow_fraction, {0.0, 0.5, false},
+  c.check("thermal.min_airflow_fraction", m.min_airflow_fraction, {0.0, 0.5},
           said("min_airflow_fraction", m.min_airflow_fraction) + ": the cooling left when the blower stops",
           "0..0.5 (natural convection keeps a tenth or so)");
 }
@@ -236,7 +238,7 @@ void check_parameters(Checker& c, const MotorFile& motor) {
   if (const int k = param_index("windage_base_w"); k >= 0 && motor.parameters[k].in_file) {
     const double p = motor.constants.rated_power_w;
     const double w = motor.parameters[k].initial;
-    c.check("parameters.windage_base_w.initial", w, {0, 0.05 * p, false},
+    c.check("parameters.windage_base_w.initial", w, {0, 0.05 * p},
             "windage_base_w.initial = " + num(w) + " W is " + num2(100 * w / p) + " % of rated power (" + si(p, "W") + ")",
             "0.." + si(0.05 * p, "W") + " (0..5 % of rated power)");
   }
