@@ -21,6 +21,7 @@
 #include "trainer/calibrate/shared_dataset.hpp"
 #include "trainer/fleet/fleet_file.hpp"
 #include "trainer/model/motor_effects.hpp"
+#include "trainer/model/motor_plausibility.hpp"
 #include "trainer/search/search.hpp"
 
 namespace lptn::cli {
@@ -89,6 +90,19 @@ void run_search(const CalibrateArgs& a, const MotorFile& motor, const data::Data
 
 void print_metrics(const char* side, const SplitMetrics& m);
 
+// The warnings go to stderr, quiet or not: a script that ignores stdout must still see them. The
+// data's were printed before the work began.
+void print_outcome_warnings(const CalibrationResult& r) {
+  for (const CalibrationWarning& w : r.warnings)
+    if (w.code != "data") std::fprintf(stderr, "lptn: warning: %s\n", w.message.c_str());
+}
+
+// The model ran away at the motor file's values: bad input, naming the most implausible value.
+BadInput not_simulable(const std::string& path, const MotorFile& motor, const ModelNotSimulable& e) {
+  const std::string why = implausible_values_summary(motor);
+  return BadInput(path + ": " + e.what() + (why.empty() ? std::string() : "; the most implausible value: " + why));
+}
+
 // --fleet: the motor type over every motor, each motor's cooling factor, the outliers (fleet.json).
 void run_fleet(const CalibrateArgs& a, const MotorFile& motor, const ProcessGroup& group) {
   const FleetDump fleet = load_shared_fleet(a.fleet, group);
@@ -102,16 +116,23 @@ void run_fleet(const CalibrateArgs& a, const MotorFile& motor, const ProcessGrou
   FleetSettings settings;
   settings.lm.judge_identifiability = true;
   ProgressLine line(a.quiet);
-  const FleetFit fit = fit_fleet(motor, fleet, split.train, settings, [&](const std::string& s) { line.update(s, true); });
+  FleetFit fit;
+  try {
+    fit = fit_fleet(motor, fleet, split.train, settings, [&](const std::string& s) { line.update(s, true); });
+  } catch (const ModelNotSimulable& e) {
+    throw not_simulable(a.motor, motor, e);
+  }
   line.finish();
   record_lm_fit(r, fit.shared, FreeParameters::from_motor(motor), r.train_cycles, to_json(settings.lm));
   r.seconds = fit.seconds;
   score_calibration(r, motor, fleet.dataset, split);
-  judge_outcome(r);
+  const std::vector<std::string> inspected = input_warnings(fleet.dataset, motor);
+  if (group.leads()) print_input_warnings(inspected);
+  judge_outcome(r, inspected);
   set_exit_code(r.status == kStatusFailed ? kExitFailed : (r.status == kStatusWarnings ? kExitWarnings : 0));
   if (!group.leads()) return;
   save_fleet(a.out, r, fit, settings);
-  for (const CalibrationWarning& w : r.warnings) std::fprintf(stderr, "warning: %s\n", w.message.c_str());
+  print_outcome_warnings(r);
   if (a.quiet) return;
   std::vector<ErrorMetrics> stator, rotor;
   for (const FleetMotorResult& m : fit.motors) {
@@ -158,7 +179,11 @@ void run(const CalibrateArgs& given, Td3Calibrator td3) {
     throw BadInput("--method " + a.method + ": this lptn was built without libtorch (LPTN_WITH_TD3=OFF); only --method lm is available");
 #endif
   }
-  refuse_overwrite(a.out, a.force);
+  // Inputs first (a missing one is the first thing to hear of), then the output, before any work.
+  for (const std::string& d : a.data) check_input_path(d, "--data");
+  if (!a.fleet.empty()) check_input_path(a.fleet, "--fleet", InputPath::directory);
+  check_input_path(a.motor, "--motor", InputPath::file);
+  check_output_path(a.out, a.force);
   std::vector<int> added;  // checked before any file is read
   for (const std::string& name : a.effects) added.push_back(effect_by_name(name, "--effect"));
   MotorFile motor = load_motor_file(a.motor);
@@ -168,6 +193,10 @@ void run(const CalibrateArgs& given, Td3Calibrator td3) {
   data::Dataset dataset = load_shared_dump(paths, group);
   const Split split = split_cycles(dataset, a.test_cycles, a.test_fraction, a.seed);
   balance_training(dataset, split.train, group);  // only LM runs shared
+  // What `lptn inspect --motor` would say of this data and motor file, repeated here, once, and
+  // carried into calibration.json's warnings.
+  const std::vector<std::string> inspected = input_warnings(dataset, motor);
+  if (group.leads()) print_input_warnings(inspected);
 
   // LM judges what the data pins as it fits; the other methods would move a parameter the data
   // cannot see at random and call it calibrated: it stays the motor file's, said so.
@@ -175,7 +204,7 @@ void run(const CalibrateArgs& given, Td3Calibrator td3) {
   try {
     if (a.method != "lm") unseen = unseen_parameters(motor, motor.initial_values(), dataset, split.train);
   } catch (const ModelNotSimulable& e) {
-    throw BadInput(a.motor + ": " + e.what());
+    throw not_simulable(a.motor, motor, e);
   }
   for (const NotIdentifiable& n : unseen) motor.parameters[static_cast<std::size_t>(n.index)].calibrate = false;
   CalibrationResult r = new_calibration(motor, a.motor, dataset, split);
@@ -193,11 +222,11 @@ void run(const CalibrateArgs& given, Td3Calibrator td3) {
     else if (search) run_search(a, motor, dataset, split, r);
     else td3(a, motor, dataset, split, r);
   } catch (const ModelNotSimulable& e) {
-    throw BadInput(a.motor + ": " + e.what());
+    throw not_simulable(a.motor, motor, e);
   }
 
   score_calibration(r, motor, dataset, split);
-  judge_outcome(r);
+  judge_outcome(r, inspected);
   set_exit_code(r.status == kStatusFailed ? kExitFailed : (r.status == kStatusWarnings ? kExitWarnings : 0));
   if (!group.leads()) return;
   save_calibration(r, a.out);
@@ -217,8 +246,7 @@ void run(const CalibrateArgs& given, Td3Calibrator td3) {
     print_metrics("train", r.train);
     if (!r.test.cycles.empty()) print_metrics("test", r.test);
   }
-  // The warnings go to stderr, quiet or not: a script that ignores stdout must still see them.
-  for (const CalibrationWarning& w : r.warnings) std::fprintf(stderr, "warning: %s\n", w.message.c_str());
+  print_outcome_warnings(r);
   if (!a.quiet || r.status != kStatusOk) {
     if (r.status == kStatusFailed)
       std::printf("%s written with status FAILED, for inspection only (lptn export refuses it): %zu warning%s above\n",
