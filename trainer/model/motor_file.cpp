@@ -81,7 +81,10 @@ class TableReader {
   std::vector<double> numbers(std::string_view key) {
     seen_.insert(std::string(key));
     const toml::node* node = table_.get(key);
-    if (!node) fail(file_, table_.source(), full(key), "missing (required)");
+    if (!node) {
+      refuse_misspelling_of(key);
+      fail(file_, table_.source(), full(key), "missing (required)");
+    }
     const toml::array* array = node->as_array();
     if (!array) fail(file_, node->source(), full(key), "must be an array of numbers");
     std::vector<double> out;
@@ -96,7 +99,10 @@ class TableReader {
   const toml::table& sub_table(std::string_view key) {
     seen_.insert(std::string(key));
     const toml::node* node = table_.get(key);
-    if (!node) fail(file_, table_.source(), full(key), "missing table (required)");
+    if (!node) {
+      refuse_misspelling_of(key);
+      fail(file_, table_.source(), full(key), "missing table (required)");
+    }
     const toml::table* t = node->as_table();
     if (!t) fail(file_, node->source(), full(key), "must be a table");
     return *t;
@@ -338,6 +344,9 @@ MotorFile parse_motor_file(const std::string& text, const std::filesystem::path&
   motor.text = text;
   motor.parameters = default_parameter_settings();
   TableReader top(root, "", shown_as);
+  std::vector<std::string> top_keys{"name", "parameters", "effects"};
+  for (const std::string_view section : constant_sections()) top_keys.emplace_back(section);
+  top.expect(top_keys);
   top.allow("name");
   if (const toml::node* n = root.get("name")) {
     if (!n->is_string()) fail(shown_as, n->source(), "name", "must be a string");
