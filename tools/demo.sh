@@ -7,7 +7,9 @@
 # stator winding): compare, diagnose (the model is not adequate; a term of the dictionary explains
 # it), add the term the diagnosis names, recalibrate, and a report before and after; last, a fleet of
 # six motors calibrated whole, the one with a clogged filter named, and the fleet's page; and the
-# firmware's own estimate of each motor's cooling, its alarm on the weak motor.
+# firmware's own estimate of each motor's cooling, its alarm on the weak motor; and lptn check, once
+# where the calibration holds (the same motor a month later) and once where it does not (a fleet
+# motor whose filter clogged since the fleet was calibrated).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 tools/setup.sh
@@ -80,6 +82,21 @@ for dir in "$out"/motors/motor_*/; do
   "$lptn" replay --fleet "$out/fleet.json" --log "$out/motors-onboard/$id.log" --out "$out/motors-onboard/$id.csv" \
     --quiet --force | sed -n "s/^  cooling factor/$id: cooling factor/p"
 done
+echo "== 11. lptn check: does a calibration still hold on new data? (exit 0 it holds, 1 it does not: a pipeline scripts on it)"
+echo "-- 11a. the LM calibration of step 3 on the same motor's drives a month later (seed 2: files it never saw)"
+"$lptn" generate --out "$out/month-later" --cycles 3 --seed 2 --minutes-min 40 --minutes-max 50 --force >/dev/null
+"$lptn" check --data "$out/month-later" --calibration "$out/calibration-lm.json" --quiet \
+  --json-out "$out/check-month-later.json" --force >"$out/check-month-later.txt" && status=0 || status=$?
+tail -n 1 "$out/check-month-later.txt"
+echo "   (exit code $status; per cycle in $out/check-month-later.txt)"
+echo "-- 11b. the fleet of step 9 a month later with a second motor's filter clogged (the other motors' files are the"
+echo "        calibrated ones): each motor against the type and its own cooling factor in fleet.json"
+"$lptn" generate --fleet --motors 6 --weak-motors 2 --cycles 2 --seed 5 --minutes-min 40 --minutes-max 50 \
+  --out "$out/motors-later" --force >/dev/null
+"$lptn" check --fleet "$out/motors-later" --calibration "$out/fleet.json" --quiet \
+  --json-out "$out/check-fleet.json" --force >"$out/check-fleet.txt" && status=0 || status=$?
+grep -E "does NOT hold|^  cooling|no longer holds|every motor" "$out/check-fleet.txt" || true
+echo "   (exit code $status; every motor in $out/check-fleet.txt)"
 
 echo
 echo "demo output in $out/: fleet/ (cycle CSVs, motor.toml, truth.json, truth/), inspect.txt, simulation/ (traces,"
@@ -87,7 +104,8 @@ echo "metrics.json), calibration-lm.json, calibration-td3.json, td3-checkpoints/
 echo "onboard/ (the CAN log and the firmware's estimates, one CSV row per 100 ms tick), loop/ (the second fleet, its"
 echo "calibrations before and after adding $effect, the diagnoses, report-before.html), motors/ (the fleet of six),"
 echo "fleet.json (its calibration: the type, each motor's cooling factor, the outliers), fleet.html, motors-onboard/"
-echo "(each motor's first drive as a CAN log and the firmware's estimates, its cooling factor among them)"
+echo "(each motor's first drive as a CAN log and the firmware's estimates, its cooling factor among them), month-later/ and"
+echo "motors-later/ (new data for lptn check), check-month-later.txt and .json, check-fleet.txt and .json (its verdicts)"
 echo
 echo "The report after adding $effect, and the fleet's page (open them in a browser; they need no network):"
 echo "  $(cd "$loop" && pwd)/report.html"
