@@ -162,68 +162,70 @@ inline constexpr ParamVector<double> kParams = {{
 }};
 static_assert(kParams.size() == kNumParams);
 
-// Each parameter's 1-sigma spread in ln terms, as the observer's consider states take it
-// (lptn/firmware/parameter_uncertainty.hpp: the standard error over the value; a parameter the data
-// could not pin, or with no standard error, ln 1.5; one pinned in the motor file, 0).
-inline constexpr double kParamLnStd[kNumParams] = {
-    0.004867057062245622,  // [0] lambda_1s
-    0.004661580474290629,  // [1] lambda_2s
-    0.001791247020980415,  // [2] lambda_12s
-    0.009083346280517495,  // [3] lambda_1r
-    0.0069391985273014245,  // [4] lambda_2r
-    0.0032286129818146826,  // [5] lambda_12r
-    0.0,  // [6] k_stemp
-    0.0,  // [7] k_rtemp
-    0.0,  // [8] k_stray
-    0.0,  // [9] k_harm
-    0.0,  // [10] k_pfe
-    0.0,  // [11] airgap_lambda
-    0.0,  // [12] windage_base_w
-    0.0,  // [13] air_heating_fraction
-    0.0,  // [14] rotor_convection_gain
-    0.0,  // [15] sensor_time_constant_s
-    0.0,  // [16] heat_stator_winding_i2f_w
-    0.0,  // [17] heat_stator_winding_i2f_k
-    0.0,  // [18] heat_stator_winding_fluxf_w
-    0.0,  // [19] heat_stator_winding_fluxf_k
-    0.0,  // [20] heat_stator_winding_speed_w
-    0.0,  // [21] heat_stator_winding_speed_k
-    0.0,  // [22] heat_stator_winding_power_w
-    0.0,  // [23] heat_stator_winding_power_k
-    0.0,  // [24] heat_stator_core_i2f_w
-    0.0,  // [25] heat_stator_core_i2f_k
-    0.0,  // [26] heat_stator_core_fluxf_w
-    0.0,  // [27] heat_stator_core_fluxf_k
-    0.0,  // [28] heat_stator_core_speed_w
-    0.0,  // [29] heat_stator_core_speed_k
-    0.0,  // [30] heat_stator_core_power_w
-    0.0,  // [31] heat_stator_core_power_k
-    0.0,  // [32] heat_rotor_winding_i2f_w
-    0.0,  // [33] heat_rotor_winding_i2f_k
-    0.0,  // [34] heat_rotor_winding_fluxf_w
-    0.0,  // [35] heat_rotor_winding_fluxf_k
-    0.0,  // [36] heat_rotor_winding_speed_w
-    0.0,  // [37] heat_rotor_winding_speed_k
-    0.0,  // [38] heat_rotor_winding_power_w
-    0.0,  // [39] heat_rotor_winding_power_k
-    0.0,  // [40] heat_rotor_core_i2f_w
-    0.0,  // [41] heat_rotor_core_i2f_k
-    0.0,  // [42] heat_rotor_core_fluxf_w
-    0.0,  // [43] heat_rotor_core_fluxf_k
-    0.0,  // [44] heat_rotor_core_speed_w
-    0.0,  // [45] heat_rotor_core_speed_k
-    0.0,  // [46] heat_rotor_core_power_w
-    0.0,  // [47] heat_rotor_core_power_k
-    0.0,  // [48] cooling_stator_speed_gain
-    0.0,  // [49] cooling_stator_speed_k
-    0.0,  // [50] cooling_rotor_speed_gain
-    0.0,  // [51] cooling_rotor_speed_k
-    0.0,  // [52] airflow_stator_exponent_change
-    0.0,  // [53] airflow_rotor_exponent_change
-    0.0,  // [54] path_stator_winding_rotor_winding_lambda
-    0.0,  // [55] path_stator_winding_rotor_core_lambda
-    0.0,  // [56] path_stator_core_rotor_winding_lambda
+// Each parameter's uncertainty: its standard error (1 sigma, its unit; -1 where none is known), whether the
+// calibration fitted it and whether the data could pin it. The firmware turns them into the observer's
+// spreads with lptn/firmware/parameter_uncertainty.hpp (a parameter not pinned: ln 1.5).
+inline constexpr double kParamStdError[kNumParams] = {
+    0.11680760273063345,  // [0] lambda_1s
+    0.30360978950448575,  // [1] lambda_2s
+    0.19687737114999188,  // [2] lambda_12s
+    0.19107148399351628,  // [3] lambda_1r
+    0.3120988149204266,  // [4] lambda_2r
+    0.4858911158319865,  // [5] lambda_12r
+    -1.0,  // [6] k_stemp
+    -1.0,  // [7] k_rtemp
+    -1.0,  // [8] k_stray
+    -1.0,  // [9] k_harm
+    -1.0,  // [10] k_pfe
+    -1.0,  // [11] airgap_lambda
+    -1.0,  // [12] windage_base_w
+    -1.0,  // [13] air_heating_fraction
+    -1.0,  // [14] rotor_convection_gain
+    -1.0,  // [15] sensor_time_constant_s
+    -1.0,  // [16] heat_stator_winding_i2f_w
+    -1.0,  // [17] heat_stator_winding_i2f_k
+    -1.0,  // [18] heat_stator_winding_fluxf_w
+    -1.0,  // [19] heat_stator_winding_fluxf_k
+    -1.0,  // [20] heat_stator_winding_speed_w
+    -1.0,  // [21] heat_stator_winding_speed_k
+    -1.0,  // [22] heat_stator_winding_power_w
+    -1.0,  // [23] heat_stator_winding_power_k
+    -1.0,  // [24] heat_stator_core_i2f_w
+    -1.0,  // [25] heat_stator_core_i2f_k
+    -1.0,  // [26] heat_stator_core_fluxf_w
+    -1.0,  // [27] heat_stator_core_fluxf_k
+    -1.0,  // [28] heat_stator_core_speed_w
+    -1.0,  // [29] heat_stator_core_speed_k
+    -1.0,  // [30] heat_stator_core_power_w
+    -1.0,  // [31] heat_stator_core_power_k
+    -1.0,  // [32] heat_rotor_winding_i2f_w
+    -1.0,  // [33] heat_rotor_winding_i2f_k
+    -1.0,  // [34] heat_rotor_winding_fluxf_w
+    -1.0,  // [35] heat_rotor_winding_fluxf_k
+    -1.0,  // [36] heat_rotor_winding_speed_w
+    -1.0,  // [37] heat_rotor_winding_speed_k
+    -1.0,  // [38] heat_rotor_winding_power_w
+    -1.0,  // [39] heat_rotor_winding_power_k
+    -1.0,  // [40] heat_rotor_core_i2f_w
+    -1.0,  // [41] heat_rotor_core_i2f_k
+    -1.0,  // [42] heat_rotor_core_fluxf_w
+    -1.0,  // [43] heat_rotor_core_fluxf_k
+    -1.0,  // [44] heat_rotor_core_speed_w
+    -1.0,  // [45] heat_rotor_core_speed_k
+    -1.0,  // [46] heat_rotor_core_power_w
+    -1.0,  // [47] heat_rotor_core_power_k
+    -1.0,  // [48] cooling_stator_speed_gain
+    -1.0,  // [49] cooling_stator_speed_k
+    -1.0,  // [50] cooling_rotor_speed_gain
+    -1.0,  // [51] cooling_rotor_speed_k
+    -1.0,  // [52] airflow_stator_exponent_change
+    -1.0,  // [53] airflow_rotor_exponent_change
+    -1.0,  // [54] path_stator_winding_rotor_winding_lambda
+    -1.0,  // [55] path_stator_winding_rotor_core_lambda
+    -1.0,  // [56] path_stator_core_rotor_winding_lambda
 };
+inline constexpr bool kParamCalibrated[kNumParams] = {true, true, true, true, true, true, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false};
+inline constexpr bool kParamIdentifiable[kNumParams] = {true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true};
 
 // The motor file's constants (fleet/motor.toml, kept whole in the calibration).
 constexpr MotorConstants<double> motor_constants() {

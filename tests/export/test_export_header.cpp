@@ -105,7 +105,7 @@ TEST(ExportHeader, RefusesAFailedCalibration) {
 }
 
 // Warnings are comments in the header; a parameter the data could not pin says so, and carries
-// the wide prior in kParamLnStd; a calibrated one its standard error over its value.
+// no standard error; a calibrated one its standard error.
 TEST(ExportHeader, CarriesWarningsAndEachParametersSpread) {
   CalibrationResult c = testing::sample_result(example_motor_text());
   c.status = kStatusWarnings;
@@ -123,8 +123,9 @@ TEST(ExportHeader, CarriesWarningsAndEachParametersSpread) {
             std::string::npos);
   EXPECT_NE(h.find("// [3] lambda_1r [W/K] (not identifiable from this data: the motor file's value)\n"), std::string::npos);
   EXPECT_EQ(h.find("// [3] lambda_1r [W/K] (calibrated)"), std::string::npos);
-  EXPECT_NE(h.find("inline constexpr double kParamLnStd[kNumParams] = {\n    0.01,  // [0] lambda_1s\n"), std::string::npos);
-  EXPECT_NE(h.find("    0.4054651081081644,  // [3] lambda_1r\n"), std::string::npos);
+  EXPECT_NE(h.find("inline constexpr double kParamStdError[kNumParams] = {\n    0.25,  // [0] lambda_1s\n"), std::string::npos);
+  EXPECT_NE(h.find("    -1.0,  // [3] lambda_1r\n"), std::string::npos);  // none known
+  EXPECT_NE(h.find("inline constexpr bool kParamIdentifiable[kNumParams] = {true, true, true, false, "), std::string::npos);
 }
 
 // Every constant in the field list is in motor_constants(), with its value; a table's rows up to

@@ -10,7 +10,6 @@
 #include <utility>
 #include <vector>
 
-#include "lptn/firmware/parameter_uncertainty.hpp"
 #include "tools/export/cpp_literals.hpp"
 #include "trainer/model/motor_file.hpp"
 
@@ -146,17 +145,23 @@ std::string parameters_source(const CalibrationResult& c, const ExportOptions& o
   }
   s += "}};\n";
   s += "static_assert(kParams.size() == kNumParams);\n";
-  s += "\n// Each parameter's 1-sigma spread in ln terms, as the observer's consider states take it\n";
-  s += "// (lptn/firmware/parameter_uncertainty.hpp: the standard error over the value; a parameter the data\n";
-  s += "// could not pin, or with no standard error, ln 1.5; one pinned in the motor file, 0).\n";
-  s += "inline constexpr double kParamLnStd[kNumParams] = {\n";
+  // What the observer's consider states are built from (lptn/firmware/parameter_uncertainty.hpp,
+  // called by exported_calibration.hpp on these, and by lptn replay on calibration.json's).
+  s += "\n// Each parameter's uncertainty: its standard error (1 sigma, its unit; -1 where none is known), whether the\n";
+  s += "// calibration fitted it and whether the data could pin it. The firmware turns them into the observer's\n";
+  s += "// spreads with lptn/firmware/parameter_uncertainty.hpp (a parameter not pinned: ln 1.5).\n";
+  std::string stds, fitted, pinned;
   for (int i = 0; i < kNumParams; ++i) {
     const ParameterResult& p = c.parameters[i];
-    const double ln_std = fw::parameter_ln_std(p.value, p.std_error, p.calibrated, p.identifiable);
-    s += cat("    ", double_literal(ln_std, cat("parameters.", std::string(param_spec(i).name), ".std_error")), ",  // [",
-             str(i), "] ", std::string(param_spec(i).name), "\n");
+    const std::string name(param_spec(i).name);
+    const double se = std::isfinite(p.std_error) && p.std_error >= 0 ? p.std_error : -1.0;
+    stds += cat("    ", double_literal(se, cat("parameters.", name, ".std_error")), ",  // [", str(i), "] ", name, "\n");
+    fitted += cat(p.calibrated ? "true" : "false", i + 1 < kNumParams ? ", " : "");
+    pinned += cat(p.identifiable ? "true" : "false", i + 1 < kNumParams ? ", " : "");
   }
-  s += "};\n";
+  s += cat("inline constexpr double kParamStdError[kNumParams] = {\n", stds, "};\n");
+  s += cat("inline constexpr bool kParamCalibrated[kNumParams] = {", fitted, "};\n");
+  s += cat("inline constexpr bool kParamIdentifiable[kNumParams] = {", pinned, "};\n");
   return s;
 }
 

@@ -120,8 +120,8 @@ EstimatorConfig<T> default_config(const MotorConstants<T>& m, EffectSet effects,
 }
 
 // What a calibration says of its own uncertainty, into the observer: each parameter's spread in ln
-// terms (parameter_ln_std, parameter_uncertainty.hpp; the header's kParamLnStd, or computed from
-// calibration.json by the replay with the same function), and the process noise from the model's
+// terms (parameter_ln_std, parameter_uncertainty.hpp, on the header's kParamStdError and flags, or on
+// calibration.json's by the replay: the same function), and the process noise from the model's
 // error on the calibration's test cycles beyond the stator sensor's noise. Both the firmware
 // (exported_calibration.hpp) and `lptn replay` (tools/replay/calibrated_estimator.cpp) call this.
 //

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "lptn/firmware/estimator_config.hpp"
+#include "lptn/firmware/parameter_uncertainty.hpp"
 
 
 namespace lptn::fw {
@@ -14,7 +15,10 @@ EstimatorConfig<T> config_from_exported_header() {
   ParamVector<T> params{};
   for (int i = 0; i < kNumParams; ++i) params[i] = T(cal::kParams[i]);
   EstimatorConfig<T> c = default_config<T>(cal::motor_constants().template cast<T>(), cal::kEffects, params);
-  apply_calibration_uncertainty(c, cal::kParamLnStd, cal::kHasTestMetrics, cal::kTestRmseStatorK);
+  double ln_std[kNumParams];
+  for (int i = 0; i < kNumParams; ++i)
+    ln_std[i] = parameter_ln_std(cal::kParams[i], cal::kParamStdError[i], cal::kParamCalibrated[i], cal::kParamIdentifiable[i]);
+  apply_calibration_uncertainty(c, ln_std, cal::kHasTestMetrics, cal::kTestRmseStatorK);
 #ifdef LPTN_CALIBRATION_HAS_ACTOR
   c.actor.actor = &cal::kActor;
   for (int k = 0; k < 2; ++k) {

@@ -1,7 +1,7 @@
 // How uncertain each calibrated parameter is, in the terms the observer uses: the standard
-// deviation of ln(parameter). One function, called by `lptn export` (which writes the result into
-// the header as kParamLnStd) and by `lptn replay` (which reads calibration.json at run time), so
-// that the firmware and the replay carry the same figures (tools/replay/calibrated_estimator.cpp).
+// deviation of ln(parameter). One function, called by the firmware on the exported header's
+// kParamStdError, kParamCalibrated and kParamIdentifiable (exported_calibration.hpp) and by `lptn
+// replay` on calibration.json's (tools/replay/calibrated_estimator.cpp): both carry the same figures.
 //
 //   calibrated, identifiable, with a standard error   std_error / value (first order in ln)
 //   not identifiable (the data could not pin it: its  kNotIdentifiableLnStd, a wide prior: the
