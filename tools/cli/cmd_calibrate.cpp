@@ -19,6 +19,7 @@
 #include "trainer/calibrate/lm.hpp"
 #include "trainer/calibrate/lm_result.hpp"
 #include "trainer/calibrate/shared_dataset.hpp"
+#include "trainer/data/inspection.hpp"
 #include "trainer/fleet/fleet_file.hpp"
 #include "trainer/model/motor_effects.hpp"
 #include "trainer/model/motor_plausibility.hpp"
@@ -97,6 +98,22 @@ void print_outcome_warnings(const CalibrationResult& r) {
     if (w.code != "data") std::fprintf(stderr, "lptn: warning: %s\n", w.message.c_str());
 }
 
+// What of the input makes the calibration doubtful, for its status: the data against the motor's
+// nameplate (another pole count, a channel's scaling), the motor file's implausible values, and
+// columns the loader ignored (a misnamed rotor column drops the rotor data). Gaps the loader bridged,
+// masked or split as the data contract says are printed but make no calibration doubtful.
+std::vector<std::string> doubtful_input(const data::Dataset& dataset, const MotorFile& motor) {
+  std::vector<std::string> out;
+  for (const data::CycleReport& r : dataset.reports)
+    for (const data::Finding& f : r.findings)
+      if (f.severity == data::Finding::Severity::warning && f.message.find("; ignored") != std::string::npos)
+        out.push_back(f.message);
+  for (const data::Finding& f : data::check_against_nameplate(dataset, motor.constants))
+    if (f.severity == data::Finding::Severity::warning) out.push_back(f.message);
+  for (std::string& w : motor_warnings(motor)) out.push_back(std::move(w));
+  return out;
+}
+
 // The model ran away at the motor file's values: bad input, naming the most implausible value.
 BadInput not_simulable(const std::string& path, const MotorFile& motor, const ModelNotSimulable& e) {
   const std::string why = implausible_values_summary(motor);
@@ -126,8 +143,8 @@ void run_fleet(const CalibrateArgs& a, const MotorFile& motor, const ProcessGrou
   record_lm_fit(r, fit.shared, FreeParameters::from_motor(motor), r.train_cycles, to_json(settings.lm));
   r.seconds = fit.seconds;
   score_calibration(r, motor, fleet.dataset, split);
-  const std::vector<std::string> inspected = input_warnings(fleet.dataset, motor);
-  if (group.leads()) print_input_warnings(inspected);
+  if (group.leads()) print_input_warnings(input_warnings(fleet.dataset, motor));
+  const std::vector<std::string> inspected = doubtful_input(fleet.dataset, motor);
   judge_outcome(r, inspected);
   set_exit_code(r.status == kStatusFailed ? kExitFailed : (r.status == kStatusWarnings ? kExitWarnings : 0));
   if (!group.leads()) return;
@@ -195,8 +212,8 @@ void run(const CalibrateArgs& given, Td3Calibrator td3) {
   balance_training(dataset, split.train, group);  // only LM runs shared
   // What `lptn inspect --motor` would say of this data and motor file, repeated here, once, and
   // carried into calibration.json's warnings.
-  const std::vector<std::string> inspected = input_warnings(dataset, motor);
-  if (group.leads()) print_input_warnings(inspected);
+  if (group.leads()) print_input_warnings(input_warnings(dataset, motor));
+  const std::vector<std::string> inspected = doubtful_input(dataset, motor);
 
   // LM judges what the data pins as it fits; the other methods would move a parameter the data
   // cannot see at random and call it calibrated: it stays the motor file's, said so.
