@@ -33,7 +33,8 @@ class CheckTest : public ::testing::Test {
     const Result c = run("calibrate --quiet --data " + motors_.healthy.string() + " --motor " +
                              (motors_.healthy / "motor.toml").string() + " --method lm --out " + calibration().string(),
                          dir_->path());
-    ASSERT_EQ(c.code, 0) << c.err;
+    // Written either way: 0 ok, 3 with warnings (what this data pins is calibrate's business here).
+    ASSERT_TRUE(c.code == 0 || c.code == 3) << c.err;
   }
   static void TearDownTestSuite() {
     delete dir_;
@@ -108,6 +109,23 @@ TEST_F(CheckTest, HoldsOnTheSameMotorAMonthLaterAndCatchesEachWeakMotor) {
     EXPECT_EQ(weak.code, 1) << "seed " << seed << ":\n" << weak.out;
   }
   std::printf("false alarms %d of 5 healthy dumps, weak motor missed %d of 5\n", false_alarms, missed);
+}
+
+// A filter that clogs half-way through the dump (the plant's cooling_fouling: the later half of the
+// cycles 30 % weaker): the reason names the cycle it starts from, and the cycles before it hold.
+TEST_F(CheckTest, NamesTheCycleFromWhichTheCoolingWeakened) {
+  const fs::path dump = scratch_.path() / "fouling";
+  ASSERT_EQ(run("generate --out " + dump.string() + " --cycles 6 --seed 4 --minutes-min 30 --minutes-max 40 "
+                "--plant cooling_fouling", scratch_.path()).code, 0);
+  const Result r = run(check(dump) + " --json", scratch_.path());
+  ASSERT_EQ(r.code, 1) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  const std::string cooling = j["reasons"][0];
+  EXPECT_NE(cooling.find("weaker than at calibration, from cycle_04_hilly"), std::string::npos) << cooling;
+  for (std::size_t i = 0; i < j["cycles"].size(); ++i) {
+    EXPECT_EQ(j["cycles"][i]["cooling_changed"].get<bool>(), i >= 3) << j["cycles"][i].dump();
+    EXPECT_EQ(j["cycles"][i]["holds"].get<bool>(), i < 3) << j["cycles"][i].dump();
+  }
 }
 
 TEST_F(CheckTest, ReportNeverCallsMotorBsCyclesTrainOrTest) {

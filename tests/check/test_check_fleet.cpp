@@ -26,7 +26,7 @@ TEST(CheckFleet, NamesTheMotorWhoseCoolingWeakenedSinceCalibration) {
   ASSERT_EQ(run(generate_fleet(then, 11, 0), t.path()).code, 0);
   const Result c = run("calibrate --quiet --fleet " + then.string() + " --motor " + (then / "motor.toml").string() +
                            " --method lm --out " + fleet.string(), t.path());
-  ASSERT_EQ(c.code, 0) << c.err;
+  ASSERT_TRUE(c.code == 0 || c.code == 3) << c.err;  // written: ok, or with warnings
   ASSERT_EQ(run(generate_fleet(now, 12, 1), t.path()).code, 0);
   std::string weak;
   const auto truth = nlohmann::json::parse(std::ifstream(now / "truth.json"));
