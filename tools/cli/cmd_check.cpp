@@ -4,10 +4,12 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "hostio/atomic_file.hpp"
+#include "hostio/process_group.hpp"
 #include "hostio/progress_line.hpp"
 #include "hostio/worker_threads.hpp"
 #include "tools/cli/commands.hpp"
@@ -68,61 +70,89 @@ bool check_data(const Args& a) {
   return c.holds;
 }
 
-bool check_fleet(const Args& a) {
+// One motor checked: with fleet.json against the type and its own cooling factor; a motor the
+// fleet calibration does not know, and every motor under a calibration.json, against that calibration.
+nlohmann::json check_motor(const Args& a, const std::optional<FleetFile>& fleet_file, const CalibrationResult& single,
+                           const FleetDump& fleet, std::size_t m, const std::optional<MotorFile>& data_motor) {
+  const std::string& id = fleet.motor_ids[m];
+  std::string against = fleet_file ? "the type (not in " + a.calibration + ")" : a.calibration;
+  CalibrationResult calibration = single;
+  if (fleet_file) {
+    calibration = fleet_file->pooled;
+    for (const FleetFileMotor& fm : fleet_file->motors)
+      if (fm.id == id) {
+        calibration = motor_calibration(*fleet_file, id);
+        char factor[96];
+        std::snprintf(factor, sizeof factor, "the type with its own cooling factor %.3f", fm.cooling_factor);
+        against = factor;
+      }
+  }
+  const check::Check c = check::check(calibration, motor_dataset(fleet, m), data_motor, worker_threads());
+  nlohmann::json j = check::to_json(c);
+  j["motor_id"] = id;
+  j["against"] = against;
+  return j;
+}
+
+// Under mpirun the motors are shared over the processes (motor m loaded and checked by the rank
+// that load_shared_fleet gives it); every rank joins the verdicts, rank 0 prints and writes.
+bool check_fleet(const Args& given) {
+  const ProcessGroup& group = ProcessGroup::world();
+  Args a = given;
+  if (!group.leads()) {
+    a.quiet = true;
+    if (std::freopen("/dev/null", "w", stdout) == nullptr) throw std::runtime_error("cannot silence rank " + std::to_string(group.rank()));
+  }
   std::optional<FleetFile> fleet_file;
   CalibrationResult single;
   if (is_fleet_file(a.calibration)) fleet_file = load_fleet_file(a.calibration);
   else single = load_calibration(a.calibration);
-  const FleetDump fleet = load_fleet(a.fleet);
+  const FleetDump fleet = load_shared_fleet(a.fleet, group);
   const std::optional<MotorFile> data_motor = check::motor_beside({a.fleet});
-  nlohmann::json motors = nlohmann::json::array();
-  std::vector<std::string> failing, reasons;
-  ProgressLine line(a.quiet || a.json);
-  for (std::size_t m = 0; m < fleet.motor_ids.size(); ++m) {
-    const std::string& id = fleet.motor_ids[m];
-    line.update("check: " + id + " (" + std::to_string(m + 1) + "/" + std::to_string(fleet.motor_ids.size()) + ")", true);
-    // With fleet.json each motor against the type and its own cooling factor; a motor the fleet
-    // calibration does not know, and every motor under a calibration.json, against that calibration.
-    std::string against = fleet_file ? "the type (not in " + a.calibration + ")" : a.calibration;
-    CalibrationResult calibration = single;
-    if (fleet_file) {
-      calibration = fleet_file->pooled;
-      for (const FleetFileMotor& fm : fleet_file->motors)
-        if (fm.id == id) {
-          calibration = motor_calibration(*fleet_file, id);
-          char factor[96];
-          std::snprintf(factor, sizeof factor, "the type with its own cooling factor %.3f", fm.cooling_factor);
-          against = factor;
-        }
-    }
-    const check::Check c = check::check(calibration, motor_dataset(fleet, m), data_motor, worker_threads());
-    nlohmann::json j = check::to_json(c);
-    j["motor_id"] = id;
-    j["against"] = against;
-    motors.push_back(j);
-    if (!c.holds) {
-      failing.push_back(id);
-      for (const std::string& r : c.reasons) reasons.push_back(id + ": " + r);
-    }
-    if (!a.json) {
-      line.finish();
-      std::printf("%s (against %s): %s\n", id.c_str(), against.c_str(), c.holds ? "holds" : "does NOT hold");
-      for (const std::string& r : c.reasons) std::printf("  %s\n", r.c_str());
-      if (!c.provenance.all_seen()) std::printf("  data this calibration never saw: %s\n", c.provenance.summary().c_str());
+  nlohmann::json mine = nlohmann::json::object();  // motor index -> its verdict, for this rank's motors
+  {
+    ProgressLine line(a.quiet || a.json);
+    for (std::size_t m = 0; m < fleet.motor_ids.size(); ++m) {
+      const auto& cycles = fleet.motor_cycles[m];
+      if (cycles.empty() || fleet.dataset.cycles[cycles.front()].remote) continue;  // another rank's
+      line.update("check: " + fleet.motor_ids[m] + " (" + std::to_string(m + 1) + "/" +
+                  std::to_string(fleet.motor_ids.size()) + ")", true);
+      mine[std::to_string(m)] = check_motor(a, fleet_file, single, fleet, m, data_motor);
     }
   }
-  line.finish();
+  nlohmann::json by_motor = nlohmann::json::object();
+  for (const std::string& part : group.shared() ? group.gather(mine.dump()) : std::vector<std::string>{mine.dump()})
+    by_motor.update(nlohmann::json::parse(part));
+
+  nlohmann::json motors = nlohmann::json::array();
+  std::vector<std::string> failing, reasons;
+  for (std::size_t m = 0; m < fleet.motor_ids.size(); ++m) {
+    if (!by_motor.contains(std::to_string(m))) continue;  // a motor directory without cycles
+    const nlohmann::json& j = by_motor[std::to_string(m)];
+    motors.push_back(j);
+    const std::string id = j["motor_id"];
+    if (!j["holds"].get<bool>()) {
+      failing.push_back(id);
+      for (const std::string r : j["reasons"]) reasons.push_back(id + ": " + r);
+    }
+    if (a.json) continue;
+    std::printf("%s (against %s): %s\n", id.c_str(), j["against"].get<std::string>().c_str(),
+                j["holds"].get<bool>() ? "holds" : "does NOT hold");
+    for (const std::string r : j["reasons"]) std::printf("  %s\n", r.c_str());
+    if (const std::string seen = j["data"]["summary"]; !seen.empty())
+      std::printf("  data this calibration never saw: %s\n", seen.c_str());
+  }
   nlohmann::json j = {{"holds", failing.empty()}, {"reasons", reasons}, {"not_holding", failing},
                       {"calibration", a.calibration}, {"fleet", a.fleet}, {"motors", motors}};
-  if (!a.json_out.empty()) write_file_atomically(a.json_out, j.dump(2) + "\n");
+  if (!a.json_out.empty() && group.leads()) write_file_atomically(a.json_out, j.dump(2) + "\n");
   if (a.json) {
     std::printf("%s\n", j.dump(2).c_str());
   } else if (failing.empty()) {
-    std::printf("every motor's calibration holds (%zu motors)\n", fleet.motor_ids.size());
+    std::printf("every motor's calibration holds (%zu motors)\n", motors.size());
   } else {
     std::string list;
     for (const std::string& id : failing) list += (list.empty() ? "" : ", ") + id;
-    std::printf("%zu of %zu motors' calibration no longer holds: %s\n", failing.size(), fleet.motor_ids.size(), list.c_str());
+    std::printf("%zu of %zu motors' calibration no longer holds: %s\n", failing.size(), motors.size(), list.c_str());
   }
   return failing.empty();
 }
@@ -132,6 +162,8 @@ void run(const Args& a) {
   if (a.data.empty() == a.fleet.empty()) throw BadInput("check: give --data DIR or --fleet FLEET (one of them)");
   if (!std::filesystem::is_regular_file(a.calibration)) throw BadInput(a.calibration + ": no such file");
   if (!a.fleet.empty() && !std::filesystem::is_directory(a.fleet)) throw BadInput(a.fleet + ": no such directory");
+  if (a.fleet.empty() && ProcessGroup::world().shared())
+    throw BadInput("check --data under mpirun: one dump is checked by one process (--fleet shares its motors)");
   // "Does not hold" is an answer, not a failure: run_cli returns the code once the command returned.
   const bool holds = a.fleet.empty() ? check_data(a) : check_fleet(a);
   if (!holds) set_exit_code(kExitDoesNotHold);
@@ -143,7 +175,8 @@ void add_check(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "check", "Does a calibration still hold on this data? Each cycle's error against its sensors' noise and the "
                "calibration's own test error, and its cooling factor against the calibration's; exit 0 it holds, 1 it "
-               "does not, 2 bad input (docs/check.md)");
+               "does not, 2 bad input (docs/check.md); with --fleet under `mpirun -np N` the motors are shared over N "
+               "processes");
   auto a = std::make_shared<Args>();
   cmd->add_option("--data", a->data, "Directories of cycle CSVs, or CSV files: the data to check the calibration on")
       ->expected(1, -1);
