@@ -16,6 +16,7 @@
 
 #include "trainer/calibrate/correlation_time.hpp"
 #include "trainer/calibrate/grid_residuals.hpp"
+#include "trainer/calibrate/sensor_noise.hpp"
 #include "trainer/calibrate/shared_dataset.hpp"
 #include "trainer/model/cooling_factor.hpp"
 #include "trainer/model/initial_offsets.hpp"
@@ -291,9 +292,13 @@ std::array<std::vector<std::vector<double>>, 2> residual_series(const Model<doub
                                                                const data::Dataset& dataset,
                                                                const std::vector<std::size_t>& cycles,
                                                                const std::vector<InitialOffsets<double>>& offsets,
-                                                               const std::vector<double>& cooling, int threads) {
+                                                               const std::vector<double>& cooling, int threads,
+                                                               std::array<NoiseSum, 2>* noise = nullptr,
+                                                               std::array<double, 2>* period = nullptr) {
   // Per cycle and sensor, simulated in parallel; then in the cycles' order, skipping the empty.
   std::vector<std::array<std::vector<double>, 2>> per_cycle(cycles.size());
+  std::vector<std::array<NoiseSum, 2>> per_cycle_noise(cycles.size());
+  std::vector<std::array<std::size_t, 2>> per_cycle_period(cycles.size(), {0, 0});
   parallel_for(cycles.size(), threads, [&](std::size_t i) {
     const data::Cycle& cycle = dataset.cycles[cycles[i]];
     if (cycle.remote) return;  // its process takes its series
@@ -303,18 +308,50 @@ std::array<std::vector<std::vector<double>>, 2> residual_series(const Model<doub
         {data::Channel::stator_winding_c, &sim.stator_sensor}, {data::Channel::rotor_c, &sim.rotor_sensor}};
     for (int s = 0; s < 2; ++s) {
       std::vector<double>& r = per_cycle[i][static_cast<std::size_t>(s)];
+      std::vector<float> on_grid(cycle.steps, std::numeric_limits<float>::quiet_NaN());  // for the noise
       double mean = 0;
       for (std::size_t k = 0; k < cycle.steps; ++k) {
         const float y = cycle.at(sensors[s].first, k);
         if (std::isnan(y)) continue;
         r.push_back(static_cast<double>((*sensors[s].second)[k]) - y);
+        on_grid[k] = static_cast<float>(r.back());
         mean += r.back();
       }
       if (r.empty()) continue;
+      if (noise != nullptr) {
+        const std::size_t p = reading_period(dataset, cycle, sensors[s].first);
+        per_cycle_noise[i][static_cast<std::size_t>(s)] = sensor_noise(on_grid, p);
+        per_cycle_period[i][static_cast<std::size_t>(s)] = p;
+      }
       mean /= static_cast<double>(r.size());
       for (double& e : r) e -= mean;
     }
   });
+  if (noise != nullptr) {
+    // Pooled over the cycles and the processes: the sums, and the longest reading period.
+    std::vector<double> sums(6, 0.0);
+    for (std::size_t i = 0; i < cycles.size(); ++i)
+      for (std::size_t s = 0; s < 2; ++s) {
+        sums[3 * s] += per_cycle_noise[i][s].sum2;
+        sums[3 * s + 1] += static_cast<double>(per_cycle_noise[i][s].n);
+        sums[3 * s + 2] = std::max(sums[3 * s + 2], static_cast<double>(per_cycle_period[i][s]));
+      }
+    std::vector<double> periods = {sums[2], sums[5]};
+    sums[2] = sums[5] = 0;
+    group_of(dataset).sum(sums);
+    // The largest period over the processes, through a sum of one-hot shares (no max reduction here).
+    const ProcessGroup& g = group_of(dataset);
+    std::vector<double> each(2 * static_cast<std::size_t>(g.size()), 0.0);
+    each[2 * static_cast<std::size_t>(g.rank())] = periods[0];
+    each[2 * static_cast<std::size_t>(g.rank()) + 1] = periods[1];
+    g.sum(each);
+    for (std::size_t s = 0; s < 2; ++s) {
+      (*noise)[s] = NoiseSum{sums[3 * s], static_cast<std::size_t>(sums[3 * s + 1])};
+      double p = 1;
+      for (int r = 0; r < g.size(); ++r) p = std::max(p, each[2 * static_cast<std::size_t>(r) + s]);
+      (*period)[s] = p;
+    }
+  }
   std::array<std::vector<std::vector<double>>, 2> out;
   for (auto& c : per_cycle)
     for (std::size_t s = 0; s < 2; ++s)
@@ -360,6 +397,8 @@ struct FitExtras {
   bool check_only = false;     // stop before solving in any case (the start's checks only)
   std::vector<int> blind;      // model indices of free parameters with no effect on the residuals at the start
   std::vector<double> log_std;  // per free parameter: 1-sigma error in internal coordinates (inf: unpinned)
+  // per free parameter: the same with the other parameters known, at the sensors' noise (judge only)
+  std::vector<double> conditional_log_std;
 };
 
 LmReport fit_once(const MotorFile& motor, const ParamVector<double>& start, const data::Dataset& dataset,
@@ -497,7 +536,10 @@ LmReport fit_once(const MotorFile& motor, const ParamVector<double>& start, cons
   problem.Evaluate(evaluate, &cost, nullptr, nullptr, &jacobian);
   const Eigen::MatrixXd jtj = gram(jacobian);
   const double dof = std::max(1.0, static_cast<double>(report.residuals) - static_cast<double>(nf));
-  const auto series = residual_series(model, report.values, dataset, cycles, report.offsets, cooling, settings.threads);
+  std::array<NoiseSum, 2> noise{};
+  std::array<double, 2> period{1, 1};
+  const auto series = residual_series(model, report.values, dataset, cycles, report.offsets, cooling, settings.threads,
+                                      extras.judge ? &noise : nullptr, &period);
   std::array<double, 2> tau{};
   for (std::size_t s = 0; s < 2; ++s) {
     std::vector<double> sums = correlation_sums(series[s]);
@@ -533,6 +575,29 @@ LmReport fit_once(const MotorFile& motor, const ParamVector<double>& start, cons
         var = lambda(k) > floor ? var + v * v / lambda(k) : std::numeric_limits<double>::infinity();
       }
       extras.log_std[j] = std::sqrt(s2 * var);
+    }
+    // Identifiability asks what the data could pin were the model right: the errors scaled from
+    // the residual's variance (a model that lacks physics has a large, slow misfit, which inflates
+    // them) to the sensors' own noise, white at their reading period (sensor_noise.hpp). Never
+    // above the fit's own errors.
+    if (extras.judge) {
+      double noise_var = 0, weight = 0;
+      for (std::size_t k = 0; k < 2; ++k) {
+        const double sigma = noise[k].sigma();
+        if (!std::isfinite(sigma) || noise[k].n == 0) continue;
+        noise_var += static_cast<double>(noise[k].n) * sigma * sigma * period[k];
+        weight += static_cast<double>(noise[k].n);
+      }
+      const double ratio = weight > 0 && s2 > 0 ? std::min(1.0, noise_var / weight / s2) : 1.0;
+      // A parameter is judged by what the data tells of it with the others known (its own
+      // information, J^T J's diagonal): one that is pinned only together with a partner (a
+      // combination the data pins better than its parts) stays free, a correlation note.
+      extras.conditional_log_std.assign(nf, 0.0);
+      for (std::size_t j = 0; j < nf; ++j) {
+        const double info = jtj(static_cast<Eigen::Index>(j), static_cast<Eigen::Index>(j));
+        extras.conditional_log_std[j] =
+            info > 0 ? std::sqrt(s2 * ratio / info) : std::numeric_limits<double>::infinity();
+      }
     }
   }
   report.correlation.assign(nf, std::vector<double>(nf, 0.0));
@@ -580,9 +645,9 @@ std::string weak_reason(const FreeParameters& free, std::size_t j, double log_st
   if (!std::isfinite(log_std) || (free.log_scale[j] && log_std > std::log(1000.0)))
     std::snprintf(buf, sizeof buf, "the training data leaves it unpinned (a direction of the fit the sensors hardly see)");
   else if (free.log_scale[j])
-    std::snprintf(buf, sizeof buf, "the training data pins it only within a factor of %.3g at 1 sigma", std::exp(log_std));
+    std::snprintf(buf, sizeof buf, "even with the other parameters known, the training data pins it only within a factor of %.3g at 1 sigma", std::exp(log_std));
   else
-    std::snprintf(buf, sizeof buf, "the training data pins it only to +-%.3g at 1 sigma (its range is %g..%g)", log_std,
+    std::snprintf(buf, sizeof buf, "even with the other parameters known, the training data pins it only to +-%.3g at 1 sigma (its range is %g..%g)", log_std,
                   free.min[j], free.max[j]);
   std::string out = buf;
   // The partner it is confounded with, where one stands out.
@@ -646,9 +711,9 @@ LmReport fit_lm(const MotorFile& motor, const ParamVector<double>& start, const 
     }
     std::size_t worst = free.size();
     double worst_excess = 1.0;
-    for (std::size_t j = 0; j < free.size() && j < extras.log_std.size(); ++j) {
+    for (std::size_t j = 0; j < free.size() && j < extras.conditional_log_std.size(); ++j) {
       const double bound = free.log_scale[j] ? settings.max_log_std : 0.25 * (free.max[j] - free.min[j]);
-      const double excess = extras.log_std[j] / bound;
+      const double excess = extras.conditional_log_std[j] / bound;
       if (excess > worst_excess) {
         worst_excess = excess;
         worst = j;
@@ -656,7 +721,7 @@ LmReport fit_lm(const MotorFile& motor, const ParamVector<double>& start, const 
     }
     if (worst < free.size() && free.size() > 1) {
       const int i = free.index[worst];
-      fixed.push_back({i, weak_reason(free, worst, extras.log_std[worst], fit)});
+      fixed.push_back({i, weak_reason(free, worst, extras.conditional_log_std[worst], fit)});
       m.parameters[static_cast<std::size_t>(i)].calibrate = false;
       from = fit.values;
       from[i] = start[i];
