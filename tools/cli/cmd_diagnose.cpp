@@ -200,10 +200,12 @@ void run(const Args& given) {
                 file_figures(calibration).c_str());
     if (!provenance.all_seen())
       std::printf("this is not the calibration's data: %s never seen by it. The training and test cycles below are "
-                  "diagnose's split of this data by the calibration's cycle names, and every figure below is a refit's "
-                  "on it, not the calibration's. Whether the calibration holds on this data: lptn check --data %s "
+                  "diagnose's own split of this data (%s), and every figure below is a refit's on it, not the "
+                  "calibration's. Whether the calibration holds on this data: lptn check --data %s "
                   "--calibration %s\n",
-                  provenance.summary().c_str(), joined(a.data).c_str(), a.calibration.c_str());
+                  provenance.summary().c_str(),
+                  a.test_cycles.empty() ? "by the calibration's cycle names" : "--test-cycles",
+                  joined(a.data).c_str(), a.calibration.c_str());
   }
   std::fflush(stdout);  // before the progress lines on stderr
   const auto t0 = std::chrono::steady_clock::now();
