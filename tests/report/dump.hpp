@@ -23,9 +23,12 @@ inline std::string make_report_dump(const std::filesystem::path& d) {
   const std::string calibrate = "calibrate --quiet --data " + (d / "data").string() + " --motor " +
                                 (d / "data" / "motor.toml").string() + " --method lm";
   const auto cal = run(calibrate + " --out " + (d / "cal" / "1-paper.json").string(), d);
-  if (cal.code != 0) return "calibrate: " + cal.err;
+  // The paper's model on 35 minutes of data with windage hidden: its fit ends with a rotor
+  // conductance on its bound, not converged (status failed, exit 4), and the report must show
+  // that calibration all the same: it is the one that fails.
+  if (cal.code != 0 && cal.code != 3 && cal.code != 4) return "calibrate: " + cal.err;
   const auto cal2 = run(calibrate + " --effect windage --out " + (d / "cal" / "2-windage.json").string(), d);
-  if (cal2.code != 0) return "calibrate --effect windage: " + cal2.err;
+  if (cal2.code != 0 && cal2.code != 3) return "calibrate --effect windage: " + cal2.err;
   return "";
 }
 

@@ -47,7 +47,9 @@ Rendered diagnose_and_render(const TempDir& t, const std::string& generate) {
   const std::string test_cycles = cycles[cycles.size() - 2] + "," + cycles.back();
   const auto c = run("calibrate --quiet --data " + (d / "data").string() + " --motor " + (d / "data/motor.toml").string() +
                          " --out " + (d / "cal.json").string() + " --test-cycles " + test_cycles, d);
-  EXPECT_EQ(c.code, 0) << c.err;
+  // 0, or 3 where the calibration has warnings (a drifted motor: its test error is far above its
+  // training error); never failed.
+  EXPECT_TRUE(c.code == 0 || c.code == 3) << c.code << c.err;
   const auto dg = run("diagnose --quiet --json --data " + (d / "data").string() + " --calibration " + (d / "cal.json").string(), d);
   EXPECT_EQ(dg.code, 0) << dg.err;
   r.diagnosis = nlohmann::json::parse(dg.out);
