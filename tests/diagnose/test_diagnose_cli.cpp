@@ -27,7 +27,9 @@ std::string generate_and_calibrate(const testing::TempDir& t, const std::string&
   const Result c = run("calibrate --data " + data + " --motor " + data + "/motor.toml --quiet --out " + cal +
                            " --test-cycles cycle_05_shunting,cycle_06_suburban",
                        t.path());
-  EXPECT_EQ(c.code, 0) << c.err;
+  // Written: the paper's model on data with hidden effects may end with warnings (a conductance on
+  // its bound), never failed.
+  EXPECT_TRUE(c.code == 0 || c.code == 3) << c.code << c.err;
   return "--data " + data + " --calibration " + cal;
 }
 

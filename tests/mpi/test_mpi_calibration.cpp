@@ -112,9 +112,11 @@ TEST(MpiCalibration, AFleetSharedByMotorsEqualsOneProcess) {
                          dir.path()).code, 0);
   const std::string common = "calibrate --fleet " + (dir.path() / "fleet").string() + " --motor " +
                              (dir.path() / "fleet" / "motor.toml").string() + " --quiet --out ";
-  ASSERT_EQ(lptn_on(1, common + (dir.path() / "one.json").string(), dir.path()).code, 0);
+  // Written (0, or 3 with warnings: five short drives pin the type less well), and the same outcome on 2 ranks.
+  const int alone = lptn_on(1, common + (dir.path() / "one.json").string(), dir.path()).code;
+  ASSERT_TRUE(alone == 0 || alone == 3) << alone;
   const testing::Result r = lptn_on(2, common + (dir.path() / "two.json").string(), dir.path());
-  ASSERT_EQ(r.code, 0) << r.err;
+  ASSERT_EQ(r.code, alone) << r.err;
   const json one = read_json(dir.path() / "one.json"), two = read_json(dir.path() / "two.json");
   expect_same_calibration(one["pooled"], two["pooled"], 2);
   ASSERT_EQ(one["motors"].size(), 5u);
@@ -162,8 +164,10 @@ TEST(MpiCalibration, DiagnoseSharesItsRefitsAndSaysTheSame) {
   ASSERT_EQ(testing::run("generate --out " + dump + " --cycles 6 --minutes-min 20 --minutes-max 30 --hidden windage --seed 3",
                          dir.path()).code, 0);
   const std::string calibration = (dir.path() / "c.json").string();
-  ASSERT_EQ(testing::run("calibrate --quiet --data " + dump + " --motor " + dump + "/motor.toml --out " + calibration,
-                         dir.path()).code, 0);
+  // The paper's model with windage hidden: written, with warnings or without.
+  const int calibrated = testing::run("calibrate --quiet --data " + dump + " --motor " + dump + "/motor.toml --out " + calibration,
+                                      dir.path()).code;
+  ASSERT_TRUE(calibrated == 0 || calibrated == 3) << calibrated;
   const std::string diagnose = "diagnose --quiet --data " + dump + " --calibration " + calibration + " --json-out ";
   const testing::Result one = lptn_on(1, diagnose + (dir.path() / "one.json").string(), dir.path());
   ASSERT_EQ(one.code, 0) << one.err;

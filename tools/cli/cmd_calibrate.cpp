@@ -196,13 +196,13 @@ void run(const CalibrateArgs& given, Td3Calibrator td3) {
     throw BadInput("--method " + a.method + ": this lptn was built without libtorch (LPTN_WITH_TD3=OFF); only --method lm is available");
 #endif
   }
-  // Inputs first (a missing one is the first thing to hear of), then the output, before any work.
+  std::vector<int> added;  // the arguments themselves first, before any file is looked at
+  for (const std::string& name : a.effects) added.push_back(effect_by_name(name, "--effect"));
+  // Inputs next (a missing one is the first thing to hear of), then the output, before any work.
   for (const std::string& d : a.data) check_input_path(d, "--data");
   if (!a.fleet.empty()) check_input_path(a.fleet, "--fleet", InputPath::directory);
   check_input_path(a.motor, "--motor", InputPath::file);
   check_output_path(a.out, a.force);
-  std::vector<int> added;  // checked before any file is read
-  for (const std::string& name : a.effects) added.push_back(effect_by_name(name, "--effect"));
   MotorFile motor = load_motor_file(a.motor);
   for (int e : added) enable_effect(motor, e);
   if (!a.fleet.empty()) return run_fleet(a, motor, group);
