@@ -4,6 +4,7 @@
 // could not pin.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -229,6 +230,22 @@ TEST_F(OutcomeCli, TheWrongKindOfCalibrationFileIsNamed) {
   EXPECT_NE(as_fleet.err.find("a single motor's calibration (calibration.json), not a fleet calibration"), std::string::npos)
       << as_fleet.err;
   EXPECT_FALSE(fs::exists(out.path() / "x.hpp"));
+  // Every other file a user may hand over as a calibration: named for what it is.
+  fs::path csv;
+  for (const auto& f : fs::directory_iterator(d))
+    if (f.path().extension() == ".csv") csv = f.path();
+  ASSERT_FALSE(csv.empty());
+  const std::pair<fs::path, std::string> others[] = {
+      {d / "motor.toml", "a motor file (TOML), not a calibration (JSON): give it as --motor"},
+      {d / "truth.json", "not a calibration file (no format_version; this is a generated dump's truth.json)"},
+      {csv, "a fleet-dump cycle (CSV), not a calibration (JSON): give it as --data"}};
+  for (const auto& [file, says] : others) {
+    const Result e = run("export --calibration " + file.string() + " --out " + (out.path() / "x.hpp").string(), out.path());
+    EXPECT_EQ(e.code, 2) << file;
+    EXPECT_NE(e.err.find(says), std::string::npos) << e.err;
+    EXPECT_EQ(std::count(e.err.begin(), e.err.end(), '\n'), 1) << e.err;
+    EXPECT_FALSE(fs::exists(out.path() / "x.hpp"));
+  }
 }
 
 }  // namespace

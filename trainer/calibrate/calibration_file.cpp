@@ -2,6 +2,7 @@
 #include "trainer/calibrate/calibration_file.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <cstring>
@@ -12,6 +13,7 @@
 #include "trainer/calibrate/internal/json_reader.hpp"
 #include "trainer/calibrate/internal/sha256.hpp"
 #include "hostio/atomic_file.hpp"
+#include "trainer/model/motor_file.hpp"
 
 namespace lptn {
 namespace {
@@ -292,6 +294,11 @@ nlohmann::json to_json(const CalibrationResult& result) { return nlohmann::json(
 
 CalibrationResult calibration_from_json(const nlohmann::json& j, const std::string& shown_as) {
   if (!j.is_object()) throw CalibrationFileError(shown_as + ": not a calibration file (expected a JSON object)");
+  if (!j.contains("format_version"))
+    throw CalibrationFileError(shown_as + ": not a calibration file (no format_version" +
+                               (j.contains("cycles") && j.contains("plant_physics") ? "; this is a generated dump's truth.json)"
+                                : j.contains("candidates") ? "; this is a diagnosis, lptn diagnose --json-out's)"
+                                                            : ")"));
   if (j.contains("pooled") && j.contains("fleet") && j.contains("motors"))
     throw CalibrationFileError(shown_as + ": a fleet calibration (fleet.json), not one motor's: give it as --fleet "
                                           "(lptn export --fleet F --motor-id ID, lptn report --fleet F, lptn check --fleet)");
@@ -380,6 +387,14 @@ nlohmann::json read_json_file(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw CalibrationFileError(shown + ": cannot read (missing or not readable)");
   const std::string text(std::istreambuf_iterator<char>(in), {});
+  // A file of another kind (a motor file, a cycle CSV) is named as such, not as a JSON syntax error.
+  const InputKind kind = input_kind(text);
+  const std::size_t first = text.find_first_not_of(" \t\r\n\xEF\xBB\xBF");
+  const bool looks_toml = first != std::string::npos && (std::isalpha(static_cast<unsigned char>(text[first])) ||
+                                                         text[first] == '#') && text.find('=') != std::string::npos;
+  if ((kind == InputKind::motor_toml && looks_toml) || kind == InputKind::cycle_csv)
+    throw CalibrationFileError(shown + ": " + std::string(input_kind_words(kind)) + ", not a calibration (JSON)" +
+                               (kind == InputKind::motor_toml ? ": give it as --motor" : ": give it as --data"));
   nlohmann::json j;
   try {
     j = nlohmann::json::parse(text);
