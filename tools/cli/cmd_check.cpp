@@ -158,8 +158,12 @@ bool check_fleet(const Args& given) {
 }
 
 void run(const Args& a) {
-  refuse_overwrite(a.json_out, a.force);
   if (a.data.empty() == a.fleet.empty()) throw BadInput("check: give --data DIR or --fleet FLEET (one of them)");
+  // Inputs, then the output, before any work (a missing input is the first thing to hear of).
+  for (const std::string& d : a.data) check_input_path(d, "--data");
+  if (!a.fleet.empty()) check_input_path(a.fleet, "--fleet", InputPath::directory);
+  check_input_path(a.calibration, "--calibration", InputPath::file);
+  check_output_path(a.json_out, a.force, "--json-out");
   if (!std::filesystem::is_regular_file(a.calibration)) throw BadInput(a.calibration + ": no such file");
   if (!a.fleet.empty() && !std::filesystem::is_directory(a.fleet)) throw BadInput(a.fleet + ": no such directory");
   if (a.fleet.empty() && ProcessGroup::world().shared())

@@ -32,7 +32,9 @@ void add_export(CLI::App& app) {
     // Checked before any work, so that a mistaken --out costs nothing and overwrites nothing.
     if (args->calibration.empty() && args->fleet.empty())
       throw BadInput("export: give --calibration, or --fleet with --motor-id");
-    refuse_overwrite(args->out, args->force);
+    if (!args->calibration.empty()) check_input_path(args->calibration, "--calibration", InputPath::file);
+    if (!args->fleet.empty()) check_input_path(args->fleet, "--fleet", InputPath::file);
+    check_output_path(args->out, args->force);
     try {
       const CalibrationResult calibration = args->fleet.empty()
                                                 ? load_calibration(args->calibration)

@@ -58,7 +58,12 @@ void add_replay(CLI::App& app) {
   cmd->add_flag("--force", args->force, "Replace --out if it exists");
   cmd->add_flag("--quiet", args->quiet, "No progress line");
   cmd->callback([args] {
-    refuse_overwrite(args->out, args->force);
+    // Inputs, then the output, before any work (a missing input is the first thing to hear of).
+    check_input_path(args->log, "--log", InputPath::file);
+    if (!args->calibration.empty()) check_input_path(args->calibration, "--calibration", InputPath::file);
+    if (!args->fleet.empty()) check_input_path(args->fleet, "--fleet", InputPath::file);
+    if (!args->bus.empty()) check_input_path(args->bus, "--bus", InputPath::file);
+    check_output_path(args->out, args->force);
     // A bad map or calibration file is bad input (main.cpp reports CalibrationFileError as such).
     const std::unique_ptr<bus::BusMap> map = args->bus.empty() ? nullptr : read_bus_map(args->bus);
     if (args->calibration.empty() && args->fleet.empty())

@@ -33,8 +33,13 @@ void add_report(CLI::App& app) {
                   "Directory of calibration JSONs for the 'History' section (default: the calibration's directory)");
   cmd->add_flag("--force", a->force, "Replace --out if it exists");
   cmd->callback([a] {
-    refuse_overwrite(a->out, a->force);
     if (a->data.empty() && a->fleet.empty()) throw BadInput("report: give --data and --calibration, or --fleet");
+    // Inputs, then the output, before any work (a missing input is the first thing to hear of).
+    if (!a->data.empty()) check_input_path(a->data, "--data");
+    if (!a->calibration.empty()) check_input_path(a->calibration, "--calibration", InputPath::file);
+    if (!a->fleet.empty()) check_input_path(a->fleet, "--fleet", InputPath::file);
+    if (!a->diagnosis.empty()) check_input_path(a->diagnosis, "--diagnosis", InputPath::file);
+    check_output_path(a->out, a->force);
     if (!a->calibration.empty() && !std::filesystem::exists(a->calibration)) throw BadInput(a->calibration + ": no such file");
     if (!a->fleet.empty() && !std::filesystem::exists(a->fleet)) throw BadInput(a->fleet + ": no such file");
     if (!a->history.empty() && !std::filesystem::is_directory(a->history))
