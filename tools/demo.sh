@@ -22,7 +22,7 @@ mkdir -p "$out"
 # them and goes on; a failed calibration (4) or bad input (2) ends it.
 calibrate() {
   local status=0
-  calibrate "$@" || status=$?
+  "$lptn" calibrate "$@" || status=$?
   if [ "$status" -eq 3 ]; then echo "   (written with warnings: exit code 3)"; elif [ "$status" -ne 0 ]; then exit "$status"; fi
 }
 
