@@ -90,7 +90,7 @@ for dir in "$out"/motors/motor_*/; do
     --quiet --force | sed -n "s/^  cooling factor/$id: cooling factor/p"
 done
 echo "== 11. lptn check: does a calibration still hold on new data? (exit 0 it holds, 1 it does not: a pipeline scripts on it)"
-echo "-- 11a. the LM calibration of step 3 on the same motor's drives a month later (seed 2: files it never saw)"
+echo "-- 11a. the LM calibration of step 4 on the same motor's drives a month later (seed 2: files it never saw)"
 "$lptn" generate --out "$out/month-later" --cycles 3 --seed 2 --minutes-min 40 --minutes-max 50 --force >/dev/null
 "$lptn" check --data "$out/month-later" --calibration "$out/calibration-lm.json" --quiet \
   --json-out "$out/check-month-later.json" --force >"$out/check-month-later.txt" && status=0 || status=$?
