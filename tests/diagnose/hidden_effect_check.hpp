@@ -10,6 +10,7 @@
 #include <string>
 
 #include "fixture.hpp"
+#include "sound_candidates.hpp"
 
 namespace lptn::diagnose {
 
@@ -38,6 +39,7 @@ inline void print(const Diagnosis& d) {
 inline void expect_found_and_fixed(const std::string& effect, const testing::Generated& g, LmReport* refit = nullptr) {
   const Diagnosis d = diagnose(g.motor, g.calibrated.values, g.dataset, g.split, Settings{});
   print(d);
+  expect_sound_candidates(d, effect);
   ASSERT_FALSE(d.candidates.empty());
   EXPECT_EQ(d.candidates.front().name, effect);
   EXPECT_EQ(d.candidates.front().verdict, Verdict::significant) << d.candidates.front().reason;

@@ -9,6 +9,7 @@
 
 #include "../cli/run_lptn.hpp"
 #include "../cli/temp_dir.hpp"
+#include "sound_candidates.hpp"
 #include "trainer/diagnose/diagnose.hpp"
 
 namespace lptn {
@@ -40,6 +41,7 @@ TEST(DiagnoseCli, CallsNothingSignificantWhereNothingIsHidden) {
   ASSERT_EQ(r.code, 0) << r.err;
   const auto j = nlohmann::json::parse(r.out);
   EXPECT_GT(j["rmse_k"].get<double>(), 0.0);
+  diagnose::expect_sound_candidates(j, "clean, lptn diagnose --json");
   // Every effect of the library, and the dictionary's best-scoring terms (Settings::term_refits).
   const auto count = [&](const char* kind) {
     return std::count_if(j["candidates"].begin(), j["candidates"].end(), [&](const auto& c) { return c["kind"] == kind; });
@@ -74,6 +76,7 @@ TEST(DiagnoseCli, AutoFindsTwoHiddenEffectsAndWritesTheCalibration) {
   std::printf("%s\n", r.out.substr(0, 400).c_str());
   EXPECT_EQ(j["added"].get<std::set<std::string>>(), (std::set<std::string>{"windage", "sensor_lag"}));
   EXPECT_EQ(j["rounds"].size(), 3u);
+  for (const auto& round : j["rounds"]) diagnose::expect_sound_candidates(round, "windage and sensor_lag, --auto");
   for (const auto& c : j["candidates"]) EXPECT_FALSE(c["significant"].get<bool>()) << c.dump();
   const auto final_cal = nlohmann::json::parse(std::ifstream(out));
   EXPECT_EQ(final_cal["effects"].get<std::set<std::string>>(), (std::set<std::string>{"windage", "sensor_lag"}));

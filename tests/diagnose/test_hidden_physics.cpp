@@ -11,6 +11,7 @@
 #include <cstdio>
 
 #include "fixture.hpp"
+#include "sound_candidates.hpp"
 #include "trainer/diagnose/diagnose.hpp"
 
 namespace lptn {
@@ -33,6 +34,7 @@ void print(const char* label, const diagnose::Diagnosis& d) {
                 c.blocks, d.test_rmse_k, c.test_rmse_k_after, c.words.c_str());
   const diagnose::Candidate* best = d.best();
   std::printf("  recommended: %s\n", best ? best->name.c_str() : "nothing");
+  diagnose::expect_sound_candidates(d, label);
 }
 
 // The diagnosis of the model with `c` added, at its refit values.

@@ -131,16 +131,21 @@ void print_table(const diagnose::Diagnosis& d, double level) {
     if (c.verdict == diagnose::Verdict::not_distinguishable)
       std::printf("  %s: not distinguishable from this data: %s. To separate it: %s.\n",
                   c.name.c_str(), c.reason.c_str(), c.needs.c_str());
+  for (const diagnose::Candidate& c : d.candidates)
+    if (c.verdict == diagnose::Verdict::refit_failed)
+      std::printf("  %s: refit failed, not judged: %s.\n", c.name.c_str(), c.reason.c_str());
   bool any_significant = false;
+  const diagnose::Candidate* const recommended = d.best();
   for (const diagnose::Candidate& c : d.candidates) {
-    if (c.verdict != diagnose::Verdict::significant) continue;
+    if (c.verdict != diagnose::Verdict::significant || &c == recommended) continue;
     any_significant = true;
-    if (d.raises_held_out_error(c))
-      std::printf("  %s: significant on the training cycles, but it raises the held-out error (%s -> %s K, every "
-                  "sensor): not recommended\n", c.name.c_str(), kelvin(d.test_rmse_k).c_str(),
-                  kelvin(c.test_rmse_k_after).c_str());
+    const std::string why = d.not_recommended_because(c);
+    // A drift is said once, below.
+    if (!d.drift.found)
+      std::printf("  %s: significant on the training cycles, not recommended: %s\n", c.name.c_str(),
+                  why.empty() ? ("ranked after " + recommended->name).c_str() : why.c_str());
   }
-  if (const diagnose::Candidate* best = d.best())
+  if (const diagnose::Candidate* best = recommended)
     std::printf("best: %s, %s: %s (training RMSE %.3f -> %.3f K, held-out %s -> %s K); add it with [effects] "
                 "enabled = [\"%s\"] in the motor file or lptn calibrate --effect %s\n",
                 best->kind == EffectKind::term ? "a term of the dictionary" : "an effect of the library",
@@ -150,7 +155,8 @@ void print_table(const diagnose::Diagnosis& d, double level) {
     std::printf("Nothing is recommended: the dump drifts (above). Calibrate on the cycles before the change, or "
                 "find its cause first.\n");
   else if (any_significant)
-    std::printf("Nothing is recommended: the significant candidates raise the held-out error.%s\n",
+    std::printf("Nothing is recommended: no significant candidate has its size pinned and lowers the held-out "
+                "error (above).%s\n",
                 d.adequacy.adequate ? "" : " The model is not adequate: something is missing that they do not explain.");
   else if (d.adequacy.adequate)
     std::printf("No effect of the library and no term of the dictionary improves the fit significantly "

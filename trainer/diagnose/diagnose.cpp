@@ -7,6 +7,8 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <optional>
+#include <utility>
 
 #include "trainer/diagnose/in_words.hpp"
 #include "trainer/diagnose/internal/block_test.hpp"
@@ -100,6 +102,54 @@ Scored score_effect(const MotorFile& motor, int effect, const Diagnosis& before,
 // the shortest blocks, and share one simulation of the training cycles.
 using BaselineBlocks = std::map<std::size_t, std::vector<double>>;
 
+// The refit's second start: the effect's parameters where it does (next to) nothing, within the
+// motor file's bounds (a term's heat at its 1 W floor), the rest at the baseline. From there LM,
+// which takes only steps that lower the cost, cannot end above the baseline by more than that
+// floor costs; from the score test's step alone it can (a large term's local minimum).
+ParamVector<double> neutral_start(const MotorFile& with, int effect, const ParamVector<double>& baseline) {
+  ParamVector<double> at = internal::neutral_point(baseline, effect);
+  for (int i = 0; i < kNumParams; ++i)
+    if (effect_of_param(i) == effect) {
+      const ParameterSetting& p = with.parameters[static_cast<std::size_t>(i)];
+      at[i] = std::clamp(at[i], p.min, p.max);
+    }
+  return at;
+}
+
+// A refit ending above the baseline by less than this, in likelihood-ratio units (a hundredth of
+// any threshold), ended at the baseline: the tolerance of LM's convergence, not a worse fit.
+constexpr double kAtBaselineLr = 0.1;
+
+std::string kelvin_text(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3f K", v);
+  return buf;
+}
+
+// "from the score test's step to 2.417 K (converged, 2 iterations)": where one start ended.
+std::string ended(const RefitStart& s) {
+  if (!s.error.empty()) return "from " + s.from + " no fit (" + s.error + ")";
+  char buf[200];
+  std::snprintf(buf, sizeof buf, "from %s to %.3f K (%s, %d iterations)", s.from.c_str(), s.rmse_k,
+                s.converged ? "converged" : "not converged", s.iterations);
+  return buf;
+}
+
+// The candidate judged at the baseline: the constrained fit is the baseline itself (the data pull
+// the effect below its neutral value, or every refit ends back there), and its likelihood ratio 0.
+void at_baseline(Candidate& c, const Diagnosis& before, const ParamVector<double>& effect_values, std::string reason) {
+  c.refit = before.baseline;
+  for (int i = 0; i < kNumParams; ++i)
+    if (effect_of_param(i) == c.effect) c.refit.values[i] = effect_values[i];
+  c.refit_rmse_k = before.rmse_k;
+  c.statistic = 0;
+  c.train_stator_rmse_k = before.train_stator_rmse_k;
+  c.test_stator_rmse_k = before.test_stator_rmse_k;
+  c.test_rmse_k_after = before.test_rmse_k;
+  c.verdict = Verdict::not_significant;
+  c.reason = std::move(reason);
+}
+
 Candidate examine(const MotorFile& motor, const Scored& scored, const Diagnosis& before, const data::Dataset& dataset,
                   const Split& split, const Settings& settings, const Progress& progress, BaselineBlocks& baseline_blocks) {
   const int effect = scored.effect;
@@ -122,25 +172,70 @@ Candidate examine(const MotorFile& motor, const Scored& scored, const Diagnosis&
   if (!score.feasible) {
     // One-sided: the data would need the effect below its neutral value. The constrained fit is
     // the baseline itself, so there is nothing to refit.
-    c.refit = before.baseline;
-    c.refit_rmse_k = before.rmse_k;
-    c.train_stator_rmse_k = before.train_stator_rmse_k;
-    c.test_stator_rmse_k = before.test_stator_rmse_k;
-    c.test_rmse_k_after = before.test_rmse_k;
-    c.reason = "the data pull it below its neutral value (no refit)";
+    at_baseline(c, before, score.predicted, "the data pull it below its neutral value (no refit)");
     c.words = in_words(effect, score.predicted);
     return c;
   }
 
+  // Two starts, the better kept: the score test's step (where the residuals point) and the
+  // neutral value (the baseline's own fit). The second is skipped where the step did not move.
   LmSettings lm = lm_settings(settings);
   lm.max_iterations = settings.refit_iterations;
-  const internal::Refit refit =
-      internal::refit_with(with, effect, score.predicted, dataset, split.train, lm, lm_progress(progress, c.name + ": refit"));
+  const std::pair<const char*, ParamVector<double>> starts[] = {
+      {"the score test's step", score.predicted}, {"the neutral value", neutral_start(with, effect, before.baseline.values)}};
+  std::optional<internal::Refit> kept;
+  for (const auto& [from, values] : starts) {
+    if (&from != &starts[0].first && values == starts[0].second) continue;
+    RefitStart s;
+    s.from = from;
+    try {
+      internal::Refit r = internal::refit_with(with, effect, values, dataset, split.train, lm,
+                                               lm_progress(progress, c.name + ": refit from " + from));
+      s.rmse_k = r.fit.rmse_k;
+      s.iterations = r.fit.iterations;
+      s.converged = r.fit.converged;
+      if (!kept || r.fit.final_cost < kept->fit.final_cost) {
+        kept = std::move(r);
+        c.start = from;
+      }
+    } catch (const ModelNotSimulable& error) {
+      s.rmse_k = kNoTest;
+      s.error = error.what();
+    }
+    c.starts.push_back(s);
+  }
+  // Both fits have the same residuals: the likelihood ratio of the kept refit against the baseline.
+  const double lr = kept ? before.effective_residuals * std::log(before.baseline.final_cost / kept->fit.final_cost)
+                         : -std::numeric_limits<double>::infinity();
+  if (lr < -kAtBaselineLr) {
+    // Above the baseline from every start: the fit got lost (a local minimum, a crawl cut short),
+    // and where it ended says nothing about the effect. Listed, not judged.
+    std::string why;
+    for (const RefitStart& s : c.starts) why += (why.empty() ? "" : "; ") + ended(s);
+    c.verdict = Verdict::refit_failed;
+    c.reason = "the refit ends above the baseline's " + kelvin_text(before.rmse_k) + " from every start (" + why + ")";
+    c.refit = kept ? kept->fit : before.baseline;
+    c.refit_rmse_k = kept ? kept->fit.rmse_k : kNoTest;
+    c.train_stator_rmse_k = c.test_stator_rmse_k = c.test_rmse_k_after = kNoTest;
+    c.words = in_words(effect, score.predicted);
+    return c;
+  }
+  if (lr <= 0) {
+    // Back at the baseline within LM's tolerance: the data do not move the effect from nothing.
+    std::string how;
+    for (const RefitStart& s : c.starts)
+      if (s.from == c.start) how = ended(s);
+    at_baseline(c, before, kept->fit.values,
+                "the refit ends back at the baseline's " + kelvin_text(before.rmse_k) + " (" + how +
+                    "): the data do not move the effect from nothing");
+    c.words = in_words(effect, kept->fit.values);
+    return c;
+  }
+  const internal::Refit& refit = *kept;
   c.refit = refit.fit;
   c.refit_rmse_k = refit.fit.rmse_k;
   c.words = in_words(effect, refit.fit.values);
-  // Both fits have the same residuals; a refit that ends worse (a local minimum) gains nothing.
-  c.statistic = std::max(0.0, before.effective_residuals * std::log(before.baseline.final_cost / refit.fit.final_cost));
+  c.statistic = lr;
   const Model<double> model = with.model();
   // Blocks as long as the refit's residuals stay correlated: where the effect is absent the refit
   // leaves the misfit's slow structure (long blocks, few, a high quantile); where it explains the
@@ -172,18 +267,50 @@ const char* to_string(Verdict v) {
     case Verdict::significant: return "significant";
     case Verdict::not_distinguishable: return "not distinguishable";
     case Verdict::not_significant: return "not significant";
+    case Verdict::refit_failed: return "refit failed";
   }
   return "?";
+}
+
+bool pinned(const Candidate& c, std::string* why) {
+  if (c.effect < 0) return false;
+  const int i = kNumPaperParams + EffectLibrary::kParamOffsets[static_cast<std::size_t>(c.effect)];
+  const double v = c.refit.values[i], se = c.refit.std_error[i];
+  if (std::isfinite(se) && se <= kPinnedRatio * std::abs(v)) return true;
+  if (why) {
+    char buf[256];
+    if (std::isfinite(se))
+      std::snprintf(buf, sizeof buf, "its size is not pinned: %s = %.3g +- %.2g %s, a standard error of %.0f %% of the "
+                    "value (at most %.0f %%)", std::string(param_spec(i).name).c_str(), v, se,
+                    std::string(param_spec(i).unit).c_str(), 100 * se / std::abs(v), 100 * kPinnedRatio);
+    else
+      std::snprintf(buf, sizeof buf, "its size is not pinned: %s = %.3g has no standard error",
+                    std::string(param_spec(i).name).c_str(), v);
+    *why = buf;
+  }
+  return false;
 }
 
 bool Diagnosis::raises_held_out_error(const Candidate& c) const {
   return !std::isnan(test_rmse_k) && !std::isnan(c.test_rmse_k_after) && c.test_rmse_k_after > test_rmse_k;
 }
 
+std::string Diagnosis::not_recommended_because(const Candidate& c) const {
+  if (drift.found) return "the dump drifts between cycles (" + drift.finding + "): an effect would absorb the change";
+  std::string why;
+  if (!pinned(c, &why)) return why;
+  if (!std::isnan(test_rmse_k) && !std::isnan(c.test_rmse_k_after) && !(c.test_rmse_k_after < test_rmse_k)) {
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "it does not lower the held-out error (%.3f -> %.3f K, every sensor): it learned the "
+                  "training cycles, not the physics", test_rmse_k, c.test_rmse_k_after);
+    return buf;
+  }
+  return {};
+}
+
 const Candidate* Diagnosis::best() const {
-  if (drift.found) return nullptr;
   for (const Candidate& c : candidates)
-    if (c.verdict == Verdict::significant && !raises_held_out_error(c)) return &c;
+    if (c.verdict == Verdict::significant && not_recommended_because(c).empty()) return &c;
   return nullptr;
 }
 
@@ -227,7 +354,10 @@ Diagnosis diagnose(const MotorFile& motor, const ParamVector<double>& calibrated
   // The library first: a named effect with its physics and reference is preferred to a generic
   // term that fits as well or a little better (a term with a free exponent contains windage's
   // square law); the dictionary speaks where the library has nothing to say. Each group by refit.
+  // Failed refits last: they were not judged.
   std::stable_sort(d.candidates.begin(), d.candidates.end(), [](const Candidate& a, const Candidate& b) {
+    const bool a_failed = a.verdict == Verdict::refit_failed, b_failed = b.verdict == Verdict::refit_failed;
+    if (a_failed != b_failed) return b_failed;
     if (a.kind != b.kind) return a.kind == EffectKind::library;
     return a.refit_rmse_k < b.refit_rmse_k;
   });

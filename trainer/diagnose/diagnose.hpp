@@ -6,10 +6,13 @@
 // terms (every term is scored), these questions, cheapest first:
 //   score test   how strongly the residuals point along the effect's parameters at their neutral
 //                value (the calibrated parameters held): one Jacobian, no fit. Ranks candidates.
-//   refit        fit_lm with the effect added, from the calibrated values: the error after adding,
-//                on the training cycles and on the test cycles; the likelihood-ratio statistic
+//   refit        fit_lm with the effect added, from the calibrated values with the effect's
+//                parameters at two starts, the score test's Gauss-Newton step and the neutral value
+//                (where the effect does nothing), the better kept: the error after adding, on the
+//                training cycles and on the test cycles; the likelihood-ratio statistic
 //                LR = n_eff ln(RSS_before / RSS_after) against the chi-square quantile at
-//                df = the parameters the effect adds.
+//                df = the parameters the effect adds. A refit that ends above the baseline from
+//                every start is listed as failed, with why, and not judged.
 //   blocks       the block test (internal/block_test.hpp): training cycles cut into blocks longer
 //                than the residuals' correlation time, each block's gain ln(SSE before/after),
 //                their mean against Student's t. Significant = LR and block test both pass.
@@ -17,6 +20,8 @@
 //                raises it is never recommended.
 //   identifiable whether the refit can tell the effect's parameter from the ones already there
 //                (correlation beyond the flag, or a standard error larger than the value).
+//   pinned       recommended only where the refit pins the effect's size: a standard error at
+//                most kPinnedRatio of its value (pinned()).
 // n_eff is the residual count divided by the residuals' correlation time, as fit_lm corrects its
 // standard errors (sensors at 1 Hz on a 10 Hz grid, slow model error: grid residuals are far from
 // independent, and counting each as one would call every effect significant).
@@ -68,8 +73,25 @@ struct Settings {
   int threads = worker_threads();
 };
 
-enum class Verdict { significant, not_distinguishable, not_significant };
+// refit_failed: no start of the refit ended at or below the baseline (a fit that got worse is no
+// evidence either way); such a candidate is listed with why, not judged.
+enum class Verdict { significant, not_distinguishable, not_significant, refit_failed };
 const char* to_string(Verdict v);
+
+// A recommendation needs the effect's size (its first parameter: a term's heat, a conductance, a
+// gain; 0 is "absent") pinned: a standard error at most this share of the value, so that its
+// two-sigma interval excludes the neutral value. Significance alone is not enough: a likelihood
+// ratio just over its threshold on few effective residuals can carry a size of 262 +- 193 W.
+inline constexpr double kPinnedRatio = 0.5;
+
+// One start of a candidate's refit and where it ended.
+struct RefitStart {
+  std::string from;           // "the score test's step", "the neutral value"
+  double rmse_k = 0;          // training RMSE at its end (NaN: the fit could not be made)
+  int iterations = 0;
+  bool converged = false;
+  std::string error;          // why the fit could not be made (empty: it was)
+};
 
 struct Candidate {
   int effect = -1;
@@ -91,9 +113,11 @@ struct Candidate {
   double train_stator_rmse_k = 0;   // after the refit, stator sensor (offsets estimated per cycle)
   double test_stator_rmse_k = 0;    // after the refit; NaN without test cycles
   double test_rmse_k_after = 0;     // after the refit, every measured sensor (NaN without test cycles)
-  LmReport refit;                   // values, standard errors, correlated pairs
+  LmReport refit;                   // values, standard errors, correlated pairs (of the start kept)
+  std::vector<RefitStart> starts;   // every start tried, in order; `refit` is the best that ended
+  std::string start;                // the start kept
   Verdict verdict = Verdict::not_significant;
-  std::string reason;               // why not distinguishable (empty otherwise)
+  std::string reason;               // why not distinguishable, not significant or failed (empty otherwise)
   std::string needs;                // what data would separate the effect (from the effect's notes)
 };
 
@@ -116,13 +140,21 @@ struct Diagnosis {
   Drift drift;                         // between the cycles; while one is found nothing is recommended
 
   // A refit that fits the training cycles better but the held-out cycles worse learned them, not
-  // the physics: such a candidate is never recommended, however significant.
+  // the physics: such a candidate is never recommended, however significant. One that leaves the
+  // held-out error where it was has shown nothing there either: a recommendation needs it to fall.
   bool raises_held_out_error(const Candidate& c) const;
-  // The recommendation: the first significant (and distinguishable) candidate that does not raise
-  // the held-out error, or nullptr. At most one per round; none while a drift is found (it would
-  // absorb the drift).
+  // Why a significant candidate cannot be recommended, in words (empty: it can): a drift found,
+  // its size not pinned (pinned()), or the held-out error not falling.
+  std::string not_recommended_because(const Candidate& c) const;
+  // The recommendation: the first significant (and distinguishable) candidate with nothing against
+  // it (not_recommended_because), or nullptr. At most one per round; none while a drift is found
+  // (it would absorb the drift).
   const Candidate* best() const;
 };
+
+// Whether the candidate's refit pins its size: a finite standard error at most kPinnedRatio of the
+// value. `why` (if given) gets "P = v +- se W: ..." where it does not.
+bool pinned(const Candidate& c, std::string* why = nullptr);
 
 // Progress of long work: a line to show (stage and LM iteration).
 using Progress = std::function<void(const std::string&)>;

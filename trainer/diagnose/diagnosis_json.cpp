@@ -1,5 +1,6 @@
 // The diagnosis as JSON (lptn diagnose --json).
 #include <cmath>
+#include <string>
 
 #include "trainer/diagnose/diagnose.hpp"
 
@@ -8,6 +9,15 @@ namespace {
 
 // NaN (no test cycles, no standard error) as null.
 nlohmann::json number(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+
+// The candidate's reason: why it is not distinguishable, not significant or failed; for a significant
+// one, why it is not recommended (empty for the recommendation).
+std::string reason(const Candidate& c, const Diagnosis& d, const Candidate* best) {
+  if (c.verdict != Verdict::significant || best == &c) return c.reason;
+  std::string why = d.not_recommended_because(c);
+  if (why.empty() && best) why = "ranked after " + best->name + " (one recommendation per diagnosis)";
+  return why;
+}
 
 nlohmann::json to_json(const Candidate& c, const Diagnosis& d) {
   nlohmann::json params = nlohmann::json::object();
@@ -19,13 +29,18 @@ nlohmann::json to_json(const Candidate& c, const Diagnosis& d) {
   // show what the refit changes in each sensor's reading.
   nlohmann::json values = nlohmann::json::object();
   for (int i = 0; i < kNumParams; ++i) values[std::string(param_spec(i).name)] = c.refit.values[i];
+  nlohmann::json starts = nlohmann::json::array();
+  for (const RefitStart& s : c.starts)
+    starts.push_back({{"from", s.from}, {"rmse_k", number(s.rmse_k)}, {"iterations", s.iterations},
+                      {"converged", s.converged}, {"error", s.error}});
+  const Candidate* best = d.best();
   nlohmann::json j = {{"effect", c.name},
           {"statistic", c.statistic},
           {"threshold", c.threshold},
           {"df", c.df},
           {"score", c.score},
           {"predicted_rmse_k", c.predicted_rmse_k},
-          {"refit_rmse_k", c.refit_rmse_k},
+          {"refit_rmse_k", number(c.refit_rmse_k)},
           {"train_stator_rmse_k", number(c.train_stator_rmse_k)},
           {"test_stator_rmse_k", number(c.test_stator_rmse_k)},
           {"significant", c.verdict == Verdict::significant},
@@ -35,17 +50,20 @@ nlohmann::json to_json(const Candidate& c, const Diagnosis& d) {
           {"block_gain", c.block_gain},
           {"block_t", number(c.block_t)},
           {"block_threshold", c.block_threshold},
-          {"recommended", d.best() == &c},
+          {"recommended", best == &c},
+          {"pinned", pinned(c)},
           {"test_rmse_k_before", number(d.test_rmse_k)},
           {"test_rmse_k_after", number(c.test_rmse_k_after)},
           {"verdict", to_string(c.verdict)},
-          {"reason", c.reason},
+          {"reason", reason(c, d, best)},
           {"needs", c.needs},
           {"parameters", params},
           {"refit_values", values},
           {"refit_iterations", c.refit.iterations},
           {"refit_converged", c.refit.converged},
-          {"refit_seconds", c.refit.seconds}};
+          {"refit_seconds", c.refit.seconds},
+          {"refit_start", c.start},
+          {"refit_starts", starts}};
   if (c.kind == EffectKind::term) {
     j["node"] = c.node;
     j["formula"] = c.formula;

@@ -3,17 +3,23 @@
 #include <cmath>
 #include <cstdio>
 
+#include "trainer/diagnose/internal/effect_notes.hpp"
+
 namespace lptn::diagnose::internal {
 namespace {
 
 // "P is +0.97 correlated with Q" for the first flagged pair of parameter `i` with one the model
 // already has, or empty. Two parameters of the effect itself (a term's size and its exponent)
-// trading off against each other make its form imprecise, not the effect indistinguishable.
-std::string confounded(const LmReport& fit, int i, int effect) {
+// trading off against each other make its form imprecise, not the effect indistinguishable; a
+// parameter with no heat path to the effect (a rotor conductance for a stator term, the sides
+// unlinked) cannot stand in for it, whatever the fit's ill-conditioning makes of the pair.
+std::string confounded(const LmReport& fit, int i, int effect, EffectSet effects) {
   const std::string name(param_spec(i).name);
   for (const CorrelatedPair& c : fit.correlated) {
     if (c.a != name && c.b != name) continue;
-    if (effect_of_param(param_index(c.a == name ? c.b : c.a)) == effect) continue;
+    const int other = param_index(c.a == name ? c.b : c.a);
+    if (effect_of_param(other) == effect) continue;
+    if (!shares_heat_path(other, effect, effects)) continue;
     char buf[256];
     std::snprintf(buf, sizeof buf, "%s is %+.3f correlated with %s", name.c_str(), c.correlation,
                   (c.a == name ? c.b : c.a).c_str());
@@ -45,7 +51,7 @@ Refit refit_with(const MotorFile& with_effect, int effect, const ParamVector<dou
   const int first = kNumPaperParams + EffectLibrary::kParamOffsets[static_cast<std::size_t>(effect)];
   for (int i : FreeParameters::from_motor(with_effect).index) {
     if (effect_of_param(i) != effect) continue;
-    if (out.confounded.empty()) out.confounded = confounded(out.fit, i, effect);
+    if (out.confounded.empty()) out.confounded = confounded(out.fit, i, effect, with_effect.effects);
     if (out.imprecise.empty() && i == first) out.imprecise = imprecise(out.fit, i);
   }
   return out;

@@ -16,8 +16,9 @@ struct Refit {
 };
 
 // fit_lm of `with_effect` (the calibrated motor with `effect` switched on) from `start`: the
-// baseline's values with the effect's where the score test's Gauss-Newton step puts them (from
-// the motor file's initial guess, a refit of a few iterations can end worse than the baseline).
+// baseline's values with the effect's at one of diagnose's starts (the score test's Gauss-Newton
+// step, or the neutral value: from the step alone, or from the motor file's initial guess, a refit
+// of a few iterations can end worse than the baseline; diagnose.cpp keeps the better of the two).
 Refit refit_with(const MotorFile& with_effect, int effect, const ParamVector<double>& start, const data::Dataset& dataset,
                  const std::vector<std::size_t>& train, const LmSettings& settings, const LmProgress& progress);
 

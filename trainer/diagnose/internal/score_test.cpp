@@ -18,20 +18,6 @@ FreeParameters linear_in_effect(const MotorFile& motor, int effect) {
   return free;
 }
 
-// The calibrated values with the effect's parameters where it does nothing (or, for a neutral
-// value the model cannot take, where its notes say).
-ParamVector<double> evaluation_point(const ParamVector<double>& calibrated, int effect) {
-  ParamVector<double> at = calibrated;
-  bool first = true;
-  for (int i = 0; i < kNumParams; ++i) {
-    if (effect_of_param(i) != effect) continue;
-    const double override_at = notes_for(effect).score_at;
-    at[i] = first && !std::isnan(override_at) ? override_at : param_spec(i).neutral;
-    first = false;
-  }
-  return at;
-}
-
 // Whether the Gauss-Newton step `step` moves at least one of the effect's parameters from its
 // evaluation point into its bounds. A step that would need, say, a negative loss only shows that
 // the residuals point away from the effect: it cannot take that step, and its score is nil.
@@ -46,10 +32,22 @@ bool step_feasible(const FreeParameters& free, const ParamVector<double>& at, co
 
 }  // namespace
 
+ParamVector<double> neutral_point(const ParamVector<double>& calibrated, int effect) {
+  ParamVector<double> at = calibrated;
+  bool first = true;
+  for (int i = 0; i < kNumParams; ++i) {
+    if (effect_of_param(i) != effect) continue;
+    const double override_at = notes_for(effect).score_at;
+    at[i] = first && !std::isnan(override_at) ? override_at : param_spec(i).neutral;
+    first = false;
+  }
+  return at;
+}
+
 Score score_test(const MotorFile& with_effect, int effect, const LmReport& baseline, const data::Dataset& dataset,
                  const std::vector<std::size_t>& train, int threads) {
   const FreeParameters free = linear_in_effect(with_effect, effect);
-  const ParamVector<double> at = evaluation_point(baseline.values, effect);
+  const ParamVector<double> at = neutral_point(baseline.values, effect);
   const NormalEquations ne =
       normal_equations(with_effect.model(), free, at, dataset, train, baseline.offsets, threads);
   const auto m = static_cast<Eigen::Index>(ne.columns);

@@ -21,6 +21,10 @@ struct Score {
   ParamVector<double> predicted{};  // the calibrated values with the effect's where the step puts them
 };
 
+// The calibrated values with the effect's parameters where it does nothing (or, for a neutral value
+// the model cannot take, where its notes say): where the score is evaluated.
+ParamVector<double> neutral_point(const ParamVector<double>& calibrated, int effect);
+
 // `with_effect` is the calibrated motor with `effect` switched on; `baseline` the fit of the
 // model without it (values, per-cycle offsets, RSS, correlation time) on `train`.
 Score score_test(const MotorFile& with_effect, int effect, const LmReport& baseline, const data::Dataset& dataset,
