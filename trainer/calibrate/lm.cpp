@@ -319,9 +319,9 @@ std::array<std::vector<std::vector<double>>, 2> residual_series(const Model<doub
       }
       if (r.empty()) continue;
       if (noise != nullptr) {
-        const std::size_t p = reading_period(dataset, cycle, sensors[s].first);
-        per_cycle_noise[i][static_cast<std::size_t>(s)] = sensor_noise(on_grid, p);
-        per_cycle_period[i][static_cast<std::size_t>(s)] = p;
+        const std::size_t every = reading_period(dataset, cycle, sensors[s].first);
+        per_cycle_noise[i][static_cast<std::size_t>(s)] = sensor_noise(on_grid, every);
+        per_cycle_period[i][static_cast<std::size_t>(s)] = every;
       }
       mean /= static_cast<double>(r.size());
       for (double& e : r) e -= mean;
@@ -347,9 +347,9 @@ std::array<std::vector<std::vector<double>>, 2> residual_series(const Model<doub
     g.sum(each);
     for (std::size_t s = 0; s < 2; ++s) {
       (*noise)[s] = NoiseSum{sums[3 * s], static_cast<std::size_t>(sums[3 * s + 1])};
-      double p = 1;
-      for (int r = 0; r < g.size(); ++r) p = std::max(p, each[2 * static_cast<std::size_t>(r) + s]);
-      (*period)[s] = p;
+      double longest = 1;
+      for (int r = 0; r < g.size(); ++r) longest = std::max(longest, each[2 * static_cast<std::size_t>(r) + s]);
+      (*period)[s] = longest;
     }
   }
   std::array<std::vector<std::vector<double>>, 2> out;
