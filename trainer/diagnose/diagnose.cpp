@@ -103,9 +103,11 @@ Scored score_effect(const MotorFile& motor, int effect, const Diagnosis& before,
 using BaselineBlocks = std::map<std::size_t, std::vector<double>>;
 
 // The refit's second start: the effect's parameters where it does (next to) nothing, within the
-// motor file's bounds (a term's heat at its 1 W floor), the rest at the baseline. From there LM,
-// which takes only steps that lower the cost, cannot end above the baseline by more than that
-// floor costs; from the score test's step alone it can (a large term's local minimum).
+// motor file's bounds (a term's heat at its 1 W floor), the rest at the baseline. From the score
+// test's step alone a refit can end far above the baseline (a large term's local minimum); from
+// here it starts at the baseline's parameters. Not at its cost: fit_lm starts each cycle's initial
+// offsets afresh, and where the residual is slow (a missing thermal mass: correlation times of
+// many minutes) a refit of refit_iterations can still end above the baseline. It then failed.
 ParamVector<double> neutral_start(const MotorFile& with, int effect, const ParamVector<double>& baseline) {
   ParamVector<double> at = internal::neutral_point(baseline, effect);
   for (int i = 0; i < kNumParams; ++i)
