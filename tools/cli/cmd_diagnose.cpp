@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "tools/cli/commands.hpp"
+#include "trainer/model/motor_plausibility.hpp"
 #include "hostio/process_group.hpp"
 #include "hostio/progress_line.hpp"
 #include "trainer/calibrate/calibration_file.hpp"
@@ -179,8 +180,11 @@ void run(const Args& given) {
     if (std::freopen("/dev/null", "w", stdout) == nullptr) throw std::runtime_error("cannot silence rank " + std::to_string(group.rank()));
   }
   if (!a.out.empty() && !a.automatic) throw BadInput("--out: only with --auto (the calibration after forward selection)");
-  refuse_overwrite(a.out, a.force);
-  refuse_overwrite(a.json_out, a.force);
+  // Inputs, then the outputs, before any work (a missing input is the first thing to hear of).
+  for (const std::string& d : a.data) check_input_path(d, "--data");
+  check_input_path(a.calibration, "--calibration", InputPath::file);
+  check_output_path(a.out, a.force);
+  check_output_path(a.json_out, a.force, "--json-out");
   if (!(a.level > 0 && a.level < 0.5)) throw BadInput("--level: must be in (0, 0.5), got " + std::to_string(a.level));
   CalibrationResult calibration;
   try {
@@ -191,6 +195,8 @@ void run(const Args& given) {
   const MotorFile motor = motor_of(calibration);
   std::vector<std::filesystem::path> paths(a.data.begin(), a.data.end());
   data::Dataset dataset = data::load_fleet_dump(paths);
+  // What `lptn inspect --motor` would say of this data and the calibration's motor, repeated once.
+  if (group.leads()) print_input_warnings(input_warnings(dataset, motor));
   share_work(dataset, group);
   // By name and file hash: a dump that only shares the calibration's cycle names is not its data.
   const check::Provenance provenance = check::provenance(calibration, dataset, check::motor_beside(a.data));
