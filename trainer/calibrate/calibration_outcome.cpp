@@ -89,8 +89,8 @@ void judge_outcome(CalibrationResult& r, const std::vector<std::string>& data_fi
     if (!bounded.empty()) {
       failed = true;
       r.warnings.push_back({"failed_fit",
-                            "the fit stopped without converging against the bounds of its parameters: the data and the "
-                            "model disagree at the root (temperatures in the wrong unit? another motor's file?)",
+                            "the fit stopped without converging against the bounds of its parameters: this data does not "
+                            "pin this model (too little of it, temperatures in the wrong unit, or another motor's file?)",
                             bounded});
     }
   }
