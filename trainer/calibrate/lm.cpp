@@ -698,7 +698,7 @@ LmReport fit_lm(const MotorFile& motor, const ParamVector<double>& start, const 
   for (;;) {
     FitExtras extras;
     extras.judge = true;
-    if (FreeParameters::from_motor(m).size() == 0)
+    if (FreeParameters::from_motor(m).size() == 0 && !fixed.empty())
       throw std::runtime_error("no parameter this data can pin: " + fixed.front().reason);
     LmReport fit = fit_once(m, from, dataset, cycles, settings, progress, cooling, extras);
     const FreeParameters free = FreeParameters::from_motor(m);
