@@ -91,6 +91,11 @@ void run_search(const CalibrateArgs& a, const MotorFile& motor, const data::Data
 
 void print_metrics(const char* side, const SplitMetrics& m);
 
+// The exit code a calibration's status gives (exit_code.hpp).
+int exit_code_of(const CalibrationResult& r) {
+  return r.status == kStatusFailed ? kExitFailed : (r.status == kStatusWarnings ? kExitWarnings : 0);
+}
+
 // The warnings go to stderr, quiet or not: a script that ignores stdout must still see them. The
 // data's were printed before the work began.
 void print_outcome_warnings(const CalibrationResult& r) {
@@ -146,7 +151,7 @@ void run_fleet(const CalibrateArgs& a, const MotorFile& motor, const ProcessGrou
   if (group.leads()) print_input_warnings(input_warnings(fleet.dataset, motor));
   const std::vector<std::string> inspected = doubtful_input(fleet.dataset, motor);
   judge_outcome(r, inspected);
-  set_exit_code(r.status == kStatusFailed ? kExitFailed : (r.status == kStatusWarnings ? kExitWarnings : 0));
+  set_exit_code(exit_code_of(r));
   if (!group.leads()) return;
   save_fleet(a.out, r, fit, settings);
   print_outcome_warnings(r);
@@ -225,10 +230,7 @@ void run(const CalibrateArgs& given, Td3Calibrator td3) {
   }
   for (const NotIdentifiable& n : unseen) motor.parameters[static_cast<std::size_t>(n.index)].calibrate = false;
   CalibrationResult r = new_calibration(motor, a.motor, dataset, split);
-  for (const NotIdentifiable& n : unseen) {
-    r.parameters[static_cast<std::size_t>(n.index)].identifiable = false;
-    r.parameters[static_cast<std::size_t>(n.index)].identifiability = n.reason;
-  }
+  mark_not_identifiable(r, unseen);
   if (!a.quiet)
     std::printf("calibrating %s with %s on %zu cycles, testing on %zu (%s)\n", motor.name.c_str(), a.method.c_str(),
                 split.train.size(), split.test.size(), split.rule.c_str());
@@ -244,7 +246,7 @@ void run(const CalibrateArgs& given, Td3Calibrator td3) {
 
   score_calibration(r, motor, dataset, split);
   judge_outcome(r, inspected);
-  set_exit_code(r.status == kStatusFailed ? kExitFailed : (r.status == kStatusWarnings ? kExitWarnings : 0));
+  set_exit_code(exit_code_of(r));
   if (!group.leads()) return;
   save_calibration(r, a.out);
   if (!a.quiet) {

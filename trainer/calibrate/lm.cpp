@@ -293,12 +293,10 @@ std::array<std::vector<std::vector<double>>, 2> residual_series(const Model<doub
                                                                const std::vector<std::size_t>& cycles,
                                                                const std::vector<InitialOffsets<double>>& offsets,
                                                                const std::vector<double>& cooling, int threads,
-                                                               std::array<NoiseSum, 2>* noise = nullptr,
-                                                               std::array<double, 2>* period = nullptr) {
+                                                               std::array<NoiseSum, 2>* noise = nullptr) {
   // Per cycle and sensor, simulated in parallel; then in the cycles' order, skipping the empty.
   std::vector<std::array<std::vector<double>, 2>> per_cycle(cycles.size());
   std::vector<std::array<NoiseSum, 2>> per_cycle_noise(cycles.size());
-  std::vector<std::array<std::size_t, 2>> per_cycle_period(cycles.size(), {0, 0});
   parallel_for(cycles.size(), threads, [&](std::size_t i) {
     const data::Cycle& cycle = dataset.cycles[cycles[i]];
     if (cycle.remote) return;  // its process takes its series
@@ -319,38 +317,27 @@ std::array<std::vector<std::vector<double>>, 2> residual_series(const Model<doub
       }
       if (r.empty()) continue;
       if (noise != nullptr) {
+        // White noise read every p grid steps and interpolated between stays correlated over about
+        // p steps: its sum of squares scaled by p is what the residual variance is compared with.
         const std::size_t every = reading_period(dataset, cycle, sensors[s].first);
-        per_cycle_noise[i][static_cast<std::size_t>(s)] = sensor_noise(on_grid, every);
-        per_cycle_period[i][static_cast<std::size_t>(s)] = every;
+        NoiseSum n = sensor_noise(on_grid, every);
+        n.sum2 *= static_cast<double>(every);
+        per_cycle_noise[i][static_cast<std::size_t>(s)] = n;
       }
       mean /= static_cast<double>(r.size());
       for (double& e : r) e -= mean;
     }
   });
   if (noise != nullptr) {
-    // Pooled over the cycles and the processes: the sums, and the longest reading period.
-    std::vector<double> sums(6, 0.0);
+    // Pooled over the cycles and the processes.
+    std::vector<double> sums(4, 0.0);
     for (std::size_t i = 0; i < cycles.size(); ++i)
       for (std::size_t s = 0; s < 2; ++s) {
-        sums[3 * s] += per_cycle_noise[i][s].sum2;
-        sums[3 * s + 1] += static_cast<double>(per_cycle_noise[i][s].n);
-        sums[3 * s + 2] = std::max(sums[3 * s + 2], static_cast<double>(per_cycle_period[i][s]));
+        sums[2 * s] += per_cycle_noise[i][s].sum2;
+        sums[2 * s + 1] += static_cast<double>(per_cycle_noise[i][s].n);
       }
-    std::vector<double> periods = {sums[2], sums[5]};
-    sums[2] = sums[5] = 0;
     group_of(dataset).sum(sums);
-    // The largest period over the processes, through a sum of one-hot shares (no max reduction here).
-    const ProcessGroup& g = group_of(dataset);
-    std::vector<double> each(2 * static_cast<std::size_t>(g.size()), 0.0);
-    each[2 * static_cast<std::size_t>(g.rank())] = periods[0];
-    each[2 * static_cast<std::size_t>(g.rank()) + 1] = periods[1];
-    g.sum(each);
-    for (std::size_t s = 0; s < 2; ++s) {
-      (*noise)[s] = NoiseSum{sums[3 * s], static_cast<std::size_t>(sums[3 * s + 1])};
-      double longest = 1;
-      for (int r = 0; r < g.size(); ++r) longest = std::max(longest, each[2 * static_cast<std::size_t>(r) + s]);
-      (*period)[s] = longest;
-    }
+    for (std::size_t s = 0; s < 2; ++s) (*noise)[s] = NoiseSum{sums[2 * s], static_cast<std::size_t>(sums[2 * s + 1])};
   }
   std::array<std::vector<std::vector<double>>, 2> out;
   for (auto& c : per_cycle)
@@ -396,8 +383,8 @@ struct FitExtras {
   bool judge = false;          // stop before solving where a free parameter moves nothing
   bool check_only = false;     // stop before solving in any case (the start's checks only)
   std::vector<int> blind;      // model indices of free parameters with no effect on the residuals at the start
-  std::vector<double> log_std;  // per free parameter: 1-sigma error in internal coordinates (inf: unpinned)
-  // per free parameter: the same with the other parameters known, at the sensors' noise (judge only)
+  // per free parameter: its 1-sigma error in internal coordinates with the other parameters known,
+  // at the sensors' noise (judge only; inf: the data does not move it)
   std::vector<double> conditional_log_std;
 };
 
@@ -536,10 +523,9 @@ LmReport fit_once(const MotorFile& motor, const ParamVector<double>& start, cons
   problem.Evaluate(evaluate, &cost, nullptr, nullptr, &jacobian);
   const Eigen::MatrixXd jtj = gram(jacobian);
   const double dof = std::max(1.0, static_cast<double>(report.residuals) - static_cast<double>(nf));
-  std::array<NoiseSum, 2> noise{};
-  std::array<double, 2> period{1, 1};
+  std::array<NoiseSum, 2> noise{};  // scaled by each sensor's reading period (residual_series)
   const auto series = residual_series(model, report.values, dataset, cycles, report.offsets, cooling, settings.threads,
-                                      extras.judge ? &noise : nullptr, &period);
+                                      extras.judge ? &noise : nullptr);
   std::array<double, 2> tau{};
   for (std::size_t s = 0; s < 2; ++s) {
     std::vector<double> sums = correlation_sums(series[s]);
@@ -551,7 +537,6 @@ LmReport fit_once(const MotorFile& motor, const ParamVector<double>& start, cons
   if (!jtj.allFinite() || !std::isfinite(s2)) {
     report.converged = false;
     report.termination = "the fit ended where the model's residuals are not finite";
-    extras.log_std.assign(nf, std::numeric_limits<double>::infinity());
     report.at_bound.assign(nf, false);
     report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return report;
@@ -559,45 +544,26 @@ LmReport fit_once(const MotorFile& motor, const ParamVector<double>& start, cons
   Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(jtj);
   const Eigen::MatrixXd cov = s2 * cod.pseudoInverse();
   const bool full_rank = cod.rank() == static_cast<Eigen::Index>(nf);
-  {
-    // Each parameter's error in internal coordinates from the eigen-decomposition of J^T J: a
-    // direction the data does not see (eigenvalue at rounding level) makes every parameter in it
-    // unpinned (infinite), where the pseudo-inverse would hide it.
-    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(jtj);
-    const Eigen::VectorXd& lambda = eig.eigenvalues();
-    const double floor = 1e-12 * std::max(lambda.maxCoeff(), 0.0);
-    extras.log_std.assign(nf, 0.0);
-    for (std::size_t j = 0; j < nf; ++j) {
-      double var = 0;
-      for (Eigen::Index k = 0; k < lambda.size(); ++k) {
-        const double v = eig.eigenvectors()(static_cast<Eigen::Index>(j), k);
-        if (v * v < 1e-6) continue;  // this direction hardly involves parameter j
-        var = lambda(k) > floor ? var + v * v / lambda(k) : std::numeric_limits<double>::infinity();
-      }
-      extras.log_std[j] = std::sqrt(s2 * var);
-    }
+  if (extras.judge) {
     // Identifiability asks what the data could pin were the model right: the errors scaled from
     // the residual's variance (a model that lacks physics has a large, slow misfit, which inflates
     // them) to the sensors' own noise, white at their reading period (sensor_noise.hpp). Never
     // above the fit's own errors.
-    if (extras.judge) {
-      double noise_var = 0, weight = 0;
-      for (std::size_t k = 0; k < 2; ++k) {
-        const double sigma = noise[k].sigma();
-        if (!std::isfinite(sigma) || noise[k].n == 0) continue;
-        noise_var += static_cast<double>(noise[k].n) * sigma * sigma * period[k];
-        weight += static_cast<double>(noise[k].n);
-      }
-      const double ratio = weight > 0 && s2 > 0 ? std::min(1.0, noise_var / weight / s2) : 1.0;
-      // A parameter is judged by what the data tells of it with the others known (its own
-      // information, J^T J's diagonal): one that is pinned only together with a partner (a
-      // combination the data pins better than its parts) stays free, a correlation note.
-      extras.conditional_log_std.assign(nf, 0.0);
-      for (std::size_t j = 0; j < nf; ++j) {
-        const double info = jtj(static_cast<Eigen::Index>(j), static_cast<Eigen::Index>(j));
-        extras.conditional_log_std[j] =
-            info > 0 ? std::sqrt(s2 * ratio / info) : std::numeric_limits<double>::infinity();
-      }
+    double noise_var = 0, weight = 0;
+    for (std::size_t k = 0; k < 2; ++k) {
+      const double sigma = noise[k].sigma();
+      if (!std::isfinite(sigma) || noise[k].n == 0) continue;
+      noise_var += static_cast<double>(noise[k].n) * sigma * sigma;
+      weight += static_cast<double>(noise[k].n);
+    }
+    const double ratio = weight > 0 && s2 > 0 ? std::min(1.0, noise_var / weight / s2) : 1.0;
+    // A parameter is judged by what the data tells of it with the others known (its own
+    // information, J^T J's diagonal): one that is pinned only together with a partner (a
+    // combination the data pins better than its parts) stays free, a correlation note.
+    extras.conditional_log_std.assign(nf, 0.0);
+    for (std::size_t j = 0; j < nf; ++j) {
+      const double info = jtj(static_cast<Eigen::Index>(j), static_cast<Eigen::Index>(j));
+      extras.conditional_log_std[j] = info > 0 ? std::sqrt(s2 * ratio / info) : std::numeric_limits<double>::infinity();
     }
   }
   report.correlation.assign(nf, std::vector<double>(nf, 0.0));
@@ -643,7 +609,7 @@ std::string blind_reason(bool rotor_readings) {
 std::string weak_reason(const FreeParameters& free, std::size_t j, double log_std, const LmReport& fit) {
   char buf[240];
   if (!std::isfinite(log_std) || (free.log_scale[j] && log_std > std::log(1000.0)))
-    std::snprintf(buf, sizeof buf, "the training data leaves it unpinned (a direction of the fit the sensors hardly see)");
+    std::snprintf(buf, sizeof buf, "the training data hardly moves it (known only within a factor over 1000 at 1 sigma)");
   else if (free.log_scale[j])
     std::snprintf(buf, sizeof buf, "even with the other parameters known, the training data pins it only within a factor of %.3g at 1 sigma", std::exp(log_std));
   else
@@ -698,10 +664,10 @@ LmReport fit_lm(const MotorFile& motor, const ParamVector<double>& start, const 
   for (;;) {
     FitExtras extras;
     extras.judge = true;
-    if (FreeParameters::from_motor(m).size() == 0 && !fixed.empty())
+    const FreeParameters free = FreeParameters::from_motor(m);
+    if (free.size() == 0 && !fixed.empty())
       throw std::runtime_error("no parameter this data can pin: " + fixed.front().reason);
     LmReport fit = fit_once(m, from, dataset, cycles, settings, progress, cooling, extras);
-    const FreeParameters free = FreeParameters::from_motor(m);
     if (!extras.blind.empty()) {
       for (int i : extras.blind) {
         fixed.push_back({i, blind_reason(rotor_readings)});

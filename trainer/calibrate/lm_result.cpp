@@ -11,6 +11,15 @@ nlohmann::json to_json(const LmSettings& s) {
           {"max_log_std", s.max_log_std}, {"initial_offsets", "estimated per cycle (stator core, rotor core)"}};
 }
 
+void mark_not_identifiable(CalibrationResult& r, const std::vector<NotIdentifiable>& parameters) {
+  for (const NotIdentifiable& n : parameters) {
+    ParameterResult& p = r.parameters[static_cast<std::size_t>(n.index)];
+    p.calibrated = false;
+    p.identifiable = false;
+    p.identifiability = n.reason;
+  }
+}
+
 void record_lm_fit(CalibrationResult& r, const LmReport& fit, const FreeParameters& given,
                    const std::vector<std::string>& fitted, nlohmann::json settings) {
   // The parameters the last fit moved: the given ones but those it found it could not pin (the
@@ -29,12 +38,7 @@ void record_lm_fit(CalibrationResult& r, const LmReport& fit, const FreeParamete
     r.parameters[static_cast<std::size_t>(i)].value = fit.values[i];
     r.parameters[static_cast<std::size_t>(i)].std_error = fit.std_error[i];
   }
-  for (const NotIdentifiable& n : fit.not_identifiable) {
-    ParameterResult& p = r.parameters[static_cast<std::size_t>(n.index)];
-    p.calibrated = false;
-    p.identifiable = false;
-    p.identifiability = n.reason;
-  }
+  mark_not_identifiable(r, fit.not_identifiable);
   r.correlated = fit.correlated;
   r.method = "lm";
   r.has_actor = false;  // a TD3 actor belongs to the model it was trained for

@@ -22,4 +22,8 @@ nlohmann::json to_json(const LmSettings& settings);
 void record_lm_fit(CalibrationResult& result, const LmReport& fit, const FreeParameters& free,
                    const std::vector<std::string>& fitted, nlohmann::json settings);
 
+// Marks each listed parameter as the data could not pin it: not calibrated, not identifiable,
+// with its reason (record_lm_fit for LM's own judgement; calibrate for the other methods').
+void mark_not_identifiable(CalibrationResult& result, const std::vector<NotIdentifiable>& parameters);
+
 }  // namespace lptn
