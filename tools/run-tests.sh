@@ -19,9 +19,10 @@ cmake --build --preset ci -j"$jobs"
 ctest --preset ci -j"$jobs"
 
 step "sanitizer build (preset sanitize: ASan + UBSan, everything but libtorch) and tests"
-# The test preset leaves out the labels diagnose, fleet and coverage: their suites run the LM,
-# score-test, replay and estimator code that the lm, calibrate, cli and replay tests run here too,
-# but for hours of simulated data, which under the sanitizers takes about ten times as long.
+# The preset neither builds nor runs the tests labelled diagnose, fleet and coverage
+# (LPTN_TEST_LABELS_LEFT_OUT): their suites run the LM, score-test, replay and estimator code that
+# the lm, calibrate, cli and replay tests run here too, but for hours of simulated data, which
+# under the sanitizers takes about ten times as long.
 cmake --preset sanitize >/dev/null
 cmake --build --preset sanitize -j"$jobs"
 ctest --preset sanitize -j"$jobs"
