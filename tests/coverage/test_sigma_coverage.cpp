@@ -1,16 +1,20 @@
-// Is the on-board sigma honest? Over three seeds of the synthetic plant, with rotor telemetry in the
-// calibration's data and without it (the rotor conductances then not identifiable: the motor file's
-// guesses with a wide prior), a held-out drive is replayed open loop (no reading fused) and:
+// Is the on-board sigma honest? A held-out drive is replayed open loop (no reading fused) with an
+// LM calibration, and:
 //   - against the telemetry (what `lptn replay` prints): the share of ticks where
 //     |estimate - reading| <= 2 sqrt(sigma^2 + noise^2) lies in 90..99 % (below: sigma too narrow;
-//     above: too wide to mean anything), pooled over the seeds;
+//     above: too wide to mean anything), pooled over plants;
 //   - against the plant's truth (truth/): |estimate - truth| <= 2 sigma on at least 90 % of the
 //     ticks, and the RMS of (estimate - truth) / sigma between 0.5 and 2 (a sigma several times the
 //     error, or a fraction of it, fails).
-// Without rotor data the rotor's error is one draw of the parameters' error (the plant's truth is
-// the same in every seed: its rotor conductances sit at 0.53, 0.75 and 0.75 times the motor file's
-// guesses), about 1.8 sigma on every tick, so its telemetry coverage is near 100 % or near 0 % by
-// that draw alone; it is held to the lower bound and the truth's bounds, not to the 99 % ceiling.
+// Two cases (issue 26, part 4):
+//   - rotor telemetry in the calibration's data: three seeds of the synthetic plant. Every
+//     parameter is pinned; the sigma rests on the standard errors and the process noise.
+//   - no rotor telemetry: the rotor conductances are not identifiable and stay at the motor file's
+//     guesses with the prior's spread (ln 1.5 at 1 sigma, kNotIdentifiableLnStd). The rotor's error
+//     is then one draw of the guesses' error, the same on every tick of a plant: one plant's
+//     coverage is near 0 or near 100 % by that draw alone, and only many plants can measure it.
+//     So each plant's rotor conductances are drawn from that prior (`lptn generate --truth`), and
+//     coverage is pooled over the plants: what the sigma claims is how often the truth is inside.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -18,12 +22,14 @@
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <random>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "../cli/run_lptn.hpp"
 #include "../cli/temp_dir.hpp"
+#include "lptn/firmware/parameter_uncertainty.hpp"
 
 namespace lptn {
 namespace {
@@ -76,25 +82,28 @@ struct Case {
   Pool stator, rotor;
 };
 
-// One seed: generate (with and without rotor data), calibrate with LM, replay the first test cycle
-// of the dump with rotor telemetry (the same drive in both) open loop, pool the figures.
-void measure(unsigned seed, bool rotor_data, Case& into, const fs::path& dir) {
-  const fs::path data = dir / ("data-" + std::to_string(seed)), no_rotor = dir / ("norotor-" + std::to_string(seed));
+// One plant: generate its dump (with and without rotor data; `plant` is passed to generate: the
+// seed, the truth), calibrate with LM, replay the first test cycle of the dump with rotor
+// telemetry (the same drive in both) open loop, pool the figures.
+void measure(const std::string& name, const std::string& plant, bool rotor_data, Case& into, const fs::path& dir) {
+  const fs::path data = dir / ("data-" + name), no_rotor = dir / ("norotor-" + name);
   if (!fs::exists(data)) {
-    ASSERT_EQ(run("generate --out " + data.string() + " --seed " + std::to_string(seed), dir).code, 0);
+    const auto g = run("generate --out " + data.string() + " " + plant, dir);
+    ASSERT_EQ(g.code, 0) << g.err;
   }
   fs::path fit = data;
   if (!rotor_data) {
-    ASSERT_EQ(run("generate --no-rotor --out " + no_rotor.string() + " --seed " + std::to_string(seed), dir).code, 0);
+    const auto g = run("generate --no-rotor --out " + no_rotor.string() + " " + plant, dir);
+    ASSERT_EQ(g.code, 0) << g.err;
     fit = no_rotor;
   }
-  const fs::path cal = dir / ("cal-" + std::to_string(seed) + (rotor_data ? "" : "-norotor") + ".json");
+  const fs::path cal = dir / ("cal-" + name + (rotor_data ? "" : "-norotor") + ".json");
   const auto c = run("calibrate --method lm --data " + fit.string() + " --motor " + (fit / "motor.toml").string() +
                          " --out " + cal.string(), dir);
   ASSERT_TRUE(c.code == 0 || c.code == 3) << c.out << c.err;  // 3: written with warnings (not identifiable)
   std::ifstream cal_in(cal);
   const std::string cycle = nlohmann::json::parse(cal_in)["metrics"]["test"]["cycles"][0]["name"];
-  const fs::path log = dir / (cycle + "-" + std::to_string(seed) + ".log");
+  const fs::path log = dir / (cycle + "-" + name + ".log");
   if (!fs::exists(log)) {
     ASSERT_EQ(run("convert --in " + (data / (cycle + ".csv")).string() + " --out " + log.string(), dir).code, 0);
   }
@@ -128,36 +137,69 @@ void measure(unsigned seed, bool rotor_data, Case& into, const fs::path& dir) {
       n.pool->z2 += z * z;
     }
   }
-  std::printf("seed %u, %s: stator %.1f %%, rotor %.1f %% (telemetry, pooled so far)\n", seed,
+  std::printf("%s, %s: stator %.1f %%, rotor %.1f %% (telemetry, pooled so far)\n", name.c_str(),
               rotor_data ? "rotor data" : "no rotor data", into.stator.printed(), into.rotor.printed());
 }
 
-void expect_honest(const Pool& p, const char* what, bool ceiling) {
+void expect_honest(const Pool& p, const char* what) {
   std::printf("%s: telemetry %.1f %%, truth within 2 sigma %.1f %%, RMS of error / sigma %.2f\n", what, p.printed(),
               p.truth(), p.z_rms());
   EXPECT_GE(p.printed(), 90.0) << what << ": sigma too narrow against the telemetry";
-  if (ceiling) {
-    EXPECT_LE(p.printed(), 99.0) << what << ": sigma too wide to mean anything";
-  }
+  EXPECT_LE(p.printed(), 99.0) << what << ": sigma too wide to mean anything";
   EXPECT_GE(p.truth(), 90.0) << what << ": sigma too narrow against the truth";
   EXPECT_GE(p.z_rms(), 0.5) << what << ": sigma more than twice the error's size";
   EXPECT_LE(p.z_rms(), 2.0) << what << ": sigma less than half the error's size";
 }
 
-TEST(SigmaCoverage, WithRotorDataAndWithoutOverThreeSeeds) {
+TEST(SigmaCoverage, WithRotorDataOverThreeSeeds) {
   testing::TempDir dir;
-  Case with_rotor, without_rotor;
+  Case with_rotor;
   for (unsigned seed : {1u, 2u, 3u}) {
-    measure(seed, true, with_rotor, dir.path());
-    measure(seed, false, without_rotor, dir.path());
+    measure("seed" + std::to_string(seed), "--seed " + std::to_string(seed), true, with_rotor, dir.path());
     if (HasFatalFailure()) {
       return;
     }
   }
-  expect_honest(with_rotor.stator, "rotor data, stator winding open loop", true);
-  expect_honest(with_rotor.rotor, "rotor data, rotor winding", true);
-  expect_honest(without_rotor.stator, "no rotor data, stator winding open loop", true);
-  expect_honest(without_rotor.rotor, "no rotor data, rotor winding", false);
+  expect_honest(with_rotor.stator, "rotor data, stator winding open loop");
+  expect_honest(with_rotor.rotor, "rotor data, rotor winding");
+}
+
+// The motor file's guess of each rotor conductance, as generate writes it.
+std::map<std::string, double> rotor_guesses(const fs::path& dir) {
+  const fs::path probe = dir / "probe";
+  EXPECT_EQ(run("generate --cycles 1 --minutes-min 2 --minutes-max 2 --out " + probe.string(), dir).code, 0);
+  std::map<std::string, double> guesses;
+  std::ifstream in(probe / "motor.toml");
+  std::string line, section;
+  for (std::string l; std::getline(in, l);) {
+    if (l.rfind("[parameters.", 0) == 0) section = l.substr(12, l.find(']') - 12);
+    if (l.rfind("initial = ", 0) == 0 && section.size() > 2 && section.back() == 'r' && section.rfind("lambda_", 0) == 0) {
+      guesses[section] = std::stod(l.substr(10));
+    }
+  }
+  return guesses;
+}
+
+TEST(SigmaCoverage, WithoutRotorDataOverPlantsWhoseRotorIsDrawnFromThePrior) {
+  testing::TempDir dir;
+  const auto guesses = rotor_guesses(dir.path());
+  ASSERT_EQ(guesses.size(), 3u) << "lambda_1r, lambda_2r, lambda_12r in generate's motor.toml";
+  Case without_rotor;
+  constexpr int kPlants = 20;
+  for (int plant = 1; plant <= kPlants; ++plant) {
+    std::mt19937 draw(static_cast<unsigned>(plant));
+    std::normal_distribution<double> ln_ratio(0.0, fw::kNotIdentifiableLnStd);
+    std::string args = "--seed " + std::to_string(plant) + " --cycles 4";
+    for (const auto& [name, guess] : guesses) {
+      args += " --truth " + name + "=" + std::to_string(guess * std::exp(ln_ratio(draw)));
+    }
+    measure("plant" + std::to_string(plant), args, false, without_rotor, dir.path());
+    if (HasFatalFailure()) {
+      return;
+    }
+  }
+  expect_honest(without_rotor.stator, "no rotor data, stator winding open loop");
+  expect_honest(without_rotor.rotor, "no rotor data, rotor winding");
 }
 
 }  // namespace
