@@ -13,9 +13,39 @@
 #include "tools/replay/calibrated_estimator.hpp"
 #include "tools/replay/replay_to_csv.hpp"
 #include "trainer/calibrate/calibration_file.hpp"
+#include "trainer/data/dataset.hpp"
+#include "trainer/data/inspection.hpp"
 #include "trainer/fleet/fleet_file.hpp"
+#include "trainer/model/motor_file.hpp"
 
 namespace lptn::cli {
+namespace {
+
+// The log's inputs, as the estimator ran on them (the CSV just written loads as a cycle), against
+// the nameplate of the motor the calibration was made for: another pole count (the frequency
+// against the speed), currents or voltages no motor of that nameplate sees. A calibration of
+// another motor type gives estimates that look like any others; this is what says so. Each
+// finding names the log.
+std::vector<std::string> log_against_motor(const std::string& log, const std::string& out, const CalibrationResult& cal,
+                                           const std::string& source) {
+  data::Dataset replayed;
+  try {
+    replayed = data::load_cycle_file(out);
+  } catch (const data::DataError&) {
+    return {};  // no rows to check (a log too short to start the estimator)
+  }
+  for (data::Cycle& c : replayed.cycles) {
+    c.name = std::filesystem::path(log).filename().string();
+    c.file = log;
+  }
+  const MotorFile motor = parse_motor_file(cal.motor_text, source + ": motor.text");
+  std::vector<std::string> out_lines;
+  for (const data::Finding& f : data::check_against_nameplate(replayed, motor.constants))
+    out_lines.push_back(f.message + " (the motor of " + source + ": " + cal.motor_name + ")");
+  return out_lines;
+}
+
+}  // namespace
 
 void add_replay(CLI::App& app) {
   auto* cmd = app.add_subcommand("replay", "Replay a CAN log (candump, Vector ASC or BLF) through the firmware's estimator, "
@@ -69,9 +99,9 @@ void add_replay(CLI::App& app) {
     if (args->calibration.empty() && args->fleet.empty())
       throw BadInput("replay: --calibration or --fleet is required (see --help)");
     const std::string& source = args->fleet.empty() ? args->calibration : args->fleet;
-    const auto cal = estimator_config_from(
-        args->fleet.empty() ? load_calibration(args->calibration) : load_fleet_file(args->fleet).pooled, source,
-        map ? map->decoder() : lptn::bus::decoder());
+    const CalibrationResult calibrated =
+        args->fleet.empty() ? load_calibration(args->calibration) : load_fleet_file(args->fleet).pooled;
+    const auto cal = estimator_config_from(calibrated, source, map ? map->decoder() : lptn::bus::decoder());
     if (args->use_actor && !cal->config.actor.actor)
       throw BadInput(source + ": --use-actor: this calibration has no actor");
     // A type's pooled calibration: this motor may differ from the type by the fleet's scatter.
@@ -113,6 +143,8 @@ void add_replay(CLI::App& app) {
                   r.cooling_factor_std, r.cooling_state == fw::CoolingState::tracking ? "tracking" : "frozen: open loop",
                   r.cooling_alarm_from_s < 0 ? "never raised"
                                              : ("raised from " + ProgressLine::clock(r.cooling_alarm_from_s)).c_str());
+    for (const std::string& w : log_against_motor(args->log, args->out, calibrated, source))
+      std::fprintf(stderr, "lptn: warning: %s\n", w.c_str());
   });
 }
 
