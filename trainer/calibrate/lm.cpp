@@ -417,6 +417,14 @@ LmReport fit_once(const MotorFile& motor, const ParamVector<double>& start, cons
   ceres::Problem problem(problem_options);
   report.offsets.assign(cycles.size(), InitialOffsets<double>{});
   std::vector<std::array<double, kOffsets>> offsets(cycles.size(), {0.0, 0.0});
+  if (!settings.start_offsets.empty()) {
+    if (settings.start_offsets.size() != cycles.size())
+      throw std::invalid_argument("fit_lm: start_offsets: one per cycle, or none");
+    for (std::size_t i = 0; i < cycles.size(); ++i) {
+      offsets[i][0] = std::clamp(settings.start_offsets[i].stator_core, -kInitialOffsetBoundK, kInitialOffsetBoundK);
+      offsets[i][1] = std::clamp(settings.start_offsets[i].rotor_core, -kInitialOffsetBoundK, kInitialOffsetBoundK);
+    }
+  }
   auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
   std::size_t local_residuals = 0;  // of the cycles this process simulates
   for (std::size_t i = 0; i < cycles.size(); ++i) {
@@ -516,7 +524,9 @@ LmReport fit_once(const MotorFile& motor, const ParamVector<double>& start, cons
   double cost = 0;
   // The per-cycle offsets are nuisance parameters here: the Jacobian is taken for the model's
   // parameters with the offsets held at their estimates.
-  for (auto& o : offsets) problem.SetParameterBlockConstant(o.data());
+  // (A listed cycle without a measurement has no block, and its offsets are not in the problem.)
+  for (auto& o : offsets)
+    if (problem.HasParameterBlock(o.data())) problem.SetParameterBlockConstant(o.data());
   ceres::Problem::EvaluateOptions evaluate;
   evaluate.parameter_blocks = {theta.data()};
   evaluate.num_threads = 1;

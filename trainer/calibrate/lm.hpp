@@ -27,6 +27,9 @@ struct LmSettings {
   // at its start and the rest refit. Off for diagnose's refits, which judge their terms otherwise.
   bool judge_identifiability = false;
   double max_log_std = 0.69314718055994531;  // ln 2: known within a factor of two at 1 sigma
+  // Each listed cycle's initial offsets to start from (empty: zero), as a fit of the same cycles
+  // ended them (diagnose's refit, polished on the fine grid after its steps on a coarse one).
+  std::vector<InitialOffsets<double>> start_offsets;
 };
 
 // A free parameter the data could not pin, left at its start (LmReport::not_identifiable).

@@ -3,6 +3,9 @@
 #include <cmath>
 #include <cstdio>
 
+#include "trainer/calibrate/grid_residuals.hpp"
+#include "trainer/data/coarse_grid.hpp"
+
 #include "trainer/diagnose/internal/effect_notes.hpp"
 
 namespace lptn::diagnose::internal {
@@ -42,10 +45,33 @@ std::string imprecise(const LmReport& fit, int i) {
 
 }  // namespace
 
+data::Dataset coarse_dataset(const data::Dataset& fine, int factor) {
+  data::Dataset out;
+  out.shared = fine.shared;
+  out.cycles.reserve(fine.cycles.size());
+  for (const data::Cycle& c : fine.cycles) {
+    // diagnose's shared dataset keeps every cycle's samples on every rank (share_work): each
+    // rank can make the coarse cycle, and count a remote one's residuals itself.
+    data::Cycle coarse = data::coarse_grid(c, factor);
+    coarse.remote_residuals = count_grid_residuals(coarse);  // counted before it is called remote
+    coarse.remote = c.remote;
+    out.cycles.push_back(std::move(coarse));
+  }
+  return out;
+}
+
 Refit refit_with(const MotorFile& with_effect, int effect, const ParamVector<double>& start, const data::Dataset& dataset,
-                 const std::vector<std::size_t>& train, const LmSettings& settings, const LmProgress& progress) {
+                 const std::vector<std::size_t>& train, const LmSettings& settings, const LmProgress& progress,
+                 const data::Dataset* coarse) {
   Refit out;
-  out.fit = fit_lm(with_effect, start, dataset, train, settings, progress);
+  if (coarse == nullptr) {
+    out.fit = fit_lm(with_effect, start, dataset, train, settings, progress);
+  } else {
+    const LmReport first = fit_lm(with_effect, start, *coarse, train, settings, progress);
+    LmSettings polish = settings;
+    polish.start_offsets = first.offsets;
+    out.fit = fit_lm(with_effect, first.values, dataset, train, polish, progress);
+  }
   // Whether the effect is there at all is its first parameter's question (a term's size; its
   // exponent may well be near zero and imprecise while the term is plainly present).
   const int first = kNumPaperParams + EffectLibrary::kParamOffsets[static_cast<std::size_t>(effect)];

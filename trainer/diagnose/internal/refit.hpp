@@ -15,11 +15,20 @@ struct Refit {
   std::string imprecise;   // a standard error beyond the value (or none at all)
 };
 
+// `fine`'s cycles on a grid `factor` times coarser (data::coarse_grid: the 1 s grid TD3 scores on
+// at 10), shared over the processes as `fine` is (each remote cycle's residual count its own).
+data::Dataset coarse_dataset(const data::Dataset& fine, int factor);
+
 // fit_lm of `with_effect` (the calibrated motor with `effect` switched on) from `start`: the
 // baseline's values with the effect's at one of diagnose's starts (the score test's Gauss-Newton
 // step, or the neutral value: from the step alone, or from the motor file's initial guess, a refit
 // of a few iterations can end worse than the baseline; diagnose.cpp keeps the better of the two).
+// With `coarse` (coarse_dataset of `dataset`): the fit first runs there, a tenth of the work per
+// iteration, and then on `dataset` from where it ended (its parameters and the cycles' initial
+// offsets), where it only polishes: the result is the fit on `dataset`, within LM's tolerance of
+// the one without the coarse stage, and its iterations are the polish's.
 Refit refit_with(const MotorFile& with_effect, int effect, const ParamVector<double>& start, const data::Dataset& dataset,
-                 const std::vector<std::size_t>& train, const LmSettings& settings, const LmProgress& progress);
+                 const std::vector<std::size_t>& train, const LmSettings& settings, const LmProgress& progress,
+                 const data::Dataset* coarse = nullptr);
 
 }  // namespace lptn::diagnose::internal
