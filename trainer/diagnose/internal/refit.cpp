@@ -2,6 +2,8 @@
 
 #include <cmath>
 #include <cstdio>
+#include <optional>
+#include <stdexcept>
 
 #include "trainer/calibrate/grid_residuals.hpp"
 #include "trainer/data/coarse_grid.hpp"
@@ -64,13 +66,24 @@ Refit refit_with(const MotorFile& with_effect, int effect, const ParamVector<dou
                  const std::vector<std::size_t>& train, const LmSettings& settings, const LmProgress& progress,
                  const data::Dataset* coarse) {
   Refit out;
-  if (coarse == nullptr) {
-    out.fit = fit_lm(with_effect, start, dataset, train, settings, progress);
-  } else {
-    const LmReport first = fit_lm(with_effect, start, *coarse, train, settings, progress);
+  std::optional<LmReport> on_coarse;
+  if (coarse != nullptr) {
+    try {
+      on_coarse = fit_lm(with_effect, start, *coarse, train, settings, progress);
+    } catch (const ModelNotSimulable&) {
+      throw;  // not simulable at the start: on the data's own grid neither
+    } catch (const std::runtime_error&) {
+      // The coarse grid kept no reading of the training cycles (a sensor sampled off the 1 s
+      // instants): the fit runs on the data's own grid alone. Every process decides alike (the
+      // residual counts are every process's).
+    }
+  }
+  if (on_coarse) {
     LmSettings polish = settings;
-    polish.start_offsets = first.offsets;
-    out.fit = fit_lm(with_effect, first.values, dataset, train, polish, progress);
+    polish.start_offsets = on_coarse->offsets;
+    out.fit = fit_lm(with_effect, on_coarse->values, dataset, train, polish, progress);
+  } else {
+    out.fit = fit_lm(with_effect, start, dataset, train, settings, progress);
   }
   // Whether the effect is there at all is its first parameter's question (a term's size; its
   // exponent may well be near zero and imprecise while the term is plainly present).

@@ -25,8 +25,11 @@ data::Dataset coarse_dataset(const data::Dataset& fine, int factor);
 // of a few iterations can end worse than the baseline; diagnose.cpp keeps the better of the two).
 // With `coarse` (coarse_dataset of `dataset`): the fit first runs there, a tenth of the work per
 // iteration, and then on `dataset` from where it ended (its parameters and the cycles' initial
-// offsets), where it only polishes: the result is the fit on `dataset`, within LM's tolerance of
-// the one without the coarse stage, and its iterations are the polish's.
+// offsets), where it polishes: the result is the fit on `dataset`, and its iterations are the
+// polish's. Where the data pin the effect the polish takes a few iterations to the same optimum;
+// along a flat direction (an absent effect) it may end elsewhere on it than a fit without the
+// coarse stage (README, "Scale: a fleet dump of 200 hours"). Without a reading on the coarse
+// grid, the fine fit alone.
 Refit refit_with(const MotorFile& with_effect, int effect, const ParamVector<double>& start, const data::Dataset& dataset,
                  const std::vector<std::size_t>& train, const LmSettings& settings, const LmProgress& progress,
                  const data::Dataset* coarse = nullptr);
