@@ -26,13 +26,14 @@ namespace {
 // against the speed), currents or voltages no motor of that nameplate sees. A calibration of
 // another motor type gives estimates that look like any others; this is what says so. Each
 // finding names the log.
-std::vector<std::string> log_against_motor(const std::string& log, const std::string& out, const CalibrationResult& cal,
-                                           const std::string& source) {
+std::vector<std::string> log_against_motor(const std::string& log, const std::string& out, std::size_t rows,
+                                           const CalibrationResult& cal, const std::string& source) {
+  if (rows == 0) return {};  // the estimator never started: no inputs to check
   data::Dataset replayed;
   try {
     replayed = data::load_cycle_file(out);
-  } catch (const data::DataError&) {
-    return {};  // no rows to check (a log too short to start the estimator)
+  } catch (const data::DataError& e) {
+    return {log + ": its inputs were not checked against the motor of " + source + " (" + e.what() + ")"};
   }
   for (data::Cycle& c : replayed.cycles) {
     c.name = std::filesystem::path(log).filename().string();
@@ -143,7 +144,7 @@ void add_replay(CLI::App& app) {
                   r.cooling_factor_std, r.cooling_state == fw::CoolingState::tracking ? "tracking" : "frozen: open loop",
                   r.cooling_alarm_from_s < 0 ? "never raised"
                                              : ("raised from " + ProgressLine::clock(r.cooling_alarm_from_s)).c_str());
-    for (const std::string& w : log_against_motor(args->log, args->out, calibrated, source))
+    for (const std::string& w : log_against_motor(args->log, args->out, s.rows, calibrated, source))
       std::fprintf(stderr, "lptn: warning: %s\n", w.c_str());
   });
 }

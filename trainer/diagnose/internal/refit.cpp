@@ -2,8 +2,6 @@
 
 #include <cmath>
 #include <cstdio>
-#include <optional>
-#include <stdexcept>
 
 #include "trainer/calibrate/grid_residuals.hpp"
 #include "trainer/data/coarse_grid.hpp"
@@ -66,22 +64,17 @@ Refit refit_with(const MotorFile& with_effect, int effect, const ParamVector<dou
                  const std::vector<std::size_t>& train, const LmSettings& settings, const LmProgress& progress,
                  const data::Dataset* coarse) {
   Refit out;
-  std::optional<LmReport> on_coarse;
-  if (coarse != nullptr) {
-    try {
-      on_coarse = fit_lm(with_effect, start, *coarse, train, settings, progress);
-    } catch (const ModelNotSimulable&) {
-      throw;  // not simulable at the start: on the data's own grid neither
-    } catch (const std::runtime_error&) {
-      // The coarse grid kept no reading of the training cycles (a sensor sampled off the 1 s
-      // instants): the fit runs on the data's own grid alone. Every process decides alike (the
-      // residual counts are every process's).
-    }
-  }
-  if (on_coarse) {
+  // The coarse grid keeps a measured channel at its 1 s instants only: a sensor sampled off them
+  // leaves it no reading, and the fit runs on the data's own grid alone. (The counts include
+  // remote cycles', so every process decides alike.)
+  std::size_t coarse_readings = 0;
+  if (coarse != nullptr)
+    for (std::size_t c : train) coarse_readings += count_grid_residuals(coarse->cycles[c]);
+  if (coarse_readings > 0) {
+    const LmReport on_coarse = fit_lm(with_effect, start, *coarse, train, settings, progress);
     LmSettings polish = settings;
-    polish.start_offsets = on_coarse->offsets;
-    out.fit = fit_lm(with_effect, on_coarse->values, dataset, train, polish, progress);
+    polish.start_offsets = on_coarse.offsets;
+    out.fit = fit_lm(with_effect, on_coarse.values, dataset, train, polish, progress);
   } else {
     out.fit = fit_lm(with_effect, start, dataset, train, settings, progress);
   }
