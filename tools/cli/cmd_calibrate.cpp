@@ -22,6 +22,7 @@
 #include "trainer/data/inspection.hpp"
 #include "trainer/fleet/fleet_file.hpp"
 #include "trainer/model/motor_effects.hpp"
+#include "trainer/data/sensor_fault.hpp"
 #include "trainer/model/motor_plausibility.hpp"
 #include "trainer/search/search.hpp"
 
@@ -210,9 +211,17 @@ void run(const CalibrateArgs& given, Td3Calibrator td3) {
   check_output_path(a.out, a.force);
   MotorFile motor = load_motor_file(a.motor);
   for (int e : added) enable_effect(motor, e);
-  if (!a.fleet.empty()) return run_fleet(a, motor, group);
+  if (!a.fleet.empty()) {
+    if (!a.sensor_faults.empty()) throw BadInput("--sensor-fault: not with --fleet (a fault is one motor's sensor)");
+    return run_fleet(a, motor, group);
+  }
   std::vector<std::filesystem::path> paths(a.data.begin(), a.data.end());
   data::Dataset dataset = load_shared_dump(paths, group);
+  try {
+    data::correct_readings(dataset, a.sensor_faults);
+  } catch (const std::invalid_argument& e) {
+    throw BadInput(std::string("--sensor-fault: ") + e.what());
+  }
   const Split split = split_cycles(dataset, a.test_cycles, a.test_fraction, a.seed);
   balance_training(dataset, split.train, group);  // only LM runs shared
   // What `lptn inspect --motor` would say of this data and motor file, repeated here, once, and
@@ -230,6 +239,7 @@ void run(const CalibrateArgs& given, Td3Calibrator td3) {
   }
   for (const NotIdentifiable& n : unseen) motor.parameters[static_cast<std::size_t>(n.index)].calibrate = false;
   CalibrationResult r = new_calibration(motor, a.motor, dataset, split);
+  r.sensor_faults = a.sensor_faults;
   mark_not_identifiable(r, unseen);
   if (!a.quiet)
     std::printf("calibrating %s with %s on %zu cycles, testing on %zu (%s)\n", motor.name.c_str(), a.method.c_str(),
@@ -297,6 +307,10 @@ void add_calibrate(CLI::App& app, Td3Calibrator td3) {
   cmd->add_option("--effect", a->effects,
                   "Add an effect to those the motor file enables, with the library's parameter settings (repeatable or comma-separated)")
       ->delimiter(',');
+  cmd->add_option("--sensor-fault", a->sensor_faults,
+                  "A sensor fault to take out of the readings before the fit, SENSOR:SHAPE:SIZE:FIRST as lptn diagnose "
+                  "prints it (stator:offset:+3.02:cycle_05_freight; docs/diagnosis.md); kept in the calibration, and "
+                  "diagnose, check and report correct the readings likewise (repeatable)");
   cmd->add_option("--test-cycles", a->test_cycles, "Cycles held out for testing, by name (comma-separated)")->delimiter(',');
   cmd->add_option("--test-fraction", a->test_fraction, "Otherwise this fraction of the cycles, drawn with --seed (default 1/3)");
   auto* seed = cmd->add_option("--seed", a->seed, "Seed of the split and of TD3 (a run is repeatable)");

@@ -16,6 +16,7 @@
 #include "tools/cli/exit_code.hpp"
 #include "trainer/calibrate/calibration_file.hpp"
 #include "trainer/check/check.hpp"
+#include "trainer/check/sensor_corrections.hpp"
 #include "trainer/data/dataset.hpp"
 #include "trainer/fleet/fleet_dump.hpp"
 #include "trainer/fleet/fleet_file.hpp"
@@ -49,7 +50,15 @@ bool check_data(const Args& a) {
                                    "its own cooling factor");
   const CalibrationResult calibration = load_calibration(a.calibration);
   const std::vector<std::filesystem::path> paths(a.data.begin(), a.data.end());
-  const data::Dataset dataset = data::load_fleet_dump(paths);
+  data::Dataset dataset = data::load_fleet_dump(paths);
+  std::vector<std::string> corrections;
+  try {
+    corrections = check::correct_as_calibrated(dataset, calibration);
+  } catch (const CalibrationFileError& e) {
+    throw BadInput(a.calibration + ": " + e.what());
+  }
+  if (!a.json)
+    for (const std::string& note : corrections) std::printf("%s\n", note.c_str());
   check::Check c;
   {
     ProgressLine line(a.quiet || a.json);

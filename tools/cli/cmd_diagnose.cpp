@@ -17,6 +17,7 @@
 #include "trainer/calibrate/calibration_file.hpp"
 #include "trainer/calibrate/shared_dataset.hpp"
 #include "trainer/check/provenance.hpp"
+#include "trainer/check/sensor_corrections.hpp"
 #include "trainer/data/dataset.hpp"
 #include "trainer/diagnose/diagnose.hpp"
 #include "hostio/atomic_file.hpp"
@@ -98,9 +99,18 @@ void print_table(const diagnose::Diagnosis& d, double level) {
               d.effective_residuals, d.baseline.correlation_time);
   std::printf("the model against its sensors' noise (adequate within %.1fx):\n", diagnose::kAdequateRatio);
   for (const diagnose::SensorAdequacy& s : d.adequacy.sensors) std::printf("  %s\n", diagnose::describe(s).c_str());
+  const diagnose::SensorFinding* const fault = d.sensor_fault();
+  for (const diagnose::SensorFinding& s : d.sensors)
+    if (s.found)
+      std::printf("SENSOR FAULT: %s.\n  Inspect %s. Nothing is recommended while a sensor reads wrong: an effect "
+                  "would absorb the fault.\n", s.finding.c_str(), s.inspect.c_str());
+    else
+      std::printf("no %s sensor fault: %s\n", data::sensor_name(s.sensor), s.finding.c_str());
   if (d.drift.found)
     std::printf("drift between cycles: %s.\n  Inspect %s. Nothing is recommended while the dump drifts: an effect "
                 "would absorb the change.\n", d.drift.finding.c_str(), d.drift.inspect.c_str());
+  else if (fault && !d.drift.finding.empty())
+    std::printf("no drift of the motor between cycles: %s\n", d.drift.finding.c_str());
   else
     std::printf("no drift between cycles (per-cycle %s factors %s, p = %.2f)\n", diagnose::to_string(d.drift.group),
                 factor_range(d.drift).c_str(), d.drift.p_value);
@@ -141,8 +151,8 @@ void print_table(const diagnose::Diagnosis& d, double level) {
     if (c.verdict != diagnose::Verdict::significant || &c == recommended) continue;
     any_significant = true;
     const std::string why = d.not_recommended_because(c);
-    // A drift is said once, below.
-    if (!d.drift.found)
+    // A drift or a sensor fault is said once, above.
+    if (!d.drift.found && !fault)
       std::printf("  %s: significant on the training cycles, not recommended: %s\n", c.name.c_str(),
                   why.empty() ? ("ranked after " + recommended->name).c_str() : why.c_str());
   }
@@ -152,6 +162,10 @@ void print_table(const diagnose::Diagnosis& d, double level) {
                 best->kind == EffectKind::term ? "a term of the dictionary" : "an effect of the library",
                 best->name.c_str(), best->words.c_str(), d.rmse_k, best->refit_rmse_k, kelvin(d.test_rmse_k).c_str(),
                 kelvin(best->test_rmse_k_after).c_str(), best->name.c_str(), best->name.c_str());
+  else if (fault)
+    std::printf("Nothing is recommended: the %s sensor reads wrong (above). Calibrate around it with lptn calibrate "
+                "--sensor-fault %s, then diagnose that calibration.\n", data::sensor_name(fault->sensor),
+                fault->calibrate.c_str());
   else if (d.drift.found)
     std::printf("Nothing is recommended: the dump drifts (above). Calibrate on the cycles before the change, or "
                 "find its cause first.\n");
@@ -195,6 +209,12 @@ void run(const Args& given) {
   const MotorFile motor = motor_of(calibration);
   std::vector<std::filesystem::path> paths(a.data.begin(), a.data.end());
   data::Dataset dataset = data::load_fleet_dump(paths);
+  std::vector<std::string> corrections;
+  try {
+    corrections = check::correct_as_calibrated(dataset, calibration);
+  } catch (const CalibrationFileError& e) {
+    throw BadInput(a.calibration + ": " + e.what());
+  }
   // What `lptn inspect --motor` would say of this data and the calibration's motor, repeated once.
   if (group.leads()) print_input_warnings(input_warnings(dataset, motor));
   share_work(dataset, group);
@@ -210,6 +230,7 @@ void run(const Args& given) {
                 effect_list(motor.effects).c_str(), split.train.size(), split.test.size());
     std::printf("before, as the calibration file has it (on the data it was fitted on): %s\n",
                 file_figures(calibration).c_str());
+    for (const std::string& c : corrections) std::printf("%s\n", c.c_str());
     if (!provenance.all_seen())
       std::printf("this is not the calibration's data: %s never seen by it. The training and test cycles below are "
                   "diagnose's own split of this data (%s), and every figure below is a refit's on it, not the "

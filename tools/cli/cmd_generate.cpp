@@ -1,4 +1,5 @@
 // lptn generate: a fleet dump with a known truth from the synthetic plant.
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -70,13 +71,33 @@ std::vector<std::pair<std::string, double>> parse_truth(const std::vector<std::s
   return out;
 }
 
+// SENSOR:SHAPE:SIZE:FIRST with FIRST a 1-based cycle number within --cycles.
+std::vector<data::SensorFault> parse_sensor_faults(const std::vector<std::string>& items, int cycles) {
+  std::vector<data::SensorFault> out;
+  for (const std::string& item : items) {
+    data::SensorFaultSpec spec;
+    try {
+      spec = data::parse_sensor_fault(item);
+    } catch (const std::invalid_argument& e) {
+      throw BadInput(std::string("--sensor-fault: ") + e.what());
+    }
+    int first = 0;
+    const auto [ptr, ec] = std::from_chars(spec.first_cycle.data(), spec.first_cycle.data() + spec.first_cycle.size(), first);
+    if (ec != std::errc() || ptr != spec.first_cycle.data() + spec.first_cycle.size() || first < 1 || first > cycles)
+      throw BadInput("--sensor-fault: '" + item + "': FIRST must be a cycle number from 1 to " + std::to_string(cycles));
+    spec.fault.first = static_cast<std::size_t>(first - 1);
+    out.push_back(spec.fault);
+  }
+  return out;
+}
+
 }  // namespace
 
 void add_generate(CLI::App& app) {
   auto* cmd = app.add_subcommand("generate", "Generate a fleet dump with a known truth from the synthetic plant");
   struct Args {
     std::string out, hidden, plant;
-    std::vector<std::string> truth;
+    std::vector<std::string> truth, sensor_faults;
     gen::GenerateOptions options;
     double minutes_min = 60, minutes_max = 90;
     bool no_rotor = false, force = false, fleet = false;
@@ -104,6 +125,10 @@ void add_generate(CLI::App& app) {
                   "Physics the model cannot express (" + plant_names +
                       "), comma-separated: to test what diagnose says about a real motor");
   cmd->add_option("--truth", args->truth, "True value of a parameter, NAME=VALUE (repeatable; for effects of your own)");
+  cmd->add_option("--sensor-fault", args->sensor_faults,
+                  "A sensor that reads wrong while the motor is fine, SENSOR:SHAPE:SIZE:FIRST: stator or rotor; offset (K), "
+                  "gain (relative: 0.03 reads 3 % high in degC) or drift (K in the last cycle, growing linearly from "
+                  "cycle FIRST); FIRST the 1-based first faulty cycle (repeatable)");
   cmd->add_option("--minutes-min", args->minutes_min, "Shortest cycle, minutes")->capture_default_str()->check(CLI::Range(2.0, 1440.0));
   cmd->add_option("--minutes-max", args->minutes_max, "Longest cycle, minutes")->capture_default_str()->check(CLI::Range(2.0, 1440.0));
   cmd->add_option("--stator-noise", args->options.sensors.stator_noise_k, "Stator sensor noise, K (standard deviation)")
@@ -117,6 +142,10 @@ void add_generate(CLI::App& app) {
     args->options.hidden = parse_effects(args->hidden);
     args->options.plant = parse_plant(args->plant);
     args->options.truth_overrides = parse_truth(args->truth);
+    args->options.sensor_faults = parse_sensor_faults(args->sensor_faults, args->options.cycles);
+    if (args->no_rotor)
+      for (const data::SensorFault& f : args->options.sensor_faults)
+        if (f.sensor == data::Channel::rotor_c) throw BadInput("--sensor-fault: a rotor fault with --no-rotor (no rotor readings)");
     args->options.min_duration_s = 60 * args->minutes_min;
     args->options.max_duration_s = 60 * args->minutes_max;
     args->options.rotor_sensor = !args->no_rotor;

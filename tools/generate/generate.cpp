@@ -31,6 +31,13 @@ void put(std::string& line, double v, int decimals) {
 
 double quantize(double v, double step) { return std::round(v / step) * step; }
 
+// What `sensor` reads in cycle `i` of `n` where the temperature at it is `t_c`, before its noise.
+double faulty(const std::vector<data::SensorFault>& faults, data::Channel sensor, double t_c, int i, int n) {
+  for (const data::SensorFault& f : faults)
+    if (f.sensor == sensor) t_c = f.reading(t_c, static_cast<std::size_t>(i), static_cast<std::size_t>(n));
+  return t_c;
+}
+
 struct CyclePlan {
   plant::CycleKind kind;
   plant::BlowerPolicy blower;
@@ -187,13 +194,17 @@ std::vector<CycleSummary> generate(const GenerateOptions& options, const std::fi
         if (k % 50 == 0) put(csv, quantize(in.ambient_c + 0.1 * rng.normal(), 0.1), 1);
         csv += ',';
         if (k % 10 == 0 && !in_any(lost_stator, t) && !in_any(long_stator, t)) {
-          const double reading = plant_model.stator_sensor(x) + sensors.stator_noise_k * rng.normal();
+          const double reading =
+              faulty(options.sensor_faults, data::Channel::stator_winding_c, plant_model.stator_sensor(x), i, options.cycles) +
+              sensors.stator_noise_k * rng.normal();
           put(csv, quantize(reading, sensors.temperature_resolution_k), 1);
         }
         if (options.rotor_sensor) {
           csv += ',';
           if (k % 10 == 5) {
-            const double reading = plant_model.rotor_sensor(x) + sensors.rotor_noise_k * rng.normal();
+            const double reading =
+                faulty(options.sensor_faults, data::Channel::rotor_c, plant_model.rotor_sensor(x), i, options.cycles) +
+                sensors.rotor_noise_k * rng.normal();
             put(csv, quantize(reading, sensors.temperature_resolution_k), 1);
           }
         }
@@ -217,6 +228,12 @@ std::vector<CycleSummary> generate(const GenerateOptions& options, const std::fi
   for (int e = 0; e < kNumEffects; ++e)
     if (options.hidden & effect_bit(e)) j["hidden_effects"].push_back(std::string(EffectLibrary::kNames[e]));
   j["plant_physics"] = plant_physics_names(options.plant);
+  j["sensor_faults"] = nlohmann::json::array();
+  for (const data::SensorFault& f : options.sensor_faults) {
+    const std::string first = f.first < summaries.size() ? summaries[f.first].name : "";
+    j["sensor_faults"].push_back({{"sensor", data::sensor_name(f.sensor)}, {"shape", data::to_string(f.shape)},
+                                  {"size", f.size}, {"first_cycle", first}, {"spec", data::format_sensor_fault(f, first)}});
+  }
   for (int p = 0; p < kNumParams; ++p) {
     const int e = effect_of_param(p);
     if (e >= 0 && !(options.hidden & effect_bit(e))) continue;

@@ -16,6 +16,7 @@
 
 #include "lptn/model.hpp"
 #include "tools/generate/plant_physics.hpp"
+#include "trainer/data/sensor_fault.hpp"
 
 namespace lptn::gen {
 
@@ -40,6 +41,9 @@ struct GenerateOptions {
   std::vector<std::pair<std::string, double>> truth_overrides;
   // This motor's factor on every conductance to air (cooling_factor.hpp): a fleet's scatter.
   double cooling_factor = 1;
+  // Sensors that read wrong while the motor is fine (trainer/data/sensor_fault.hpp), `first` the
+  // 0-based cycle: the readings carry the fault, truth/ the true temperatures.
+  std::vector<data::SensorFault> sensor_faults;
 };
 
 struct CycleSummary {

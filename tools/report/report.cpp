@@ -18,6 +18,7 @@
 #include "trainer/calibrate/problem.hpp"
 #include "trainer/calibrate/sensor_noise.hpp"
 #include "trainer/check/check.hpp"
+#include "trainer/check/sensor_corrections.hpp"
 #include "trainer/data/dataset.hpp"
 #include "trainer/model/motor_file.hpp"
 #include "trainer/model/simulate.hpp"
@@ -352,9 +353,9 @@ SavedCandidate parse_candidate(const json& j, const std::string& where) {
 }
 
 // Which candidates get an evidence plot: the recommended one, then the significant ones, each
-// group by statistic; never a drift (a finding about the data, with its own chart).
+// group by statistic; never a drift or a sensor fault (findings about the data, with their own charts).
 std::vector<SavedCandidate> leading(std::vector<SavedCandidate> c) {
-  std::erase_if(c, [](const SavedCandidate& x) { return x.kind == "drift"; });
+  std::erase_if(c, [](const SavedCandidate& x) { return x.kind == "drift" || x.kind == "sensor"; });
   std::stable_sort(c.begin(), c.end(), [](const SavedCandidate& a, const SavedCandidate& b) {
     if (a.recommended != b.recommended) return a.recommended;
     if (a.significant != b.significant) return a.significant;
@@ -440,7 +441,7 @@ json diagnosis_json(const std::optional<SavedDiagnosis>& d, const CalibratedMode
     if (!ev.is_null()) evidence.push_back(std::move(ev));
   }
   return {{"rmse_k", number(d->rmse_k)}, {"candidates", candidates}, {"evidence", evidence},
-          {"adequacy", d->adequacy}, {"drift", d->drift}};
+          {"adequacy", d->adequacy}, {"drift", d->drift}, {"sensor_faults", d->sensor_faults}};
 }
 
 // --- History ------------------------------------------------------------------------------------
@@ -531,6 +532,7 @@ SavedDiagnosis load_diagnosis(const std::filesystem::path& path) {
     d.adequacy = {{"adequate", j["adequate"]}, {"adequate_within", number(number_or_nan(j, "adequate_within"))},
                   {"sensors", j["sensors"]}};
   if (j.contains("drift") && j["drift"].is_object()) d.drift = j["drift"];
+  if (j.contains("sensor_faults") && j["sensor_faults"].is_array()) d.sensor_faults = j["sensor_faults"];
   for (std::size_t i = 0; i < j["candidates"].size(); ++i)
     d.candidates.push_back(parse_candidate(j["candidates"][i], path.string() + ": candidates[" + std::to_string(i) + "]"));
   return d;
@@ -546,7 +548,9 @@ nlohmann::json report_data(const ReportOptions& o, const std::function<void(cons
   std::optional<SavedDiagnosis> diagnosis;
   if (!o.diagnosis.empty()) diagnosis = load_diagnosis(o.diagnosis);  // before the long part: bad input fails fast
   const CalibratedModel cm = calibrated_model(cal);
-  const data::Dataset ds = data::load_fleet_dump({o.data});
+  data::Dataset ds = data::load_fleet_dump({o.data});
+  const std::vector<std::string> corrections = check::correct_as_calibrated(ds, cal);
+  for (const std::string& c : corrections) progress(c);
   const std::optional<MotorFile> data_motor = check::motor_beside({o.data.string()});
   const check::Provenance provenance = check::provenance(cal, ds, data_motor);
 
@@ -567,7 +571,9 @@ nlohmann::json report_data(const ReportOptions& o, const std::function<void(cons
   }
   const StatSeries stats = stat_series(runs);
   const std::filesystem::path history = o.history.empty() ? std::filesystem::absolute(o.calibration).parent_path() : o.history;
-  return {{"meta", meta_json(o, cal, ds)}, {"check", checked}, {"cycles", cycles}, {"failures", failures_json(stats, runs)},
+  json meta = meta_json(o, cal, ds);
+  meta["sensor_corrections"] = corrections;
+  return {{"meta", meta}, {"check", checked}, {"cycles", cycles}, {"failures", failures_json(stats, runs)},
           {"diagnosis", diagnosis_json(diagnosis, cm, runs, stats)}, {"history", history_json(history, o.calibration)},
           {"fleet", fleet}, {"generated_utc", utc_now()}};
 }

@@ -34,7 +34,7 @@ struct ReportOptions {
 // One candidate:
 struct SavedCandidate {
   std::string effect;
-  std::string kind = "library";  // "library", "term" or "drift"
+  std::string kind = "library";  // "library", "term", "drift" or "sensor"
   std::string words;             // in physical words with the refit's values
   std::string verdict;
   double statistic = std::numeric_limits<double>::quiet_NaN();
@@ -55,6 +55,7 @@ struct SavedDiagnosis {
   // a diagnosis from before they existed); the page reads them as they are.
   nlohmann::json adequacy;  // {"adequate", "sensors"}
   nlohmann::json drift;
+  nlohmann::json sensor_faults;  // [{"sensor", "found", "finding", ...}] (sensor_check.hpp)
 };
 // Throws ReportInputError naming the file when it is not JSON or lacks "candidates".
 SavedDiagnosis load_diagnosis(const std::filesystem::path& path);

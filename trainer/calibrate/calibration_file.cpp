@@ -127,6 +127,7 @@ ordered_json build(const CalibrationResult& r) {
   j["data"] = {{"sha256", r.data_sha256},
                {"files", files},
                {"split", {{"rule", r.split_rule}, {"train", r.train_cycles}, {"test", r.test_cycles}}}};
+  if (!r.sensor_faults.empty()) j["data"]["sensor_faults"] = r.sensor_faults;
   j["metrics"] = {{"train", split_metrics_json(r.train)}, {"test", split_metrics_json(r.test)}};
   if (r.has_actor) j["actor"] = actor_json(r.actor);
   return j;
@@ -368,6 +369,7 @@ CalibrationResult calibration_from_json(const nlohmann::json& j, const std::stri
   r.split_rule = split["rule"].string();
   r.train_cycles = strings(split["train"]);
   r.test_cycles = strings(split["test"]);
+  if (data.has("sensor_faults")) r.sensor_faults = strings(data["sensor_faults"]);
 
   const JsonField metrics = root["metrics"];
   r.train = read_split(metrics["train"]);

@@ -119,6 +119,9 @@ struct CalibrationResult {
   std::string data_sha256;     // over the per-file hashes in cycle order
   std::vector<std::string> train_cycles, test_cycles;
   std::string split_rule;      // "--test-cycles a,b" or "fraction 0.33, seed 1"
+  // Sensor faults taken out of the readings before the fit (lptn calibrate --sensor-fault,
+  // trainer/data/sensor_fault.hpp): whoever compares this calibration with that data corrects them too.
+  std::vector<std::string> sensor_faults;
 
   SplitMetrics train, test;
 

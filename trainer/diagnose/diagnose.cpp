@@ -303,7 +303,16 @@ bool Diagnosis::raises_held_out_error(const Candidate& c) const {
   return !std::isnan(test_rmse_k) && !std::isnan(c.test_rmse_k_after) && c.test_rmse_k_after > test_rmse_k;
 }
 
+const SensorFinding* Diagnosis::sensor_fault() const {
+  const SensorFinding* best = nullptr;
+  for (const SensorFinding& s : sensors)
+    if (s.found && (best == nullptr || s.p_value < best->p_value)) best = &s;
+  return best;
+}
+
 std::string Diagnosis::not_recommended_because(const Candidate& c) const {
+  if (const SensorFinding* s = sensor_fault())
+    return "a sensor reads wrong (" + s->finding + "): an effect would absorb the fault";
   if (drift.found) return "the dump drifts between cycles (" + drift.finding + "): an effect would absorb the change";
   std::string why;
   if (!pinned(c, &why)) return why;
@@ -339,6 +348,15 @@ Diagnosis diagnose(const MotorFile& motor, const ParamVector<double>& calibrated
   d.adequacy = assess_adequacy(model, d.baseline.values, dataset, split, settings.threads);
   if (progress) progress("drift between cycles");
   d.drift = find_drift(model, d.baseline.values, dataset, settings.threads);
+  if (progress) progress("sensor faults");
+  d.sensors = check_sensors(model, d.baseline.values, dataset, settings.threads);
+  if (const SensorFinding* s = d.sensor_fault(); s && d.drift.found) {
+    // The sensor check weighed the heat balance cycle by cycle and found the sensor's shift explains
+    // the faulty cycles better: the drift the per-cycle factors show is the sensor's.
+    d.drift.found = false;
+    d.drift.finding = "not the motor's: the " + std::string(data::sensor_name(s->sensor)) +
+                      " sensor's fault explains the change between cycles better (" + d.drift.finding + ")";
+  }
 
   std::vector<Scored> terms;
   BaselineBlocks baseline_blocks;

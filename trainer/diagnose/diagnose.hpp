@@ -39,6 +39,7 @@
 #include "trainer/calibrate/calibration_result.hpp"
 #include "trainer/diagnose/adequacy.hpp"
 #include "trainer/diagnose/drift.hpp"
+#include "trainer/diagnose/sensor_check.hpp"
 #include "trainer/model/motor_effects.hpp"
 #include "trainer/data/dataset.hpp"
 #include "trainer/model/motor_file.hpp"
@@ -138,17 +139,22 @@ struct Diagnosis {
   };
   std::vector<TermScore> term_scores;  // every dictionary term not in the model, best score first
   Drift drift;                         // between the cycles; while one is found nothing is recommended
+  // Each measured temperature sensor checked for a fault (sensor_check.hpp). A fault found outranks
+  // a drift (it explains the faulty cycles better than their heat balance; the drift is then not
+  // reported as found) and, while it stands, nothing is recommended.
+  std::vector<SensorFinding> sensors;
+  const SensorFinding* sensor_fault() const;  // the found one of smallest p, or nullptr
 
   // A refit that fits the training cycles better but the held-out cycles worse learned them, not
   // the physics: such a candidate is never recommended, however significant. One that leaves the
   // held-out error where it was has shown nothing there either: a recommendation needs it to fall.
   bool raises_held_out_error(const Candidate& c) const;
-  // Why a significant candidate cannot be recommended, in words (empty: it can): a drift found,
+  // Why a significant candidate cannot be recommended, in words (empty: it can): a sensor fault or a drift found,
   // its size not pinned (pinned()), or the held-out error not falling.
   std::string not_recommended_because(const Candidate& c) const;
   // The recommendation: the first significant (and distinguishable) candidate with nothing against
-  // it (not_recommended_because), or nullptr. At most one per round; none while a drift is found
-  // (it would absorb the drift).
+  // it (not_recommended_because), or nullptr. At most one per round; none while a sensor fault or a
+  // drift is found (it would absorb it).
   const Candidate* best() const;
 };
 

@@ -89,11 +89,33 @@ nlohmann::json drift_candidate(const Diagnosis& d) {
           {"test_rmse_k_after", number(d.test_rmse_k)}};
 }
 
+// A sensor fault likewise (kind "sensor"): a finding about the data's sensor, never recommended.
+nlohmann::json sensor_candidate(const Diagnosis& d, const SensorFinding& s) {
+  return {{"effect", std::string("sensor_") + data::sensor_name(s.sensor) + "_" + data::to_string(s.fault.shape)},
+          {"kind", "sensor"},
+          {"sensor", data::sensor_name(s.sensor)},
+          {"shape", data::to_string(s.fault.shape)},
+          {"size", s.fault.size},
+          {"size_k", s.size_k},
+          {"cycles", s.cycles},
+          {"significant", true},
+          {"recommended", false},
+          {"verdict", "sensor fault"},
+          {"words", s.finding},
+          {"reason", s.finding},
+          {"needs", s.inspect},
+          {"calibrate", s.calibrate},
+          {"p_value", s.p_value},
+          {"test_rmse_k_before", number(d.test_rmse_k)},
+          {"test_rmse_k_after", number(d.test_rmse_k)}};
+}
+
 }  // namespace
 
 nlohmann::json to_json(const Diagnosis& d) {
   nlohmann::json candidates = nlohmann::json::array();
   for (const Candidate& c : d.candidates) candidates.push_back(to_json(c, d));
+  if (const SensorFinding* s = d.sensor_fault()) candidates.push_back(sensor_candidate(d, *s));
   if (d.drift.found) candidates.push_back(drift_candidate(d));
   nlohmann::json j = to_json(d.adequacy);  // "adequate" and "sensors" first: the verdict on the model itself
   j["rmse_k"] = d.rmse_k;
@@ -101,6 +123,9 @@ nlohmann::json to_json(const Diagnosis& d) {
   j["correlation_time_steps"] = d.baseline.correlation_time;
   j["candidates"] = candidates;
   j["drift"] = to_json(d.drift);
+  // Not "sensors": that is the adequacy's, per sensor, above.
+  j["sensor_faults"] = nlohmann::json::array();
+  for (const SensorFinding& s : d.sensors) j["sensor_faults"].push_back(to_json(s));
   nlohmann::json scores = nlohmann::json::array();
   for (const Diagnosis::TermScore& t : d.term_scores)
     scores.push_back({{"term", t.name}, {"score", t.score}, {"feasible", t.feasible}});

@@ -9,27 +9,16 @@
 
 #include "hostio/worker_threads.hpp"
 #include "trainer/calibrate/problem.hpp"
+#include "trainer/diagnose/internal/permutation.hpp"
 
 namespace lptn::diagnose {
 namespace {
 
 constexpr double kMinLogFactor = -1.0, kMaxLogFactor = 1.0;  // c in [0.37, 2.7]
 constexpr int kGoldenIterations = 22;                        // brackets log c to 1e-4
-constexpr int kOrderings = 4000;
-constexpr std::uint64_t kOrderingSeed = 20261123;
 // A cycle's factor is not more precise than this (log units) whatever its fit says: it keeps the
 // t statistics finite when cycles agree to the last digit.
 constexpr double kFactorResolution = 0.005;
-
-ParamVector<double> scaled(const ParamVector<double>& p, DriftGroup g, double c) {
-  ParamVector<double> out = p;
-  if (g == DriftGroup::cooling) {
-    for (int i : {kLambda1s, kLambda2s, kLambda1r, kLambda2r}) out[i] *= c;
-  } else {
-    for (int i : {kKStemp, kKRtemp}) out[i] *= c;
-  }
-  return out;
-}
 
 double squared_error(const Model<double>& model, const ParamVector<double>& p, const data::Cycle& cycle) {
   const CycleMetrics m = evaluate_cycle(model, p, cycle);
@@ -37,24 +26,6 @@ double squared_error(const Model<double>& model, const ParamVector<double>& p, c
   for (const ErrorMetrics* e : {&m.stator, &m.rotor})
     if (e->samples) sse += e->rmse_k * e->rmse_k * static_cast<double>(e->samples);
   return sse;
-}
-
-double best_factor(const Model<double>& model, const ParamVector<double>& p, DriftGroup g, const data::Cycle& cycle) {
-  constexpr double kInvPhi = 0.6180339887498949;
-  double a = kMinLogFactor, b = kMaxLogFactor;
-  double x1 = b - kInvPhi * (b - a), x2 = a + kInvPhi * (b - a);
-  auto f = [&](double y) { return squared_error(model, scaled(p, g, std::exp(y)), cycle); };
-  double f1 = f(x1), f2 = f(x2);
-  for (int it = 0; it < kGoldenIterations; ++it) {
-    if (f1 <= f2) {
-      b = x2, x2 = x1, f2 = f1;
-      x1 = b - kInvPhi * (b - a), f1 = f(x1);
-    } else {
-      a = x1, x1 = x2, f1 = f2;
-      x2 = a + kInvPhi * (b - a), f2 = f(x2);
-    }
-  }
-  return std::exp(0.5 * (a + b));
 }
 
 struct Statistic {
@@ -106,18 +77,6 @@ Trend trend_of(const std::vector<double>& y) {
 
 double trend_statistic(const std::vector<double>& y) { return trend_of(y).t; }
 
-// The share of orderings of y whose statistic reaches `observed` (the observed ordering counts).
-template <class F>
-double p_value(std::vector<double> y, double observed, F&& statistic) {
-  std::mt19937_64 rng(kOrderingSeed);
-  int reached = 1;
-  for (int i = 0; i < kOrderings; ++i) {
-    std::shuffle(y.begin(), y.end(), rng);
-    reached += statistic(y) >= observed * (1 - 1e-12);
-  }
-  return static_cast<double>(reached) / (kOrderings + 1);
-}
-
 std::string span(const std::vector<std::string>& cycles) {
   if (cycles.empty()) return "";
   return cycles.size() == 1 ? cycles.front() : cycles.front() + " .. " + cycles.back();
@@ -127,6 +86,35 @@ std::string span(const std::vector<std::string>& cycles) {
 
 const char* to_string(DriftGroup g) { return g == DriftGroup::cooling ? "cooling" : "losses"; }
 
+ParamVector<double> scaled_group(const ParamVector<double>& p, DriftGroup g, double c) {
+  ParamVector<double> out = p;
+  if (g == DriftGroup::cooling) {
+    for (int i : kConductancesToAir) out[i] *= c;
+  } else {
+    for (int i : {kKStemp, kKRtemp}) out[i] *= c;
+  }
+  return out;
+}
+
+CycleFactor best_cycle_factor(const Model<double>& model, const ParamVector<double>& p, DriftGroup g,
+                              const data::Cycle& cycle) {
+  constexpr double kInvPhi = 0.6180339887498949;
+  double a = kMinLogFactor, b = kMaxLogFactor;
+  double x1 = b - kInvPhi * (b - a), x2 = a + kInvPhi * (b - a);
+  auto f = [&](double y) { return squared_error(model, scaled_group(p, g, std::exp(y)), cycle); };
+  double f1 = f(x1), f2 = f(x2);
+  for (int it = 0; it < kGoldenIterations; ++it) {
+    if (f1 <= f2) {
+      b = x2, x2 = x1, f2 = f1;
+      x1 = b - kInvPhi * (b - a), f1 = f(x1);
+    } else {
+      a = x1, x1 = x2, f1 = f2;
+      x2 = a + kInvPhi * (b - a), f2 = f(x2);
+    }
+  }
+  return {cycle.name, std::exp(0.5 * (a + b)), std::min(f1, f2)};
+}
+
 Drift find_drift(const Model<double>& model, const ParamVector<double>& params, const data::Dataset& dataset,
                  int threads, DriftGroup group) {
   Drift d;
@@ -134,7 +122,7 @@ Drift find_drift(const Model<double>& model, const ParamVector<double>& params, 
   const std::size_t n = dataset.cycles.size();
   d.factors.resize(n);
   parallel_for(n, threads, [&](std::size_t i) {
-    d.factors[i] = {dataset.cycles[i].name, best_factor(model, params, group, dataset.cycles[i])};
+    d.factors[i] = best_cycle_factor(model, params, group, dataset.cycles[i]);
   });
   if (n < 4) return d;
 
@@ -142,8 +130,8 @@ Drift find_drift(const Model<double>& model, const ParamVector<double>& params, 
   for (std::size_t i = 0; i < n; ++i) y[i] = std::log(d.factors[i].factor);
   const Statistic step = step_statistic(y);
   const Trend trend = trend_of(y);
-  const double p_step = p_value(y, step.t, [](const std::vector<double>& v) { return step_statistic(v).t; });
-  const double p_trend = p_value(y, trend.t, trend_statistic);
+  const double p_step = internal::p_value(y, step.t, [](const std::vector<double>& v) { return step_statistic(v).t; });
+  const double p_trend = internal::p_value(y, trend.t, trend_statistic);
 
   if (p_step <= p_trend) {
     d.shape = "step";
@@ -168,13 +156,13 @@ Drift find_drift(const Model<double>& model, const ParamVector<double>& params, 
   if (d.shape == "step")
     std::snprintf(text, sizeof text, "the %s of cycles %s is %.0f %% %s than the earlier cycles' (p = %.3f over %d orderings)",
                   cooling ? "cooling" : "copper loss", span(d.cycles).c_str(), 100 * std::abs(d.change), direction,
-                  d.p_value, kOrderings);
+                  d.p_value, internal::kOrderings);
   else
     std::snprintf(text, sizeof text,
                   "the %s grows %.0f %% %s from the first cycle to the last, most in cycles %s (p = %.3f over %d "
                   "orderings)",
                   cooling ? "cooling" : "copper loss", 100 * std::abs(d.change), direction, span(d.cycles).c_str(),
-                  d.p_value, kOrderings);
+                  d.p_value, internal::kOrderings);
   d.finding = text;
   d.inspect = cooling ? "the cooling air path of these cycles' motor: air filters, the blower and its supply, the "
                         "airflow signal's calibration; then calibrate on the cycles before the change"

@@ -343,16 +343,21 @@
     var d = R.diagnosis, parent = document.getElementById('verdict');
     if (!d || !d.adequacy) return;
     var rec = recommendedOf(d), drift = d.drift && d.drift.found ? d.drift : null;
-    var cls = drift ? 'drift' : d.adequacy.adequate ? 'adequate' : 'missing';
+    var fault = (d.sensor_faults || []).filter(function (f) { return f.found; })[0];
+    var cls = fault ? 'sensor' : drift ? 'drift' : d.adequacy.adequate ? 'adequate' : 'missing';
     var box = el('div', {class: 'verdict ' + cls, 'data-verdict': cls});
     box.appendChild(el('p', {}, [el('strong', {}, [d.adequacy.adequate ? 'The model is adequate' : 'Something is missing']),
       d.adequacy.adequate ? ': every measured sensor is within ' + (d.adequacy.adequate_within ? fixed(d.adequacy.adequate_within, 1) + ' times ' : '') + 'its noise.' : ': the model is off by more than its sensors\' noise.']));
     adequacyLines(d.adequacy).forEach(function (line) { box.appendChild(el('p', {}, [line])); });
+    // A sensor that reads wrong first: while it stands, nothing the model could add is to be trusted.
+    if (fault) box.appendChild(el('p', {'data-finding': 'sensor'}, [el('strong', {}, ['Sensor fault: ']),
+      fault.finding + '. Inspect ' + fault.inspect + '. Nothing is recommended while it stands; calibrate around it: ',
+      el('code', {}, ['lptn calibrate --sensor-fault ' + fault.calibrate])]));
     if (drift) box.appendChild(el('p', {}, [el('strong', {}, ['Drift: ']), drift.finding + '. Inspect ' + drift.inspect + '.']));
     if (rec) box.appendChild(el('p', {}, [el('strong', {}, ['Add: ']), rec.effect + ' — ' + rec.words +
       ' (held-out ' + fixed(rec.test_rmse_k_before, 3) + ' → ' + fixed(rec.test_rmse_k_after, 3) + ' K): ',
       el('code', {}, ['lptn calibrate --effect ' + rec.effect])]));
-    else if (!d.adequacy.adequate && !drift)
+    else if (!d.adequacy.adequate && !drift && !fault)
       box.appendChild(el('p', {}, ['No effect of the library and no term of the dictionary explains it: see ',
         el('a', {href: '#failures'}, ['where it fails']), ' (cycles, operating regions, the inputs the residual follows).']));
     parent.appendChild(box);
@@ -395,6 +400,30 @@
     });
   }
 
+  // Each checked sensor's per-cycle offset (mean reading minus the model's), the faulty cycles marked.
+  function renderSensorFaults(parent, faults) {
+    (faults || []).forEach(function (f) {
+      if (!f.offsets || !f.offsets.length) return;
+      parent.appendChild(el('h3', {}, ['The ' + f.sensor + ' sensor per cycle: mean reading minus the model']));
+      parent.appendChild(el('p', {class: f.found ? '' : 'note'}, [f.found ? 'Sensor fault: ' + f.finding + '.' :
+        'No sensor fault: ' + f.finding + '.']));
+      var faulty = {};
+      (f.cycles || []).forEach(function (c) { faulty[c] = true; });
+      var data = f.offsets.map(function (o, i) {
+        return [i + 1, faulty[o.cycle] ? null : o.offset_k, faulty[o.cycle] ? o.offset_k : null];
+      });
+      var box = el('div');
+      parent.appendChild(box);
+      guarded('sensor chart', function () {
+        graph(box, 'sensor-' + f.sensor, data, {labels: ['cycle', 'offset K', 'offset K (faulty)'],
+          drawPoints: true, pointSize: 5, strokeWidth: 0, colors: ['#1f4e9c', '#c0392b'], xlabel: 'cycle (in the dump\'s order)',
+          ylabel: 'reading − model, K', dateWindow: [0.5, data.length + 0.5],
+          axes: {x: {axisLabelFormatter: function (v) { return Number.isInteger(v) ? String(v) : ''; },
+                     valueFormatter: function (v) { var o = f.offsets[v - 1]; return o ? o.cycle : String(v); }}}}, 'small');
+      });
+    });
+  }
+
   function renderDiagnosis() {
     var parent = document.getElementById('diagnosis'), d = R.diagnosis;
     if (!d) {
@@ -418,11 +447,12 @@
         el('td', {class: 'text'}, [c.words || '']),
         el('td', {}, [fixed(c.statistic, 1) + (c.threshold !== null && c.threshold !== undefined ? ' / ' + fixed(c.threshold, 1) : '')]),
         el('td', {}, [fixed(c.refit_rmse_k, 3)]),
-        el('td', {}, [c.kind === 'drift' ? '–' : fixed(c.test_rmse_k_before, 3) + ' → ' + fixed(c.test_rmse_k_after, 3)]),
+        el('td', {}, [c.kind === 'drift' || c.kind === 'sensor' ? '–' : fixed(c.test_rmse_k_before, 3) + ' → ' + fixed(c.test_rmse_k_after, 3)]),
         el('td', {class: 'text'}, [c.recommended ? 'recommended' : (c.verdict || (c.significant ? 'significant' : 'not significant'))])]);
     });
     parent.appendChild(table(['effect or term', 'kind', 'in words (refit)', 'LR / threshold', 'refit train RMSE K',
                               'held-out K before → after', 'verdict'], rowsOut, {'data-table': 'diagnosis'}));
+    renderSensorFaults(parent, d.sensor_faults);
     renderDrift(parent, d.drift);
     parent.appendChild(el('p', {class: 'note'}, ['Evidence for the leading candidates: each sensor\'s mean residual over ' +
       'quantile bins of the candidate\'s signature. For an effect of the library, what it would add (from common/lptn/effects); ' +

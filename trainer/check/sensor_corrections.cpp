@@ -1,0 +1,34 @@
+#include "trainer/check/sensor_corrections.hpp"
+
+#include <stdexcept>
+
+#include "trainer/data/sensor_fault.hpp"
+
+namespace lptn::check {
+
+std::vector<std::string> correct_as_calibrated(data::Dataset& dataset, const CalibrationResult& calibration) {
+  std::vector<std::string> said;
+  for (const std::string& spec : calibration.sensor_faults) {
+    data::SensorFaultSpec parsed;
+    try {
+      parsed = data::parse_sensor_fault(spec);
+    } catch (const std::invalid_argument& e) {
+      throw CalibrationFileError(std::string("the calibration's data.sensor_faults: ") + e.what());
+    }
+    data::SensorFault fault;
+    try {
+      fault = data::resolve(parsed, dataset);
+    } catch (const std::invalid_argument&) {
+      // A dump without the fault's first cycle (another period's, another motor's): which of its
+      // cycles the fault touches is unknown.
+      said.push_back("the calibration was made around the sensor fault " + spec +
+                     ", whose first cycle is not in this data: its readings are compared as they are");
+      continue;
+    }
+    data::correct_readings(dataset, fault);
+    said.push_back("readings corrected for the sensor fault the calibration was made around: " + spec);
+  }
+  return said;
+}
+
+}  // namespace lptn::check
