@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <set>
@@ -32,6 +33,41 @@ std::string generate_and_calibrate(const testing::TempDir& t, const std::string&
   // its bound), never failed.
   EXPECT_TRUE(c.code == 0 || c.code == 3) << c.code << c.err;
   return "--data " + data + " --calibration " + cal;
+}
+
+// A sensor fault from generate to calibrate and check as a user types them; bad specs are one line
+// naming the option and the field, and nothing is written.
+TEST(DiagnoseCli, ASensorFaultIsGeneratedCalibratedAroundAndKept) {
+  testing::TempDir t;
+  const std::string data = (t.path() / "fleet").string(), cal = (t.path() / "cal.json").string();
+  const Result bad_generate = run("generate --out " + data + " --cycles 4 --sensor-fault stator:offset:3:5", t.path());
+  EXPECT_NE(bad_generate.code, 0);
+  EXPECT_NE(bad_generate.err.find("--sensor-fault"), std::string::npos) << bad_generate.err;
+  EXPECT_NE(bad_generate.err.find("from 1 to 4"), std::string::npos) << bad_generate.err;
+  EXPECT_FALSE(std::filesystem::exists(data));
+  const Result g = run("generate --out " + data + " --cycles 4 --seed 2 --minutes-min 5 --minutes-max 6 "
+                       "--sensor-fault stator:offset:3:3", t.path());
+  ASSERT_EQ(g.code, 0) << g.err;
+  const auto truth = nlohmann::json::parse(std::ifstream(data + "/truth.json"));
+  EXPECT_EQ(truth["sensor_faults"][0]["spec"], "stator:offset:+3.00:cycle_03_intercity");
+
+  const std::string calibrate = "calibrate --data " + data + " --motor " + data + "/motor.toml --quiet --out " + cal;
+  for (const char* spec : {"stator:offset:three:cycle_03_intercity", "stator:shift:3:cycle_03_intercity",
+                           "stator:offset:3:cycle_07_nowhere", "stator:gain:1.03:cycle_03_intercity"}) {
+    const Result r = run(calibrate + " --sensor-fault " + spec, t.path());
+    EXPECT_NE(r.code, 0) << spec;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_NE(r.err.find("--sensor-fault"), std::string::npos) << r.err;
+    EXPECT_FALSE(std::filesystem::exists(cal)) << spec;
+  }
+  const Result c = run(calibrate + " --sensor-fault stator:offset:+3.0:cycle_03_intercity", t.path());
+  ASSERT_TRUE(c.code == 0 || c.code == 3) << c.err;
+  const auto j = nlohmann::json::parse(std::ifstream(cal));
+  EXPECT_EQ(j["data"]["sensor_faults"], nlohmann::json::array({"stator:offset:+3.0:cycle_03_intercity"}));
+  // The readings as the calibration saw them: corrected again, and said.
+  const Result k = run("check --data " + data + " --calibration " + cal, t.path());
+  EXPECT_NE(k.out.find("readings corrected for the sensor fault the calibration was made around: "
+                       "stator:offset:+3.0:cycle_03_intercity"), std::string::npos) << k.out;
 }
 
 TEST(DiagnoseCli, CallsNothingSignificantWhereNothingIsHidden) {

@@ -28,6 +28,9 @@ void print(const char* label, const diagnose::Diagnosis& d) {
               d.test_rmse_k);
   for (const diagnose::SensorAdequacy& s : d.adequacy.sensors) std::printf("  %s\n", diagnose::describe(s).c_str());
   if (d.drift.found) std::printf("  drift: %s\n", d.drift.finding.c_str());
+  // The motor's physics, never its sensor: no hidden physics here is a sensor fault.
+  for (const diagnose::SensorFinding& s : d.sensors) std::printf("  %s sensor: %s\n", data::sensor_name(s.sensor), s.finding.c_str());
+  EXPECT_EQ(d.sensor_fault(), nullptr) << label;
   for (const diagnose::Candidate& c : d.candidates)
     std::printf("  %-34s %-20s LR %8.1f / %5.1f  blocks t %6.1f / %4.1f (%d)  held-out %.3f -> %.3f K  %s\n",
                 c.name.c_str(), diagnose::to_string(c.verdict), c.statistic, c.threshold, c.block_t, c.block_threshold,

@@ -58,6 +58,7 @@ struct CycleFit {
   double n[2] = {0, 0};
   double mean_c[2] = {0, 0};  // the model's mean at the sensor's readings
   double offset_k[2] = {0, 0};  // the best reading offset (reading minus truth, K), the initial offsets refit with it
+  double gain[2] = {0, 0};      // the best reading gain (reading over truth, minus one), likewise
   // The cycle's squared error (every sensor) with the initial offsets fitted over the whole cycle
   // and, besides them, one explanation each.
   double sse_none = 0, sse_offset[2] = {0, 0}, sse_gain[2] = {0, 0}, sse_cooling = 0, sse_losses = 0;
@@ -131,17 +132,18 @@ CycleFit fit_cycle(const Model<double>& model, const ParamVector<double>& params
     double beta = 0;
     f.sse_offset[s] = least_squares({kStatorCore, kRotorCore, kOffsetColumn[s]}, &beta);
     f.offset_k[s] = -beta;  // the readings shifted by beta fit best: the sensor reads -beta off
-    f.sse_gain[s] = least_squares({kStatorCore, kRotorCore, kGainColumn[s]}, nullptr);
+    f.sse_gain[s] = least_squares({kStatorCore, kRotorCore, kGainColumn[s]}, &beta);
+    f.gain[s] = 1 / (1 + beta) - 1;  // the readings times (1 + beta) fit best
   }
   f.sse_cooling = least_squares({kStatorCore, kRotorCore, kCooling}, nullptr);
   f.sse_losses = least_squares({kStatorCore, kRotorCore, kLosses}, nullptr);
   return f;
 }
 
-// One cycle of the series: its offset b (reading minus model, K), the model's mean there (°C), its
-// file's place in the dump.
+// One cycle of the series: its best reading offset b (K) and, separately, its best reading gain g
+// (relative), each with the initial offsets refit beside it; the model's mean there (°C).
 struct Point {
-  double b = 0, mean_c = 0;
+  double b = 0, g = 0, mean_c = 0;
 };
 
 struct Fit {
@@ -151,37 +153,39 @@ struct Fit {
   double size = 0;    // a (K) or g (relative)
 };
 
-// The fault's regressor at position j of the series for a fault from position k.
-double regressor(data::FaultShape shape, const std::vector<Point>& points, const std::vector<std::size_t>& file,
-                 std::size_t files, std::size_t j, std::size_t k) {
-  data::SensorFault f;
-  f.shape = shape;
-  f.first = file[k];
-  const double w = f.weight(file[j], files);
-  return shape == data::FaultShape::gain ? w * points[j].mean_c : w;
-}
+// A cycle's gain is not more precise than kOffsetResolution at 100 °C.
+constexpr double kGainResolution = kOffsetResolution / 100.0;
 
+// The largest reduction of a series' squared deviation by one shape of fault from some position
+// on: the offset and the drift on the offsets b, the gain on the gains g (a gain fault's offset
+// changes with each cycle's temperatures, and the initial offsets take up part of it differently
+// in each; its gain does not).
 Fit best_fit(const std::vector<Point>& points, const std::vector<std::size_t>& file, std::size_t files) {
   const std::size_t n = points.size();
-  double bm = 0;
-  for (const Point& p : points) bm += p.b / static_cast<double>(n);
-  double sbb = 0;
-  for (const Point& p : points) sbb += (p.b - bm) * (p.b - bm);
   Fit best;
-  std::vector<double> x(n);
+  std::vector<double> x(n), y(n);
   for (data::FaultShape shape : kShapes) {
+    const bool gain = shape == data::FaultShape::gain;
+    const double resolution = gain ? kGainResolution : kOffsetResolution;
+    double ym = 0;
+    for (std::size_t j = 0; j < n; ++j) ym += (y[j] = gain ? points[j].g : points[j].b) / static_cast<double>(n);
+    double syy = 0;
+    for (std::size_t j = 0; j < n; ++j) syy += (y[j] - ym) * (y[j] - ym);
     // An offset or a gain needs two cycles on either side; a drift may grow from the first cycle.
     const std::size_t k_min = shape == data::FaultShape::drift ? 0 : 2;
     for (std::size_t k = k_min; k + 2 <= n; ++k) {
+      data::SensorFault f;
+      f.shape = shape;
+      f.first = file[k];
       double xm = 0;
-      for (std::size_t j = 0; j < n; ++j) xm += (x[j] = regressor(shape, points, file, files, j, k)) / static_cast<double>(n);
-      double sxx = 0, sxb = 0;
-      for (std::size_t j = 0; j < n; ++j) sxx += (x[j] - xm) * (x[j] - xm), sxb += (x[j] - xm) * (points[j].b - bm);
+      for (std::size_t j = 0; j < n; ++j) xm += (x[j] = f.weight(file[j], files)) / static_cast<double>(n);
+      double sxx = 0, sxy = 0;
+      for (std::size_t j = 0; j < n; ++j) sxx += (x[j] - xm) * (x[j] - xm), sxy += (x[j] - xm) * (y[j] - ym);
       if (!(sxx > 0)) continue;
-      const double explained = sxb * sxb / sxx;
-      const double left = std::max((sbb - explained) / static_cast<double>(n - 2), kOffsetResolution * kOffsetResolution);
+      const double explained = sxy * sxy / sxx;
+      const double left = std::max((syy - explained) / static_cast<double>(n - 2), resolution * resolution);
       const double t = explained / left;
-      if (t > best.statistic) best = {t, shape, k, sxb / sxx};
+      if (t > best.statistic) best = {t, shape, k, sxy / sxx};
     }
   }
   return best;
@@ -237,8 +241,8 @@ SensorFinding check_sensor(int s, const std::vector<CycleFit>& fits, const data:
     if (!(c.n[s] > 0)) continue;
     cycles.push_back(i);
     file.push_back(order.file_index[i]);
-    points.push_back({c.offset_k[s], c.mean_c[s]});
-    f.offsets.push_back({dataset.cycles[i].name, c.offset_k[s], c.mean_c[s]});
+    points.push_back({c.offset_k[s], c.gain[s], c.mean_c[s]});
+    f.offsets.push_back({dataset.cycles[i].name, c.offset_k[s], c.gain[s], c.mean_c[s]});
   }
   const std::size_t n = points.size();
   f.fault.sensor = f.sensor;
@@ -317,7 +321,7 @@ std::vector<SensorFinding> check_sensors(const Model<double>& model, const Param
 
 nlohmann::json to_json(const SensorFinding& f) {
   nlohmann::json offsets = nlohmann::json::array();
-  for (const CycleOffset& o : f.offsets) offsets.push_back({{"cycle", o.cycle}, {"offset_k", o.offset_k}, {"mean_c", o.mean_c}});
+  for (const CycleOffset& o : f.offsets) offsets.push_back({{"cycle", o.cycle}, {"offset_k", o.offset_k}, {"gain", o.gain}, {"mean_c", o.mean_c}});
   return {{"sensor", data::sensor_name(f.sensor)},
           {"found", f.found},
           {"shape", data::to_string(f.fault.shape)},

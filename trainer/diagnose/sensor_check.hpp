@@ -5,22 +5,27 @@
 // as physics (a heat source of 262 W, a cooling 7 % weaker) and make the model wrong against the
 // real temperature. So, before any candidate, for each measured temperature sensor:
 //
-//   per cycle   the sensor's mean reading minus the model's (b_i, K) at the baseline, and the
-//               model's mean temperature there (M_i, °C)
+//   per cycle   the reading offset that fits the cycle best (b_i, K), and separately the reading
+//               gain (g_i), each beside the cycle's initial offsets refit over the whole cycle: the
+//               model is affine in its initial state, and an offset of the readings also moves the
+//               start (each measured node starts at its reading), so one simulation per column
+//               gives the cycle's least-squares problem exactly. (With the offsets fitted on the
+//               first ten minutes only, as the metrics do, a warmer start takes up most of a
+//               constant offset.) M_i, the model's mean temperature at the readings, °C.
 //   the shapes  over the cycles in the dump's order (trainer/data/sensor_fault.hpp): an offset
-//               from cycle k on, b_i = c + a [i >= k]; a gain from cycle k on, b_i = c + g M_i [i >= k];
+//               from cycle k on, b_i = c + a [i >= k]; a gain from cycle k on, g_i = c + g [i >= k];
 //               a drift growing from cycle k, b_i = c + a w_i(k). Each fitted by least squares, k
 //               over every cycle with two on either side (a drift may start at the first).
-//   the test    the largest reduction of the series' squared deviation over shapes and k, in
-//               units of what is left (at least kOffsetResolution per cycle); its p-value exact
-//               under "no fault" (the cycles exchangeable): the share of 4,000 random orderings
-//               of the cycles (b_i with its M_i) whose largest reduction reaches it. Bonferroni
-//               over the sensors checked.
+//   the test    the largest reduction of a series' squared deviation over shapes and k, in units of
+//               what is left (at least kOffsetResolution per cycle); its p-value exact under "no
+//               fault" (the cycles exchangeable): the share of 4,000 random orderings of the cycles
+//               whose largest reduction reaches it. Bonferroni over the sensors checked.
 //   the motor   a sensor fault moves one reading and nothing else. Over the faulty cycles, the
 //               squared error of every measured sensor with each cycle's own offset (or gain) of
 //               this sensor must be below that with each cycle's own cooling factor and with each
-//               cycle's own copper-loss factor (drift.hpp's per-cycle fits): a change of the heat
-//               balance moves both sensors and follows the load; a sensor's does neither.
+//               cycle's own copper-loss factor (linearized in the log factor, beside the same
+//               initial offsets): a change of the heat balance moves both sensors and follows the
+//               load; a sensor's does neither.
 // A fault is found when p <= kSensorLevel / sensors, its size is at least kMinSensorFaultK and the
 // heat balance explains the faulty cycles worse than the sensor. Like a drift it is a finding, not
 // an effect: while one stands nothing physical is recommended.
@@ -45,7 +50,8 @@ inline constexpr double kOffsetResolution = 0.05;
 
 struct CycleOffset {
   std::string cycle;
-  double offset_k = 0;  // mean reading minus the model's (b_i)
+  double offset_k = 0;  // the reading's offset that fits the cycle best (b_i, K)
+  double gain = 0;      // the reading's gain that fits it best, separately (g_i, relative)
   double mean_c = 0;    // the model's mean temperature at the readings (M_i)
 };
 
