@@ -41,7 +41,7 @@ inline constexpr double kTestRmseRotorK = 0.41861341338046415;  // test cycles, 
 inline constexpr EffectSet kEffects = 0;  // the paper's model only
 
 // The parameter layout this header was exported for: a model with another one stops here.
-static_assert(kNumParams == 57, "this header holds 57 parameters, this lptn's model has another number: export the calibration again");
+static_assert(kNumParams == 66, "this header holds 66 parameters, this lptn's model has another number: export the calibration again");
 static_assert(param_index("lambda_1s") == 0, "parameter 0 is not 'lambda_1s' in this lptn: export the calibration again");
 static_assert(param_index("lambda_2s") == 1, "parameter 1 is not 'lambda_2s' in this lptn: export the calibration again");
 static_assert(param_index("lambda_12s") == 2, "parameter 2 is not 'lambda_12s' in this lptn: export the calibration again");
@@ -99,6 +99,15 @@ static_assert(param_index("airflow_rotor_exponent_change") == 53, "parameter 53 
 static_assert(param_index("path_stator_winding_rotor_winding_lambda") == 54, "parameter 54 is not 'path_stator_winding_rotor_winding_lambda' in this lptn: export the calibration again");
 static_assert(param_index("path_stator_winding_rotor_core_lambda") == 55, "parameter 55 is not 'path_stator_winding_rotor_core_lambda' in this lptn: export the calibration again");
 static_assert(param_index("path_stator_core_rotor_winding_lambda") == 56, "parameter 56 is not 'path_stator_core_rotor_winding_lambda' in this lptn: export the calibration again");
+static_assert(param_index("mass_stator_core_lambda") == 57, "parameter 57 is not 'mass_stator_core_lambda' in this lptn: export the calibration again");
+static_assert(param_index("mass_stator_core_capacity") == 58, "parameter 58 is not 'mass_stator_core_capacity' in this lptn: export the calibration again");
+static_assert(param_index("mass_stator_core_lambda_air") == 59, "parameter 59 is not 'mass_stator_core_lambda_air' in this lptn: export the calibration again");
+static_assert(param_index("mass_rotor_core_lambda") == 60, "parameter 60 is not 'mass_rotor_core_lambda' in this lptn: export the calibration again");
+static_assert(param_index("mass_rotor_core_capacity") == 61, "parameter 61 is not 'mass_rotor_core_capacity' in this lptn: export the calibration again");
+static_assert(param_index("mass_rotor_core_lambda_air") == 62, "parameter 62 is not 'mass_rotor_core_lambda_air' in this lptn: export the calibration again");
+static_assert(param_index("mass_stator_winding_lambda") == 63, "parameter 63 is not 'mass_stator_winding_lambda' in this lptn: export the calibration again");
+static_assert(param_index("mass_stator_winding_capacity") == 64, "parameter 64 is not 'mass_stator_winding_capacity' in this lptn: export the calibration again");
+static_assert(param_index("mass_stator_winding_lambda_air") == 65, "parameter 65 is not 'mass_stator_winding_lambda_air' in this lptn: export the calibration again");
 
 // The parameters in model order (+- the fit's standard error, where the method gives one).
 inline constexpr ParamVector<double> kParams = {{
@@ -159,6 +168,15 @@ inline constexpr ParamVector<double> kParams = {{
     20.0,  // [54] path_stator_winding_rotor_winding_lambda [W/K] (fixed)
     20.0,  // [55] path_stator_winding_rotor_core_lambda [W/K] (fixed)
     20.0,  // [56] path_stator_core_rotor_winding_lambda [W/K] (fixed)
+    100.0,  // [57] mass_stator_core_lambda [W/K] (fixed)
+    300.0,  // [58] mass_stator_core_capacity [kJ/K] (fixed)
+    50.0,  // [59] mass_stator_core_lambda_air [W/K] (fixed)
+    100.0,  // [60] mass_rotor_core_lambda [W/K] (fixed)
+    300.0,  // [61] mass_rotor_core_capacity [kJ/K] (fixed)
+    50.0,  // [62] mass_rotor_core_lambda_air [W/K] (fixed)
+    100.0,  // [63] mass_stator_winding_lambda [W/K] (fixed)
+    300.0,  // [64] mass_stator_winding_capacity [kJ/K] (fixed)
+    50.0,  // [65] mass_stator_winding_lambda_air [W/K] (fixed)
 }};
 static_assert(kParams.size() == kNumParams);
 
@@ -223,9 +241,18 @@ inline constexpr double kParamStdError[kNumParams] = {
     -1.0,  // [54] path_stator_winding_rotor_winding_lambda
     -1.0,  // [55] path_stator_winding_rotor_core_lambda
     -1.0,  // [56] path_stator_core_rotor_winding_lambda
+    -1.0,  // [57] mass_stator_core_lambda
+    -1.0,  // [58] mass_stator_core_capacity
+    -1.0,  // [59] mass_stator_core_lambda_air
+    -1.0,  // [60] mass_rotor_core_lambda
+    -1.0,  // [61] mass_rotor_core_capacity
+    -1.0,  // [62] mass_rotor_core_lambda_air
+    -1.0,  // [63] mass_stator_winding_lambda
+    -1.0,  // [64] mass_stator_winding_capacity
+    -1.0,  // [65] mass_stator_winding_lambda_air
 };
-inline constexpr bool kParamCalibrated[kNumParams] = {true, true, true, true, true, true, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false};
-inline constexpr bool kParamIdentifiable[kNumParams] = {true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true};
+inline constexpr bool kParamCalibrated[kNumParams] = {true, true, true, true, true, true, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false};
+inline constexpr bool kParamIdentifiable[kNumParams] = {true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true};
 
 // The motor file's constants (fleet/motor.toml, kept whole in the calibration).
 constexpr MotorConstants<double> motor_constants() {

@@ -68,7 +68,10 @@ TEST(Integrator, StaysWithinAHundredthOfAKelvinOfTheExactSolutionAtATenthOfASeco
       hottest = std::max(hottest, ref[0]);
     }
     EXPECT_LT(worst, 0.01) << "effects " << effects;
-    EXPECT_GT(hottest, 80.0);  // the case does exercise the model
+    // The case does exercise the model: the winding runs hot. With every effect on, the
+    // dictionary's three thermal masses (at their start values, 100 W/K to 300 kJ/K each) take up
+    // part of the heat: 79.6 °C where the paper's model reaches over 80.
+    EXPECT_GT(hottest, effects == 0 ? 80.0 : 75.0);
   }
 }
 
@@ -132,7 +135,9 @@ TEST(Integrator, NeverAmplifiesAPassiveNetworkWhateverTheParametersAndStep) {
 
 // Stiff sets with losses and every effect on: a fast sensor, a very strong stator-core path and a
 // tiny winding capacitance. Still within 0.05 K of the exact solution at 0.1 s, and a huge step
-// lands on the steady state instead of ringing (L-stability).
+// lands on the steady state instead of ringing (L-stability). Huge against the slowest mode: the
+// thermal masses' time constants are thousands of seconds, where SDIRK2's factor at 1e5 s is still
+// -0.1 to -0.15 a step; at 1e8 s it is 1e-4.
 TEST(Integrator, HandlesStiffParameterSets) {
   auto m = testing::example_motor();
   m.capacitance_j_per_k[kStatorWinding] = 2000.0;
@@ -161,8 +166,8 @@ TEST(Integrator, HandlesStiffParameterSets) {
   double big[kMaxStates], settled[kMaxStates];
   model.initial_state(big, 20.0, 20.0);
   model.initial_state(settled, 20.0, 20.0);
-  exact_step(sys, settled, 1e6);
-  for (int k = 0; k < 3; ++k) Sdirk2<double>::step(sys, big, 1e5);
+  exact_step(sys, settled, 1e9);
+  for (int k = 0; k < 3; ++k) Sdirk2<double>::step(sys, big, 1e8);
   for (int i = 0; i < model.num_states(); ++i) EXPECT_NEAR(big[i], settled[i], 1e-3 * settled[i]) << i;
 }
 

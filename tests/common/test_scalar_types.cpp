@@ -54,7 +54,10 @@ TEST(ScalarTypes, FloatTracksDoubleWithinAFewHundredthsOfAKelvinOverAnHour) {
     for (int i = 0; i < md.num_states(); ++i) worst = std::max(worst, std::abs(xd[i] - xf[i]));
   }
   EXPECT_LT(worst, 0.05);
-  EXPECT_GT(xd[0], 60.0);
+  // The winding runs hot (the case exercises the model): over 60 °C in the paper's model alone;
+  // with every effect on, the dictionary's three thermal masses (100 W/K to 300 kJ/K each, at their
+  // start values) take up part of the heat and it reaches 54 °C after the hour.
+  EXPECT_GT(xd[0], 50.0);
 }
 
 TEST(ScalarTypes, JetValuesEqualDoubleAndDerivativesMatchFiniteDifferences) {

@@ -140,5 +140,64 @@ TEST(ReportDiagnosis, ADriftOpensThePageAndItsChartMarksTheDriftedCycles) {
   EXPECT_EQ(attribute(element_chunk(r.dom, "data-chart", "drift"), "data-series"), "cooling factor|cooling factor (drifted)");
 }
 
+// A sensor fault opens the page above everything else, with what to inspect and the command that
+// calibrates around it, never an effect to add; its chart marks the faulty cycles. The diagnosis is
+// a real one of a small dump, with a sensor finding put into it as diagnose writes one
+// (docs/diagnosis.md, "Sensor faults": finding it takes nine cycles of an hour, tested in
+// tests/diagnose/test_sensor_faults.cpp).
+TEST(ReportDiagnosis, ASensorFaultOpensThePageWithTheCommandThatCalibratesAroundIt) {
+  TempDir t;
+  const fs::path d = t.path();
+  ASSERT_EQ(run("generate --out " + (d / "data").string() + " --cycles 4 --seed 61 --minutes-min 10 --minutes-max 12", d).code, 0);
+  const std::string data = "--data " + (d / "data").string() + " --calibration " + (d / "cal.json").string();
+  const auto c = run("calibrate --quiet --data " + (d / "data").string() + " --motor " + (d / "data/motor.toml").string() +
+                         " --out " + (d / "cal.json").string() + " --test-cycles cycle_04_hilly", d);
+  ASSERT_TRUE(c.code == 0 || c.code == 3) << c.err;
+  const auto dg = run("diagnose --quiet --json " + data, d);
+  ASSERT_EQ(dg.code, 0) << dg.err;
+  nlohmann::json diagnosis = nlohmann::json::parse(dg.out);
+  ASSERT_TRUE(diagnosis["sensor_faults"].is_array());
+  ASSERT_FALSE(diagnosis["sensor_faults"].empty());
+  EXPECT_EQ(diagnosis["format_version"], 2);
+  {
+    // A diagnosis from a newer lptn is refused by name, not misread.
+    nlohmann::json newer = diagnosis;
+    newer["format_version"] = 99;
+    std::ofstream(d / "newer.json") << newer.dump();
+    const auto r = run("report " + data + " --diagnosis " + (d / "newer.json").string() + " --out " +
+                           (d / "newer.html").string(), d);
+    EXPECT_NE(r.code, 0);
+    EXPECT_NE(r.err.find("newer.json: format_version 99"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(d / "newer.html"));
+  }
+  nlohmann::json& f = diagnosis["sensor_faults"][0];
+  EXPECT_EQ(f["sensor"], "stator");
+  EXPECT_FALSE(f["found"].get<bool>()) << "clean data";
+  const std::string finding = "the stator sensor reads 3.0 K high from cycle_03_intercity on (cycles cycle_03_intercity .. "
+                              "cycle_04_hilly; p = 0.0100 over 4000 orderings)";
+  const std::string spec = "stator:offset:+3.00:cycle_03_intercity";
+  f["found"] = true;
+  f["shape"] = "offset";
+  f["size_k"] = 3.0;
+  f["cycles"] = {"cycle_03_intercity", "cycle_04_hilly"};
+  f["finding"] = finding;
+  f["calibrate"] = spec;
+  std::ofstream(d / "diagnosis.json") << diagnosis.dump(2);
+  const auto rep = run("report " + data + " --diagnosis " + (d / "diagnosis.json").string() + " --out " +
+                           (d / "report.html").string(), d);
+  ASSERT_EQ(rep.code, 0) << rep.err;
+  const std::string dom = testing::dump_dom(d / "report.html", d / "chromium.log");
+  ASSERT_NE(dom, "") << slurp(d / "chromium.log");
+  EXPECT_EQ(testing::page_errors(dom), "") << "JavaScript errors on the page";
+  const std::string verdict = verdict_box(dom, "sensor");
+  ASSERT_NE(verdict, "") << "no sensor verdict at the top";
+  EXPECT_LT(verdict.find("A sensor reads wrong"), verdict.find("adequate")) << "the fault is said first";
+  EXPECT_NE(verdict.find(finding.substr(0, 60)), std::string::npos);
+  EXPECT_NE(verdict.find("lptn calibrate --sensor-fault " + spec), std::string::npos);
+  EXPECT_EQ(verdict.find("lptn calibrate --effect"), std::string::npos) << "a sensor fault is never an effect to add";
+  EXPECT_EQ(points(dom, "sensor-stator"), static_cast<int>(f["offsets"].size()));
+  EXPECT_EQ(attribute(element_chunk(dom, "data-chart", "sensor-stator"), "data-series"), "offset K|offset K (faulty)");
+}
+
 }  // namespace
 }  // namespace lptn

@@ -20,6 +20,7 @@
 #include "trainer/check/check.hpp"
 #include "trainer/check/sensor_corrections.hpp"
 #include "trainer/data/dataset.hpp"
+#include "trainer/diagnose/diagnose.hpp"
 #include "trainer/model/motor_file.hpp"
 #include "trainer/model/simulate.hpp"
 
@@ -526,6 +527,13 @@ SavedDiagnosis load_diagnosis(const std::filesystem::path& path) {
   }
   if (!j.is_object() || !j.contains("candidates") || !j["candidates"].is_array())
     throw ReportInputError(path.string() + ": no 'candidates' array (expected `lptn diagnose --json` output)");
+  // Format 1 (no format_version) predates the sensor check: it is read, without sensor findings.
+  if (j.contains("format_version")) {
+    const json& v = j["format_version"];
+    if (!v.is_number_integer() || v.get<int>() < 1 || v.get<int>() > diagnose::kDiagnosisFormatVersion)
+      throw ReportInputError(path.string() + ": format_version " + v.dump() + ", this lptn reads diagnosis files of format 1 to " +
+                             std::to_string(diagnose::kDiagnosisFormatVersion) + " (a newer lptn wrote it)");
+  }
   SavedDiagnosis d;
   d.rmse_k = number_or_nan(j, "rmse_k");
   if (j.contains("adequate") && j["adequate"].is_boolean() && j.contains("sensors") && j["sensors"].is_object())

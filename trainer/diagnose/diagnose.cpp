@@ -377,8 +377,24 @@ Diagnosis diagnose(const MotorFile& motor, const ParamVector<double>& calibrated
   for (const Scored& t : terms)
     d.term_scores.push_back({t.effect, std::string(EffectLibrary::kNames[static_cast<std::size_t>(t.effect)]),
                              t.score.statistic, t.score.feasible});
-  for (std::size_t i = 0; i < terms.size() && static_cast<int>(i) < settings.term_refits; ++i)
-    if (terms[i].score.feasible) d.candidates.push_back(examine(motor, terms[i], d, dataset, coarse, split, settings, progress, baseline_blocks));
+  // The best-scoring form of each node's heat, and each other term: the forms of one node's heat
+  // (I^2 f^k, psi^2 f^k, speed^k, power^k) point nearly the same way at their neutral value and
+  // score alike (a missing thermal mass behind the stator core: four stator-core heat forms at 29..32
+  // between the winding's mass at 33 and the core's at 28), so a second form of it would spend a
+  // refit on what the first already asked.
+  std::vector<std::string> groups;
+  int refits = 0;
+  for (const Scored& t : terms) {
+    if (refits >= settings.term_refits) break;
+    if (!t.score.feasible) continue;
+    const auto e = static_cast<std::size_t>(t.effect);
+    const std::string_view name = EffectLibrary::kNames[e];
+    const std::string group = name.starts_with("heat_") ? "heat_" + node_id(t.effect) : std::string(name);
+    if (std::find(groups.begin(), groups.end(), group) != groups.end()) continue;
+    groups.push_back(group);
+    ++refits;
+    d.candidates.push_back(examine(motor, t, d, dataset, coarse, split, settings, progress, baseline_blocks));
+  }
   // The library first: a named effect with its physics and reference is preferred to a generic
   // term that fits as well or a little better (a term with a free exponent contains windage's
   // square law); the dictionary speaks where the library has nothing to say. Each group by refit.

@@ -69,7 +69,8 @@ struct Settings {
   // iterations is crawling along a direction the data barely supports (it is not the one to add),
   // and its verdict rests on where it got. The baseline and --auto's refits get fit_lm's default.
   int refit_iterations = 15;
-  // The dictionary's terms are all scored; this many of the best-scoring are refit and tested.
+  // The dictionary's terms are all scored; this many of the best-scoring are refit and tested (one
+  // form per node's heat: the best-scoring).
   int term_refits = 3;
   int threads = worker_threads();
 };
@@ -187,8 +188,12 @@ Selection select_effects(const MotorFile& motor, const ParamVector<double>& cali
 CalibrationResult updated_calibration(const CalibrationResult& calibration, const MotorFile& motor, const LmReport& fit,
                                       const data::Dataset& dataset, const Split& split, const std::string& note);
 
-// {"rmse_k": ..., "candidates": [{"effect", "statistic", "predicted_rmse_k", "refit_rmse_k",
-// "significant", ...}, ...]}, best first.
+// The diagnosis file's format (lptn diagnose --json, --json-out; docs/diagnosis.md): 2 added the
+// sensor check ("sensor_faults", candidates of kind "sensor"). A reader refuses a newer one.
+inline constexpr int kDiagnosisFormatVersion = 2;
+
+// {"format_version": 2, "rmse_k": ..., "candidates": [{"effect", "statistic", "predicted_rmse_k",
+// "refit_rmse_k", "significant", ...}, ...]}, best first.
 nlohmann::json to_json(const Diagnosis& diagnosis);
 
 }  // namespace lptn::diagnose

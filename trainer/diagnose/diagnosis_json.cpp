@@ -118,6 +118,7 @@ nlohmann::json to_json(const Diagnosis& d) {
   if (const SensorFinding* s = d.sensor_fault()) candidates.push_back(sensor_candidate(d, *s));
   if (d.drift.found) candidates.push_back(drift_candidate(d));
   nlohmann::json j = to_json(d.adequacy);  // "adequate" and "sensors" first: the verdict on the model itself
+  j["format_version"] = kDiagnosisFormatVersion;
   j["rmse_k"] = d.rmse_k;
   j["test_rmse_k"] = number(d.test_rmse_k);
   j["correlation_time_steps"] = d.baseline.correlation_time;

@@ -38,6 +38,11 @@ std::string in_words(int effect, const ParamVector<double>& values) {
     } else if (starts_with(name, "cooling_")) {
       std::snprintf(buf, sizeof buf, "%s with k = %.2f, %+.0f %% at base speed", summary.c_str(),
                     value_of(effect, 1, values), 100 * value_of(effect, 0, values));
+    } else if (starts_with(name, "mass_")) {
+      const double lambda = value_of(effect, 0, values), capacity_kj = value_of(effect, 1, values),
+                   air = value_of(effect, 2, values);
+      std::snprintf(buf, sizeof buf, "%s of %.0f kJ/K, %.0f W/K to it and %.0f W/K to the air (time constant %.0f min)",
+                    summary.c_str(), capacity_kj, lambda, air, capacity_kj * 1000 / (lambda + air) / 60);
     } else if (starts_with(name, "airflow_")) {
       std::snprintf(buf, sizeof buf, "%s: %.2f instead of 0.8", summary.c_str(), 0.8 + value_of(effect, 0, values));
     } else {

@@ -224,8 +224,7 @@ void describe(SensorFinding& f, const std::string& first_cycle) {
   f.finding = std::string(what) + evidence;
   f.calibrate = data::format_sensor_fault(f.fault, first_cycle);
   f.inspect = std::string("the ") + name + " sensor of these cycles: a replaced or re-wired sensor, its transmitter's zero "
-              "and span, its mounting; then calibrate around it (lptn calibrate --sensor-fault " + f.calibrate +
-              ") or on the cycles before it";
+              "and span, its mounting; then calibrate around it (lptn calibrate --sensor-fault) or on the cycles before it";
 }
 
 // Sensor `s` (0 stator, 1 rotor) over the cycles that measure it.

@@ -17,6 +17,13 @@
 //   airflow_<side>_exponent    the side's conductances to air times (V/V_n)^d: eq. 14's exponent
 //                              0.8 changed by d (another flow regime)
 //   path_<node>_<node>         a conductance between two nodes the paper leaves unconnected
+//   mass_<node>                a fifth thermal mass behind the node (a frame or housing behind the
+//                              stator core, a shaft behind the rotor core, end-winding air behind the
+//                              stator winding): its conductance to the node, its capacity and its own
+//                              conductance to the cooling air (scaled with airflow as eq. 14 scales
+//                              the paper's); the slow mode four nodes cannot make. Three, not four:
+//                              with sensor_lag and all three, the states fill kMaxStates, and the
+//                              effect set its 32 bits but one.
 //
 // Terms are appended to the library's list (effects/library.hpp) as one group, after the named
 // effects, so that every existing parameter keeps its index.
@@ -224,6 +231,43 @@ struct Path {
   }
 };
 
+// A thermal mass behind node `Node`: one extra state T_m with
+//     C dT_m/dt = lambda (T_node - T_m) - lambda_air V^0.8 (T_m - T_air)
+// and the node losing lambda (T_node - T_m) to it. At lambda = 0 (neutral) it is disconnected. At
+// the start of a cycle the mass is soaked through at its node's temperature.
+template <int Node>
+struct Mass {
+  static constexpr EffectKind kKind = EffectKind::term;
+  static constexpr int kNode = Node;
+  static constexpr std::string_view kFormula = "C dT_m/dt = lambda (T_node - T_m) - lambda_air (V/V_n)^0.8 (T_m - T_air)";
+  static constexpr FixedText kNameText = join({"mass_", kNodeIds[Node]});
+  static constexpr FixedText kSummaryText = join({"a thermal mass behind the ", kNodeWords[Node]});
+  static constexpr FixedText kConductanceName = join({kNameText.view(), "_lambda"});
+  static constexpr FixedText kCapacityName = join({kNameText.view(), "_capacity"});
+  static constexpr FixedText kAirName = join({kNameText.view(), "_lambda_air"});
+  static constexpr std::string_view kName = kNameText.view();
+  static constexpr std::string_view kSummary = kSummaryText.view();
+  static constexpr int kExtraStates = 1;
+  static constexpr ParamSpec kParams[] = {
+      {kConductanceName.view(), "W/K", 100.0, 0.1, 5000.0, 0.0, "the mass's conductance to its node"},
+      {kCapacityName.view(), "kJ/K", 300.0, 10.0, 50000.0, 300.0, "the mass's heat capacity"},
+      {kAirName.view(), "W/K", 50.0, 0.1, 5000.0, 50.0, "the mass's conductance to the cooling air at nominal airflow"},
+  };
+
+  template <class T, class R>
+  static void apply(const EffectInputs<R>& e, const T* p, const StepConductances<T>&, HeatBalance<T>& sys,
+                    int first_state) {
+    sys.capacitance[first_state] = p[1] * T(1000);
+    sys.path(Node, first_state, p[0]);
+    sys.to_fixed(first_state, p[2] * airflow_factor(e.motor, e.in.airflow_m3s), e.in.ambient_c);
+  }
+
+  template <class T>
+  static void initialize(T* x, int first_state) {
+    x[first_state] = x[Node];
+  }
+};
+
 // Every term, as one entry of the library's list.
 using Dictionary = EffectGroup<
     HeatTerm<kStatorWinding, forms::CurrentFrequency>, HeatTerm<kStatorWinding, forms::FluxFrequency>,
@@ -235,6 +279,7 @@ using Dictionary = EffectGroup<
     HeatTerm<kRotorCore, forms::CurrentFrequency>, HeatTerm<kRotorCore, forms::FluxFrequency>,
     HeatTerm<kRotorCore, forms::Speed>, HeatTerm<kRotorCore, forms::ShaftPower>,
     SpeedCooling<Side::stator>, SpeedCooling<Side::rotor>, AirflowExponent<Side::stator>, AirflowExponent<Side::rotor>,
-    Path<kStatorWinding, kRotorWinding>, Path<kStatorWinding, kRotorCore>, Path<kStatorCore, kRotorWinding>>;
+    Path<kStatorWinding, kRotorWinding>, Path<kStatorWinding, kRotorCore>, Path<kStatorCore, kRotorWinding>,
+    Mass<kStatorCore>, Mass<kRotorCore>, Mass<kStatorWinding>>;
 
 }  // namespace lptn::terms

@@ -346,13 +346,14 @@
     var fault = (d.sensor_faults || []).filter(function (f) { return f.found; })[0];
     var cls = fault ? 'sensor' : drift ? 'drift' : d.adequacy.adequate ? 'adequate' : 'missing';
     var box = el('div', {class: 'verdict ' + cls, 'data-verdict': cls});
+    // A sensor that reads wrong first: while it stands, the verdict on the model is against a faulty
+    // reading, and nothing the model could add is to be trusted.
+    if (fault) box.appendChild(el('p', {'data-finding': 'sensor'}, [el('strong', {}, ['A sensor reads wrong: ']),
+      fault.finding + '. Inspect ' + fault.inspect + '. Nothing is recommended while it stands. Calibrate around it: ',
+      el('code', {}, ['lptn calibrate --sensor-fault ' + fault.calibrate])]));
     box.appendChild(el('p', {}, [el('strong', {}, [d.adequacy.adequate ? 'The model is adequate' : 'Something is missing']),
       d.adequacy.adequate ? ': every measured sensor is within ' + (d.adequacy.adequate_within ? fixed(d.adequacy.adequate_within, 1) + ' times ' : '') + 'its noise.' : ': the model is off by more than its sensors\' noise.']));
     adequacyLines(d.adequacy).forEach(function (line) { box.appendChild(el('p', {}, [line])); });
-    // A sensor that reads wrong first: while it stands, nothing the model could add is to be trusted.
-    if (fault) box.appendChild(el('p', {'data-finding': 'sensor'}, [el('strong', {}, ['Sensor fault: ']),
-      fault.finding + '. Inspect ' + fault.inspect + '. Nothing is recommended while it stands; calibrate around it: ',
-      el('code', {}, ['lptn calibrate --sensor-fault ' + fault.calibrate])]));
     if (drift) box.appendChild(el('p', {}, [el('strong', {}, ['Drift: ']), drift.finding + '. Inspect ' + drift.inspect + '.']));
     if (rec) box.appendChild(el('p', {}, [el('strong', {}, ['Add: ']), rec.effect + ' — ' + rec.words +
       ' (held-out ' + fixed(rec.test_rmse_k_before, 3) + ' → ' + fixed(rec.test_rmse_k_after, 3) + ' K): ',

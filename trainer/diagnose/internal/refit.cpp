@@ -1,5 +1,6 @@
 #include "trainer/diagnose/internal/refit.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -10,6 +11,8 @@
 
 namespace lptn::diagnose::internal {
 namespace {
+
+constexpr int kCrawlPolishIterations = 3;
 
 // "P is +0.97 correlated with Q" for the first flagged pair of parameter `i` with one the model
 // already has, or empty. Two parameters of the effect itself (a term's size and its exponent)
@@ -74,6 +77,11 @@ Refit refit_with(const MotorFile& with_effect, int effect, const ParamVector<dou
     const LmReport on_coarse = fit_lm(with_effect, start, *coarse, train, settings, progress);
     LmSettings polish = settings;
     polish.start_offsets = on_coarse.offsets;
+    // A coarse fit that used up its iterations is crawling along a direction the data barely
+    // supports, and where it got is its verdict's ground (Settings::refit_iterations): the polish
+    // then only takes the grid's bias out, at ten times the cost of a coarse step, instead of
+    // crawling on (a thermal mass's refit on clean data: 15 fine-grid iterations, most of its time).
+    if (!on_coarse.converged) polish.max_iterations = std::min(polish.max_iterations, kCrawlPolishIterations);
     out.fit = fit_lm(with_effect, on_coarse.values, dataset, train, polish, progress);
   } else {
     out.fit = fit_lm(with_effect, start, dataset, train, settings, progress);
