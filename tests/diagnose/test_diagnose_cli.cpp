@@ -64,6 +64,11 @@ TEST(DiagnoseCli, ASensorFaultIsGeneratedCalibratedAroundAndKept) {
   ASSERT_TRUE(c.code == 0 || c.code == 3) << c.err;
   const auto j = nlohmann::json::parse(std::ifstream(cal));
   EXPECT_EQ(j["data"]["sensor_faults"], nlohmann::json::array({"stator:offset:+3.0:cycle_03_intercity"}));
+  // Said, not only kept: on board the sensor still reads that way.
+  bool warned = false;
+  for (const auto& w : j["warnings"]) warned = warned || w["code"] == "sensor_fault";
+  EXPECT_TRUE(warned) << j["warnings"].dump();
+  EXPECT_EQ(c.code, 3) << "status warnings";
   // The readings as the calibration saw them: corrected again, and said.
   const Result k = run("check --data " + data + " --calibration " + cal, t.path());
   EXPECT_NE(k.out.find("readings corrected for the sensor fault the calibration was made around: "

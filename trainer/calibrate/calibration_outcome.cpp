@@ -97,6 +97,14 @@ void judge_outcome(CalibrationResult& r, const std::vector<std::string>& data_fi
   compare_test(r, "stator winding", r.train.stator, r.test.stator);
   compare_test(r, "rotor", r.train.rotor, r.test.rotor);
   for (const std::string& finding : data_findings) r.warnings.push_back({"data", finding, {}});
+  // The fit saw corrected readings; the motor's sensor does not: whatever uses this calibration on
+  // board (lptn export, the firmware's observer, which fuses the stator reading) reads it as it is.
+  for (const std::string& spec : r.sensor_faults)
+    r.warnings.push_back({"sensor_fault",
+                          "calibrated around a sensor fault (" + spec + "): the fit saw the readings corrected; the sensor "
+                          "itself still reads that way until it is fixed or recalibrated, and on board the observer fuses "
+                          "its reading as it is",
+                          {}});
   r.status = failed ? kStatusFailed : (r.warnings.empty() ? kStatusOk : kStatusWarnings);
 }
 
