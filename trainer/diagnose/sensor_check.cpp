@@ -8,7 +8,7 @@
 #include <Eigen/Dense>
 
 #include "hostio/worker_threads.hpp"
-#include "trainer/calibrate/problem.hpp"
+#include "trainer/model/simulate.hpp"
 #include "trainer/diagnose/drift.hpp"
 #include "trainer/diagnose/internal/permutation.hpp"
 
@@ -61,7 +61,7 @@ struct CycleFit {
   double gain[2] = {0, 0};      // the best reading gain (reading over truth, minus one), likewise
   // The cycle's squared error (every sensor) with the initial offsets fitted over the whole cycle
   // and, besides them, one explanation each.
-  double sse_none = 0, sse_offset[2] = {0, 0}, sse_gain[2] = {0, 0}, sse_cooling = 0, sse_losses = 0;
+  double sse_offset[2] = {0, 0}, sse_gain[2] = {0, 0}, sse_cooling = 0, sse_losses = 0;
 };
 
 data::Cycle changed_readings(const data::Cycle& cycle, data::Channel sensor, double scale, double shift) {
@@ -126,7 +126,6 @@ CycleFit fit_cycle(const Model<double>& model, const ParamVector<double>& params
     if (beta_last) *beta_last = beta(k - 1);
     return std::max(0.0, gram(kR0, kR0) - rhs.dot(beta));
   };
-  f.sse_none = least_squares({kStatorCore, kRotorCore}, nullptr);
   for (int s = 0; s < 2; ++s) {
     if (!f.measured[s]) continue;
     double beta = 0;
