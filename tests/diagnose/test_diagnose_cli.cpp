@@ -69,6 +69,16 @@ TEST(DiagnoseCli, ASensorFaultIsGeneratedCalibratedAroundAndKept) {
   for (const auto& w : j["warnings"]) warned = warned || w["code"] == "sensor_fault";
   EXPECT_TRUE(warned) << j["warnings"].dump();
   EXPECT_EQ(c.code, 3) << "status warnings";
+  {
+    // A calibration whose fault cannot be read is named where it is wrong, before any work.
+    nlohmann::json bad = j;
+    bad["data"]["sensor_faults"] = {"stator:offset:3:cycle_03_intercity", "stator:sideways:3:cycle_03_intercity"};
+    std::ofstream((t.path() / "bad.json").string()) << bad.dump(2);
+    const Result r = run("check --data " + data + " --calibration " + (t.path() / "bad.json").string(), t.path());
+    EXPECT_EQ(r.code, 2) << r.err;
+    EXPECT_NE(r.err.find("sensor_faults"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("sideways"), std::string::npos) << r.err;
+  }
   // The readings as the calibration saw them: corrected again, and said.
   const Result k = run("check --data " + data + " --calibration " + cal, t.path());
   EXPECT_NE(k.out.find("readings corrected for the sensor fault the calibration was made around: "

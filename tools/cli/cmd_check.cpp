@@ -51,12 +51,7 @@ bool check_data(const Args& a) {
   const CalibrationResult calibration = load_calibration(a.calibration);
   const std::vector<std::filesystem::path> paths(a.data.begin(), a.data.end());
   data::Dataset dataset = data::load_fleet_dump(paths);
-  std::vector<std::string> corrections;
-  try {
-    corrections = check::correct_as_calibrated(dataset, calibration);
-  } catch (const CalibrationFileError& e) {
-    throw BadInput(a.calibration + ": " + e.what());
-  }
+  const std::vector<std::string> corrections = check::correct_as_calibrated(dataset, calibration);
   if (!a.json)
     for (const std::string& note : corrections) std::printf("%s\n", note.c_str());
   check::Check c;

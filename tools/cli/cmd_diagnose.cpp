@@ -209,12 +209,7 @@ void run(const Args& given) {
   const MotorFile motor = motor_of(calibration);
   std::vector<std::filesystem::path> paths(a.data.begin(), a.data.end());
   data::Dataset dataset = data::load_fleet_dump(paths);
-  std::vector<std::string> corrections;
-  try {
-    corrections = check::correct_as_calibrated(dataset, calibration);
-  } catch (const CalibrationFileError& e) {
-    throw BadInput(a.calibration + ": " + e.what());
-  }
+  const std::vector<std::string> corrections = check::correct_as_calibrated(dataset, calibration);
   // What `lptn inspect --motor` would say of this data and the calibration's motor, repeated once.
   if (group.leads()) print_input_warnings(input_warnings(dataset, motor));
   share_work(dataset, group);

@@ -14,6 +14,7 @@
 #include "trainer/calibrate/internal/sha256.hpp"
 #include "hostio/atomic_file.hpp"
 #include "trainer/model/motor_file.hpp"
+#include "trainer/data/sensor_fault.hpp"
 
 namespace lptn {
 namespace {
@@ -369,7 +370,15 @@ CalibrationResult calibration_from_json(const nlohmann::json& j, const std::stri
   r.split_rule = split["rule"].string();
   r.train_cycles = strings(split["train"]);
   r.test_cycles = strings(split["test"]);
-  if (data.has("sensor_faults")) r.sensor_faults = strings(data["sensor_faults"]);
+  if (data.has("sensor_faults")) {
+    r.sensor_faults = strings(data["sensor_faults"]);
+    // Checked here, once, so that whoever corrects readings with them has only the data to ask.
+    for (std::size_t i = 0; i < r.sensor_faults.size(); ++i) try {
+        data::parse_sensor_fault(r.sensor_faults[i]);
+      } catch (const std::invalid_argument& e) {
+        data["sensor_faults"].at(i).fail(e.what());
+      }
+  }
 
   const JsonField metrics = root["metrics"];
   r.train = read_split(metrics["train"]);

@@ -9,12 +9,7 @@ namespace lptn::check {
 std::vector<std::string> correct_as_calibrated(data::Dataset& dataset, const CalibrationResult& calibration) {
   std::vector<std::string> said;
   for (const std::string& spec : calibration.sensor_faults) {
-    data::SensorFaultSpec parsed;
-    try {
-      parsed = data::parse_sensor_fault(spec);
-    } catch (const std::invalid_argument& e) {
-      throw CalibrationFileError(std::string("the calibration's data.sensor_faults: ") + e.what());
-    }
+    const data::SensorFaultSpec parsed = data::parse_sensor_fault(spec);  // load_calibration checked it
     data::SensorFault fault;
     try {
       fault = data::resolve(parsed, dataset);
