@@ -4,11 +4,11 @@
 #include <cmath>
 #include <cstdio>
 #include <numeric>
-#include <random>
 #include <thread>
 
 #include "hostio/worker_threads.hpp"
 #include "trainer/calibrate/problem.hpp"
+#include "trainer/model/cooling_factor.hpp"
 #include "trainer/diagnose/internal/permutation.hpp"
 
 namespace lptn::diagnose {
@@ -26,6 +26,25 @@ double squared_error(const Model<double>& model, const ParamVector<double>& p, c
   for (const ErrorMetrics* e : {&m.stator, &m.rotor})
     if (e->samples) sse += e->rmse_k * e->rmse_k * static_cast<double>(e->samples);
   return sse;
+}
+
+// The factor of the group that fits `cycle` best, the other parameters at `p`.
+double best_factor(const Model<double>& model, const ParamVector<double>& p, DriftGroup g, const data::Cycle& cycle) {
+  constexpr double kInvPhi = 0.6180339887498949;
+  double a = kMinLogFactor, b = kMaxLogFactor;
+  double x1 = b - kInvPhi * (b - a), x2 = a + kInvPhi * (b - a);
+  auto f = [&](double y) { return squared_error(model, scaled_group(p, g, std::exp(y)), cycle); };
+  double f1 = f(x1), f2 = f(x2);
+  for (int it = 0; it < kGoldenIterations; ++it) {
+    if (f1 <= f2) {
+      b = x2, x2 = x1, f2 = f1;
+      x1 = b - kInvPhi * (b - a), f1 = f(x1);
+    } else {
+      a = x1, x1 = x2, f1 = f2;
+      x2 = a + kInvPhi * (b - a), f2 = f(x2);
+    }
+  }
+  return std::exp(0.5 * (a + b));
 }
 
 struct Statistic {
@@ -87,32 +106,10 @@ std::string span(const std::vector<std::string>& cycles) {
 const char* to_string(DriftGroup g) { return g == DriftGroup::cooling ? "cooling" : "losses"; }
 
 ParamVector<double> scaled_group(const ParamVector<double>& p, DriftGroup g, double c) {
+  if (g == DriftGroup::cooling) return with_cooling_factor(p, c);
   ParamVector<double> out = p;
-  if (g == DriftGroup::cooling) {
-    for (int i : kConductancesToAir) out[i] *= c;
-  } else {
-    for (int i : {kKStemp, kKRtemp}) out[i] *= c;
-  }
+  for (int i : {kKStemp, kKRtemp}) out[i] *= c;
   return out;
-}
-
-CycleFactor best_cycle_factor(const Model<double>& model, const ParamVector<double>& p, DriftGroup g,
-                              const data::Cycle& cycle) {
-  constexpr double kInvPhi = 0.6180339887498949;
-  double a = kMinLogFactor, b = kMaxLogFactor;
-  double x1 = b - kInvPhi * (b - a), x2 = a + kInvPhi * (b - a);
-  auto f = [&](double y) { return squared_error(model, scaled_group(p, g, std::exp(y)), cycle); };
-  double f1 = f(x1), f2 = f(x2);
-  for (int it = 0; it < kGoldenIterations; ++it) {
-    if (f1 <= f2) {
-      b = x2, x2 = x1, f2 = f1;
-      x1 = b - kInvPhi * (b - a), f1 = f(x1);
-    } else {
-      a = x1, x1 = x2, f1 = f2;
-      x2 = a + kInvPhi * (b - a), f2 = f(x2);
-    }
-  }
-  return {cycle.name, std::exp(0.5 * (a + b)), std::min(f1, f2)};
 }
 
 Drift find_drift(const Model<double>& model, const ParamVector<double>& params, const data::Dataset& dataset,
@@ -122,7 +119,7 @@ Drift find_drift(const Model<double>& model, const ParamVector<double>& params, 
   const std::size_t n = dataset.cycles.size();
   d.factors.resize(n);
   parallel_for(n, threads, [&](std::size_t i) {
-    d.factors[i] = best_cycle_factor(model, params, group, dataset.cycles[i]);
+    d.factors[i] = {dataset.cycles[i].name, best_factor(model, params, group, dataset.cycles[i])};
   });
   if (n < 4) return d;
 

@@ -41,7 +41,6 @@ const char* to_string(DriftGroup g);
 struct CycleFactor {
   std::string cycle;
   double factor = 1;
-  double sse_k2 = 0;  // the cycle's squared error at that factor (every measured sensor), K^2
 };
 
 struct Drift {
@@ -64,11 +63,6 @@ Drift find_drift(const Model<double>& model, const ParamVector<double>& params, 
 
 // `params` with the group's parameters times `factor`.
 ParamVector<double> scaled_group(const ParamVector<double>& params, DriftGroup group, double factor);
-
-// The factor of `group` that fits `cycle` best (the other parameters at `params`), and the cycle's
-// squared error there.
-CycleFactor best_cycle_factor(const Model<double>& model, const ParamVector<double>& params, DriftGroup group,
-                              const data::Cycle& cycle);
 
 // {"group", "found", "shape", "p_value", "change", "cycles", "finding", "inspect",
 //  "factors": [{"cycle", "factor"}]}
