@@ -231,24 +231,35 @@ int run_live(const Options& o) {
   }
   const int signals = stop_signals_fd();
   const int timer = timerfd_create(CLOCK_MONOTONIC, TFD_CLOEXEC | TFD_NONBLOCK);
-  const auto config = make_config(o);
-  const TimeUs dt_us = static_cast<TimeUs>(config.observer.dt_s * kUsPerS + 0.5);
-  const TimeUs period_ns = static_cast<TimeUs>(static_cast<double>(dt_us) * 1000.0 / o.time_scale);
-  itimerspec spec{};
-  spec.it_interval.tv_sec = static_cast<time_t>(period_ns / 1000000000);
-  spec.it_interval.tv_nsec = static_cast<long>(period_ns % 1000000000);
-  spec.it_value = spec.it_interval;
-  if (signals < 0 || timer < 0 || timerfd_settime(timer, 0, &spec, nullptr) != 0) {
+  if (signals < 0 || timer < 0) {
     std::fprintf(stderr, "lptn-daemon: error: timer or signal set-up failed: %s\n", std::strerror(errno));
     return 1;
   }
+  const auto config = make_config(o);
+  const TimeUs dt_us = static_cast<TimeUs>(config.observer.dt_s * kUsPerS + 0.5);
+  const TimeUs period_ns = static_cast<TimeUs>(static_cast<double>(dt_us) * 1000.0 / o.time_scale);
   std::fprintf(stderr, "lptn-daemon: %s, calibration %s of %s (%s), tick %lld ms, time scale %g\n",
                log ? o.log.c_str() : o.interface.c_str(), lptn::calibration::kMethod, lptn::calibration::kMotorName,
                lptn::calibration::kCreatedUtc, static_cast<long long>(dt_us / 1000), o.time_scale);
 
   lptn::fw::Estimator<double> estimator(config);
   PacedLog paced = log ? PacedLog(log, o.log.c_str()) : PacedLog(nullptr, "");
+  // The ticks' clock and the frames' clock share one origin: the timer is armed at `start`
+  // itself (absolute), so tick k fires at start + (k + 1) period. Armed before the set-up above,
+  // the ticks ran ahead of the frames' time stamps by however long the set-up took, times the
+  // time scale: on a loaded machine at --time-scale 10 more than an input's timeout, which left
+  // that input stale and the estimator uninitialised for the whole run.
   const TimeUs start = monotonic_us();
+  itimerspec spec{};
+  spec.it_interval.tv_sec = static_cast<time_t>(period_ns / 1000000000);
+  spec.it_interval.tv_nsec = static_cast<long>(period_ns % 1000000000);
+  const TimeUs first_ns = start * 1000 + period_ns;
+  spec.it_value.tv_sec = static_cast<time_t>(first_ns / 1000000000);
+  spec.it_value.tv_nsec = static_cast<long>(first_ns % 1000000000);
+  if (timerfd_settime(timer, TFD_TIMER_ABSTIME, &spec, nullptr) != 0) {
+    std::fprintf(stderr, "lptn-daemon: error: timer set-up failed: %s\n", std::strerror(errno));
+    return 1;
+  }
   auto now = [&] { return static_cast<TimeUs>(static_cast<double>(monotonic_us() - start) * o.time_scale); };
   const TimeUs stop_at = o.duration_s > 0 ? static_cast<TimeUs>(o.duration_s * kUsPerS) : -1;
   // Tick k stands for the time the timer fired, (k + 1) dt after start; a log's ticks start at its

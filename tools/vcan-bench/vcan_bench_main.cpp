@@ -88,6 +88,8 @@ struct Comparison {
   double sum_sq[kNumNodes]{};
   double bound_used = 0;  // max over ticks and nodes of |difference| / allowed
   std::size_t status_frames = 0;
+  std::size_t uninitialized = 0;  // status frames saying "not initialised"
+  unsigned stale_while_uninitialized = 0;  // the stale inputs those frames named, bit per input
 };
 
 // The daemon's recording: each tick sends temperatures, ..., innovation (whose ObserverTicks
@@ -111,7 +113,14 @@ Comparison compare(const fs::path& recording, const std::vector<ReplayRow>& repl
         f.id = fw::kOutputFrames[k].dbc.id;  // the DBC's id, which the codecs know it by
         break;
       }
-    if (f.id == can::LptnStatus::kId) ++c.status_frames;
+    if (f.id == can::LptnStatus::kId) {
+      ++c.status_frames;
+      can::LptnStatus st;
+      if (st.unpack(f.data, f.len) && st.mode == static_cast<std::uint8_t>(can::LptnStatus::Mode::not_initialized)) {
+        ++c.uninitialized;
+        c.stale_while_uninitialized |= st.stale_inputs;
+      }
+    }
     if (f.id == can::LptnTemperatures::kId) {
       can::LptnTemperatures t;
       if (!t.unpack(f.data, f.len)) continue;
@@ -295,10 +304,15 @@ void add_options(CLI::App& app) {
     }
     std::printf("   largest difference against what is allowed (%g K + %g sigma): %.0f %%\n", args->tolerance_k,
                 args->tolerance_sigma, 100 * c.bound_used);
+    std::printf("   status frames %zu, of them %zu not initialised (stale inputs then: mask 0x%03x)\n", c.status_frames,
+                c.uninitialized, c.stale_while_uninitialized);
     const bool enough = static_cast<double>(c.compared) >= 0.95 * static_cast<double>(replay.size());
     if (!enough)
       throw std::runtime_error("only " + std::to_string(c.compared) + " of " + std::to_string(replay.size()) +
-                               " replay ticks were matched by the daemon's frames (see " + (share / "console.log").string() + ")");
+                               " replay ticks were matched by the daemon's frames; " + std::to_string(c.uninitialized) +
+                               " of its " + std::to_string(c.status_frames) +
+                               " status frames said not initialised (see " + (share / "daemon.err").string() + " and " +
+                               (share / "console.log").string() + ")");
     if (!(c.bound_used <= 1.0))
       throw std::runtime_error("the daemon's estimates differ from the replay's beyond the tolerance (" +
                                std::to_string(100 * c.bound_used) + " % of it)");
