@@ -9,6 +9,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <stdexcept>
 
 #include "fixture.hpp"
 #include "sound_candidates.hpp"
@@ -26,7 +27,10 @@ diagnose::Settings settings() {
 void print(const char* label, const diagnose::Diagnosis& d) {
   std::printf("%s: adequate %s; test RMSE (both sensors) %.3f K\n", label, d.adequacy.adequate ? "yes" : "no",
               d.test_rmse_k);
-  for (const diagnose::SensorAdequacy& s : d.adequacy.sensors) std::printf("  %s\n", diagnose::describe(s).c_str());
+  for (const diagnose::SensorAdequacy& s : d.adequacy.sensors) {
+    std::printf("  %s\n", diagnose::describe(s).c_str());
+    if (!s.adequate) std::printf("    shape: %s\n", diagnose::shape_in_words(s).c_str());
+  }
   if (d.drift.found) std::printf("  drift: %s\n", d.drift.finding.c_str());
   // The motor's physics, never its sensor: no hidden physics here is a sensor fault.
   for (const diagnose::SensorFinding& s : d.sensors) std::printf("  %s sensor: %s\n", data::sensor_name(s.sensor), s.finding.c_str());
@@ -38,6 +42,12 @@ void print(const char* label, const diagnose::Diagnosis& d) {
   const diagnose::Candidate* best = d.best();
   std::printf("  recommended: %s\n", best ? best->name.c_str() : "nothing");
   diagnose::expect_sound_candidates(d, label);
+}
+
+const diagnose::SensorAdequacy& stator(const diagnose::Diagnosis& d) {
+  for (const diagnose::SensorAdequacy& s : d.adequacy.sensors)
+    if (s.sensor == "stator") return s;
+  throw std::runtime_error("no stator sensor");
 }
 
 // The diagnosis of the model with `c` added, at its refit values.
@@ -54,6 +64,9 @@ TEST(HiddenPhysics, AnExtraLossIsFoundAsATermOnItsNodeAndHalvesTheHeldOutError) 
   print("eddy_loss", d);
   EXPECT_FALSE(d.adequacy.adequate);
   EXPECT_FALSE(d.drift.found);
+  // The residual's shape, what a user reads where no candidate explains it: a missing heat source.
+  EXPECT_NE(diagnose::shape_in_words(stator(d)).find("a heat source on this side"), std::string::npos)
+      << diagnose::shape_in_words(stator(d));
   const diagnose::Candidate* best = d.best();
   ASSERT_NE(best, nullptr);
   EXPECT_EQ(best->kind, EffectKind::term);
@@ -106,6 +119,9 @@ TEST(HiddenPhysics, AFifthThermalMassIsFoundAsAMassOnTheStatorSide) {
   const diagnose::Diagnosis d = diagnose::diagnose(g->motor, g->calibrated.values, g->dataset, g->split, settings());
   print("frame_mass", d);
   EXPECT_FALSE(d.adequacy.adequate);
+  // The residual's shape: a slow mode, worded as a mass the model lacks.
+  EXPECT_GE(stator(d).shape.correlation_time_s, diagnose::kSlowResidualS);
+  EXPECT_NE(diagnose::shape_in_words(stator(d)).find("mass_"), std::string::npos) << diagnose::shape_in_words(stator(d));
   const diagnose::Candidate* best = d.best();
   ASSERT_NE(best, nullptr);
   ASSERT_EQ(best->name, "mass_stator_core");

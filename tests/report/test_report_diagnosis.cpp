@@ -90,6 +90,7 @@ int points(const std::string& dom, const std::string& chart) {
 // An extra stator loss no library effect models (eddy currents, ~I^2 f^2): the verdict opens the
 // page, names the term diagnose recommends and how to add it, and that term's evidence shows the
 // stator's residual falling as the term's predicted change rises (slope near -1), the rotor's not.
+// Without the recommendation, the box says what the stator residual's shape suggests instead.
 TEST(ReportDiagnosis, AMissingTermOpensThePageAndItsEvidenceFollowsIt) {
   TempDir t;
   const Rendered r = diagnose_and_render(t, "--cycles 8 --seed 3 --plant eddy_loss --minutes-min 20 --minutes-max 25");
@@ -123,6 +124,31 @@ TEST(ReportDiagnosis, AMissingTermOpensThePageAndItsEvidenceFollowsIt) {
       EXPECT_GT(k, -1.5);
     }
   }
+  EXPECT_EQ(element_chunk(verdict, "data-shape", "stator"), "") << "shape words beside a recommendation";
+
+  // Where no candidate explains the residual, the box says what its shape suggests, per sensor that
+  // is not adequate: the same diagnosis with its recommendation taken back (as one whose candidates
+  // all failed would read), rendered again.
+  const std::string words = r.diagnosis["sensors"]["stator"]["shape"]["words"];
+  ASSERT_GT(words.size(), 60u) << "diagnose gave the failing stator no shape words";
+  EXPECT_EQ(r.diagnosis["sensors"]["rotor"]["shape"]["words"], "") << "an adequate sensor is worded";
+  nlohmann::json unexplained = r.diagnosis;
+  for (auto& c : unexplained["candidates"]) c["recommended"] = false;
+  const fs::path d = t.path();
+  std::ofstream(d / "unexplained.json") << unexplained.dump();
+  const auto rep = run("report --data " + (d / "data").string() + " --calibration " + (d / "cal.json").string() +
+                           " --diagnosis " + (d / "unexplained.json").string() + " --out " + (d / "unexplained.html").string(), d);
+  ASSERT_EQ(rep.code, 0) << rep.err;
+  const std::string dom = testing::dump_dom(d / "unexplained.html", d / "chromium2.log");
+  EXPECT_EQ(testing::page_errors(dom), "") << "JavaScript errors on the page";
+  const std::string box = verdict_box(dom, "missing");
+  ASSERT_NE(box, "") << "no verdict box at the top";
+  EXPECT_EQ(box.find("lptn calibrate --effect"), std::string::npos) << "a recommendation shown";
+  const std::string shape = element_chunk(box, "data-shape", "stator");
+  ASSERT_NE(shape, "") << box.substr(0, 3000);
+  // The page capitalises the first letter; then diagnose's words (their start: no HTML escapes).
+  EXPECT_NE(shape.find(words.substr(1, 60)), std::string::npos) << shape.substr(0, 800);
+  EXPECT_EQ(element_chunk(box, "data-shape", "rotor"), "");
 }
 
 // Cooling that weakens over the dump: the page opens on the drift, and its chart marks the cycles

@@ -92,6 +92,13 @@ nlohmann::json provenance_json(const CalibrationResult& c, const check::Provenan
           {"refit_iterations", d.baseline.iterations}};
 }
 
+// Where nothing explains the residual: what its shape suggests, per sensor that is not adequate.
+void print_shapes(const diagnose::Diagnosis& d) {
+  for (const diagnose::SensorAdequacy& s : d.adequacy.sensors)
+    if (const std::string words = diagnose::shape_in_words(s); !words.empty())
+      std::printf("  what the shape suggests: %s.\n", words.c_str());
+}
+
 void print_table(const diagnose::Diagnosis& d, double level) {
   std::printf("the baseline refit from the calibration's values (%d LM iterations) on the training cycles: "
               "training RMSE %.3f K (stator %s K), test stator %s K; %.0f effective residuals (correlation time %.1f steps)\n",
@@ -117,6 +124,7 @@ void print_table(const diagnose::Diagnosis& d, double level) {
   if (d.candidates.empty()) {
     std::printf("every effect of the library and term of the dictionary is already in the model%s\n",
                 d.adequacy.adequate ? "" : ", and something is still missing: it is none of them");
+    if (!fault && !d.drift.found) print_shapes(d);
     return;
   }
   std::printf("%-34s %10s %9s %21s %21s %21s  %s\n", "effect or term", "score", "pred. K", "LR / threshold",
@@ -169,10 +177,12 @@ void print_table(const diagnose::Diagnosis& d, double level) {
   else if (d.drift.found)
     std::printf("Nothing is recommended: the dump drifts (above). Calibrate on the cycles before the change, or "
                 "find its cause first.\n");
-  else if (any_significant)
+  else if (any_significant) {
     std::printf("Nothing is recommended: no significant candidate has its size pinned and lowers the held-out "
                 "error (above).%s\n",
                 d.adequacy.adequate ? "" : " The model is not adequate: something is missing that they do not explain.");
+    print_shapes(d);
+  }
   else if (d.adequacy.adequate)
     std::printf("No effect of the library and no term of the dictionary improves the fit significantly "
                 "(likelihood ratio at level %g, block test at %g), and the model is adequate: this data gives "
@@ -182,6 +192,7 @@ void print_table(const diagnose::Diagnosis& d, double level) {
                 "ratio at level %g, block test at %g), yet the model is not adequate: something is missing that "
                 "none of them explains. lptn report shows where the residual lies (cycles, operating regions, the "
                 "inputs it follows).\n", level, diagnose::Settings{}.block_level);
+  if (!recommended && !fault && !d.drift.found && !any_significant && !d.adequacy.adequate) print_shapes(d);
 }
 
 void run(const Args& given) {

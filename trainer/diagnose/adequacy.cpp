@@ -42,7 +42,7 @@ CycleFinding examine(const Model<double>& model, const ParamVector<double>& para
     std::vector<float> r(cycle.steps);
     for (std::size_t k = 0; k < cycle.steps; ++k) r[k] = m[k] - cycle.at(kSensors[s].channel, k);
     f.noise[s] = sensor_noise(r, reading_period(dataset, cycle, kSensors[s].channel));
-    f.where[s] = internal::where_sums(cycle, r, edges);
+    f.where[s] = internal::where_sums(cycle, kSensors[s].channel, r, edges);
   }
   return f;
 }
@@ -95,6 +95,7 @@ Adequacy assess_adequacy(const Model<double>& model, const ParamVector<double>& 
     v.unexplained = worst > 0 ? std::max(0.0, 1 - v.noise_k * v.noise_k / (worst * worst)) : 0.0;
     v.adequate = !(worst > bound);  // a NaN noise (too few readings) judges nothing
     v.where = internal::where(where, edges);
+    v.shape = internal::shape(where);
     std::vector<std::pair<double, std::string>> beyond;
     for (const auto* side : {&train, &test})
       for (const CycleFinding& f : *side)
@@ -125,6 +126,13 @@ nlohmann::json to_json(const Adequacy& adequacy) {
         s.where.region.empty() ? nlohmann::json(nullptr)
                                : nlohmann::json{{"name", s.where.region}, {"rmse_k", s.where.region_rmse_k},
                                                 {"share", s.where.region_share}};
+    sensors[s.sensor]["shape"] = {{"correlation_time_s", number(s.shape.correlation_time_s)},
+                                  {"correlation_time_at_least", s.shape.correlation_time_at_least},
+                                  {"mean_k", number(s.shape.mean_k)},
+                                  {"with_warming", number(s.shape.with_warming)},
+                                  {"with_rise", number(s.shape.with_rise)},
+                                  {"effective_readings", number(s.shape.effective_readings)},
+                                  {"words", shape_in_words(s)}};
   }
   return {{"adequate", adequacy.adequate}, {"adequate_within", kAdequateRatio}, {"sensors", sensors}};
 }
@@ -147,7 +155,89 @@ std::string where_words(const Where& w) {
   return out;
 }
 
+std::string minutes(double seconds) {
+  char s[32];
+  if (seconds < 90)
+    std::snprintf(s, sizeof s, "%.0f s", seconds);
+  else
+    std::snprintf(s, sizeof s, "%.0f min", seconds / 60);
+  return s;
+}
+
+// What a residual that follows an input says, by the input: its sign is model - measured.
+std::string input_words(const Follows& f) {
+  const bool too_cold = f.correlation < 0;  // the model falls behind as the input rises
+  if (f.input == "airflow")
+    return too_cold ? "the model cools too well as the airflow rises: a cooling that grows less with airflow than "
+                      "modelled"
+                    : "the model is too hot when the airflow is high: a cooling that grows more with airflow than "
+                      "modelled";
+  if (f.input == "ambient")
+    return too_cold ? "the model falls behind as the ambient rises: the cooling air warms on its way (recirculation, "
+                      "a warmer intake), or a heat source that grows with ambient"
+                    : "the model runs ahead as the ambient rises: the cooling air is cooler than the ambient sent";
+  return too_cold ? "heat that grows with " + f.input + " is missing, or the model's share of it is too small"
+                  : "the model puts too much heat with " + f.input + ", or a cooling that grows with " + f.input +
+                        " is missing";
+}
+
 }  // namespace
+
+double least_telling_correlation(const Shape& shape) {
+  return std::max(internal::kFollowMin, 2 / std::sqrt(std::max(shape.effective_readings, 1.0)));
+}
+
+std::string shape_in_words(const SensorAdequacy& s) {
+  if (s.adequate || !std::isfinite(s.shape.correlation_time_s)) return "";
+  const Shape& sh = s.shape;
+  char part[256];
+  std::snprintf(part, sizeof part, "the %s residual (model - measured) averages %+.2f K and stays correlated for %s%s",
+                s.sensor.c_str(), sh.mean_k, sh.correlation_time_at_least ? "more than " : "",
+                minutes(sh.correlation_time_s).c_str());
+  std::string out = part;
+  // Faster than any node (the winding's time constant is minutes): the sensor's doing.
+  if (sh.correlation_time_s < kFastResidualS)
+    return out + ": faster than any node of the model, so not the motor's heat: the sensor's own dynamics (a lag, a "
+                 "filter, a slow sampling) or interference on its line";
+  const double follow_min = least_telling_correlation(sh);
+  const Follows* input = s.where.follows.empty() ? nullptr : &s.where.follows.front();
+  const double input_r = input ? std::abs(input->correlation) : 0;
+  if (std::abs(sh.with_warming) >= follow_min && std::abs(sh.with_warming) >= input_r) {
+    std::snprintf(part, sizeof part, "; it follows the sensor's own rate of warming (r = %+.2f)", sh.with_warming);
+    out += part;
+    // Either sign has two readings: a calibration absorbs what its parameters can, so the phase
+    // left over does not tell a missing store from a missing source by itself.
+    return out + (sh.with_warming > 0
+                      ? ": the model warms and cools faster than the motor: heat stored where the model has no mass "
+                        "(a frame, a housing: a thermal mass, mass_* in the dictionary), or heat the model puts on "
+                        "this side while loaded that the motor does not have"
+                      : ": the model warms more slowly than the motor under load: a heat source on this side the "
+                        "model lacks, or a capacity larger than the motor's");
+  }
+  if (input && input_r >= follow_min) {
+    std::snprintf(part, sizeof part, "; it follows %s (r = %+.2f, through a %.0f-min lag): ", input->input.c_str(),
+                  input->correlation, internal::kFollowTauS / 60);
+    return out + part + input_words(*input);
+  }
+  if (std::abs(sh.with_rise) >= follow_min) {
+    std::snprintf(part, sizeof part, "; it follows the sensor's rise over ambient (r = %+.2f)", sh.with_rise);
+    out += part;
+    return out + (sh.with_rise < 0 ? ": the model falls behind as the motor gets hot: a loss that grows with "
+                                     "temperature, or a cooling that weakens when hot"
+                                   : ": the model runs ahead as the motor gets hot: a cooling that grows with "
+                                     "temperature (free convection, radiation) is missing");
+  }
+  std::snprintf(part, sizeof part,
+                "; nothing it was compared with (the inputs, its warming, its temperature) follows it beyond chance "
+                "(|r| < %.2f on its %.0f independent samples)",
+                follow_min, sh.effective_readings);
+  out += part;
+  return out + (sh.correlation_time_s >= kSlowResidualS
+                    ? ": a slow mode the model lacks: heat stored in a mass it "
+                      "does not have (a frame, a housing: mass_* in the dictionary), a cooling that changes within "
+                      "the cycles, or a start the model gets wrong"
+                    : ": compare its cycles and operating regions in lptn report");
+}
 
 std::string describe(const SensorAdequacy& s) {
   const bool test_worse = !std::isnan(s.test_rmse_k) && s.test_rmse_k >= s.train_rmse_k;

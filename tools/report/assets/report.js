@@ -358,9 +358,16 @@
     if (rec) box.appendChild(el('p', {}, [el('strong', {}, ['Add: ']), rec.effect + ' — ' + rec.words +
       ' (held-out ' + fixed(rec.test_rmse_k_before, 3) + ' → ' + fixed(rec.test_rmse_k_after, 3) + ' K): ',
       el('code', {}, ['lptn calibrate --effect ' + rec.effect])]));
-    else if (!d.adequacy.adequate && !drift && !fault)
+    else if (!d.adequacy.adequate && !drift && !fault) {
       box.appendChild(el('p', {}, ['No effect of the library and no term of the dictionary explains it: see ',
         el('a', {href: '#failures'}, ['where it fails']), ' (cycles, operating regions, the inputs the residual follows).']));
+      // What each failing sensor's residual looks like in time (diagnose's shape_in_words).
+      Object.keys(d.adequacy.sensors).forEach(function (key) {
+        var shape = d.adequacy.sensors[key].shape;
+        if (shape && shape.words) box.appendChild(el('p', {'data-shape': key}, [el('strong', {}, ['What its shape suggests: ']),
+          shape.words.charAt(0).toUpperCase() + shape.words.slice(1) + '.']));
+      });
+    }
     parent.appendChild(box);
   }
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <numbers>
 
 namespace lptn::diagnose::internal {
 namespace {
@@ -40,7 +41,85 @@ std::string range(const char* word, const char* what, const std::array<double, 2
   return s;
 }
 
+constexpr double kOneOverE = 1 / std::numbers::e;
+
+// Pearson's correlation from sums (NaN with fewer than 10 pairs or no variance).
+double correlation(double n, double sx, double sxx, double sxy, double sy, double syy) {
+  if (n < 10) return NAN;
+  const double vx = sxx - sx * sx / n, vy = syy - sy * sy / n;
+  if (!(vx > 0) || !(vy > 0)) return NAN;
+  return (sxy - sx * sy / n) / std::sqrt(vx * vy);
+}
+
+// The residual and the sensor's reading at 1 Hz (the last reading at or before each second: a
+// sensor read more slowly repeats its value, which the lags of its own period then show).
+void add_shape_sums(WhereSums& s, const data::Cycle& cycle, Channel sensor, const std::vector<float>& residual) {
+  const std::size_t every = one_hertz(cycle);
+  const std::size_t n = std::min(cycle.steps, residual.size()) / every;
+  std::vector<double> r(n, NAN), y(n, NAN);
+  double last_y = NAN;
+  for (std::size_t i = 0, k = 0; i < n; ++i) {
+    for (; k <= i * every; ++k)
+      if (const double v = cycle.at(sensor, k); std::isfinite(v)) last_y = v;
+    r[i] = residual[i * every];
+    y[i] = last_y;
+  }
+  for (std::size_t l = 0; l < kShapeLagsS.size(); ++l) {
+    const auto lag = static_cast<std::size_t>(std::lround(kShapeLagsS[l] / (static_cast<double>(every) * cycle.dt_s)));
+    if (lag == 0) continue;
+    for (std::size_t i = 0; i + lag < n; ++i) {
+      const double a = r[i], b = r[i + lag];
+      if (!std::isfinite(a) || !std::isfinite(b)) continue;
+      s.lag_n[l] += 1, s.lag_sa[l] += a, s.lag_sb[l] += b, s.lag_sab[l] += a * b;
+    }
+  }
+  const auto window = static_cast<std::size_t>(std::lround(kWarmingWindowS / (static_cast<double>(every) * cycle.dt_s)));
+  for (std::size_t i = 0; i < n; ++i) {
+    const double res = r[i];
+    if (!std::isfinite(res)) continue;
+    if (i >= window && std::isfinite(y[i]) && std::isfinite(y[i - window])) {
+      const double w = (y[i] - y[i - window]) / (kWarmingWindowS / 60.0);  // K/min
+      s.nw += 1, s.sw += w, s.sww += w * w, s.swr += w * res, s.srw += res, s.srrw += res * res;
+    }
+    const double ambient = cycle.at(Channel::ambient_c, i * every);
+    if (std::isfinite(y[i]) && std::isfinite(ambient)) {
+      const double u = y[i] - ambient;
+      s.nu += 1, s.su += u, s.suu += u * u, s.sur += u * res, s.sru += res, s.srru += res * res;
+    }
+  }
+}
+
 }  // namespace
+
+Shape shape(const WhereSums& s) {
+  Shape out;
+  out.mean_k = s.n > 0 ? s.sr / s.n : NAN;
+  out.with_warming = correlation(s.nw, s.sw, s.sww, s.swr, s.srw, s.srrw);
+  out.with_rise = correlation(s.nu, s.su, s.suu, s.sur, s.sru, s.srru);
+  // The autocorrelation about the pooled mean, against the pooled variance: an offset that differs
+  // between cycles counts as slow, which it is.
+  const double mean = out.mean_k, var = s.n > 1 ? s.srr / s.n - mean * mean : NAN;
+  out.correlation_time_s = NAN;
+  if (!(var > 0)) return out;
+  double prev_lag = 0, prev_rho = 1;
+  for (std::size_t l = 0; l < kShapeLagsS.size(); ++l) {
+    if (s.lag_n[l] < 30) break;  // too few pairs this far apart: the cycles are shorter
+    const double rho = (s.lag_sab[l] / s.lag_n[l] - mean * (s.lag_sa[l] + s.lag_sb[l]) / s.lag_n[l] + mean * mean) / var;
+    if (rho < kOneOverE) {
+      // Linear between the last lag above 1/e and this one.
+      out.correlation_time_s = prev_lag + (kShapeLagsS[l] - prev_lag) * (prev_rho - kOneOverE) / (prev_rho - rho);
+      out.effective_readings = s.n / std::max(1.0, 2 * out.correlation_time_s);
+      return out;
+    }
+    prev_lag = kShapeLagsS[l], prev_rho = rho;
+  }
+  if (prev_lag > 0) {
+    out.correlation_time_s = prev_lag;
+    out.correlation_time_at_least = true;
+  }
+  out.effective_readings = s.n / std::max(1.0, 2 * out.correlation_time_s);  // readings at 1 Hz
+  return out;
+}
 
 RegionEdges region_edges(const data::Dataset& dataset, const std::vector<std::size_t>& cycles) {
   RegionEdges e;
@@ -79,6 +158,10 @@ RegionEdges region_edges(const data::Dataset& dataset, const std::vector<std::si
 
 WhereSums& WhereSums::operator+=(const WhereSums& o) {
   n += o.n, sr += o.sr, srr += o.srr;
+  for (std::size_t i = 0; i < kShapeLagsS.size(); ++i)
+    lag_n[i] += o.lag_n[i], lag_sa[i] += o.lag_sa[i], lag_sb[i] += o.lag_sb[i], lag_sab[i] += o.lag_sab[i];
+  nw += o.nw, sw += o.sw, sww += o.sww, swr += o.swr, srw += o.srw, srrw += o.srrw;
+  nu += o.nu, su += o.su, suu += o.suu, sur += o.sur, sru += o.sru, srru += o.srru;
   for (std::size_t i = 0; i < kFollowInputs; ++i) {
     n_in[i] += o.n_in[i], sx[i] += o.sx[i], sxx[i] += o.sxx[i], sxr[i] += o.sxr[i];
     sr_in[i] += o.sr_in[i], srr_in[i] += o.srr_in[i];
@@ -87,8 +170,10 @@ WhereSums& WhereSums::operator+=(const WhereSums& o) {
   return *this;
 }
 
-WhereSums where_sums(const data::Cycle& cycle, const std::vector<float>& residual, const RegionEdges& edges) {
+WhereSums where_sums(const data::Cycle& cycle, Channel sensor, const std::vector<float>& residual,
+                     const RegionEdges& edges) {
   WhereSums s;
+  add_shape_sums(s, cycle, sensor, residual);
   std::array<double, kFollowInputs> lagged{};
   std::array<bool, kFollowInputs> started{};
   const double alpha = std::min(1.0, cycle.dt_s / kFollowTauS);
@@ -120,11 +205,7 @@ WhereSums where_sums(const data::Cycle& cycle, const std::vector<float>& residua
 Where where(const WhereSums& s, const RegionEdges& edges) {
   Where w;
   for (std::size_t i = 0; i < kFollowInputs; ++i) {
-    const double n = s.n_in[i];
-    if (n < 10) continue;
-    const double vx = s.sxx[i] - s.sx[i] * s.sx[i] / n, vr = s.srr_in[i] - s.sr_in[i] * s.sr_in[i] / n;
-    if (!(vx > 0) || !(vr > 0)) continue;
-    const double r = (s.sxr[i] - s.sx[i] * s.sr_in[i] / n) / std::sqrt(vx * vr);
+    const double r = correlation(s.n_in[i], s.sx[i], s.sxx[i], s.sxr[i], s.sr_in[i], s.srr_in[i]);
     if (std::abs(r) >= kFollowMin) w.follows.push_back({kInputs[i].name, r});
   }
   std::sort(w.follows.begin(), w.follows.end(),

@@ -24,6 +24,13 @@ inline constexpr double kFollowTauS = 600;
 inline constexpr double kFollowMin = 0.3;
 // A region with less than this share of the readings is not named the worst.
 inline constexpr double kRegionMinShare = 0.05;
+// The window over which a sensor's own rate of warming is taken (its readings' noise averages out;
+// a thermal node's response is minutes).
+inline constexpr double kWarmingWindowS = 300;
+// The lags (s) at which the residual's autocorrelation is measured for its correlation time: from
+// the readings' own period to beyond the slowest node.
+inline constexpr std::array<double, 18> kShapeLagsS = {1,   2,   5,   10,   20,   30,   60,   120,  180,
+                                                       300, 420, 600, 900, 1200, 1800, 2700, 3600, 5400};
 
 // Speed and current tertile edges over the cycles (at 1 Hz), for the regions.
 struct RegionEdges {
@@ -37,11 +44,19 @@ struct WhereSums {
   double n = 0, sr = 0, srr = 0;
   std::array<double, kFollowInputs> n_in{}, sx{}, sxx{}, sxr{}, sr_in{}, srr_in{};
   std::array<double, 9> region_n{}, region_rr{};  // speed tertile * 3 + current tertile
+  // The shape: per lag, pairs of residuals that far apart (sums of a, b, a*b) for the
+  // autocorrelation; the residual against the sensor's rate of warming (w) and rise over ambient (u).
+  std::array<double, kShapeLagsS.size()> lag_n{}, lag_sa{}, lag_sb{}, lag_sab{};
+  double nw = 0, sw = 0, sww = 0, swr = 0, srw = 0, srrw = 0;
+  double nu = 0, su = 0, suu = 0, sur = 0, sru = 0, srru = 0;
   WhereSums& operator+=(const WhereSums& o);
 };
-// `residual` per grid step (NaN where the sensor has no reading); taken at 1 Hz.
-WhereSums where_sums(const data::Cycle& cycle, const std::vector<float>& residual, const RegionEdges& edges);
+// `residual` per grid step (NaN where the sensor has no reading) of the sensor read on `sensor`;
+// taken at 1 Hz.
+WhereSums where_sums(const data::Cycle& cycle, data::Channel sensor, const std::vector<float>& residual,
+                     const RegionEdges& edges);
 
 Where where(const WhereSums& sums, const RegionEdges& edges);
+Shape shape(const WhereSums& sums);
 
 }  // namespace lptn::diagnose::internal
