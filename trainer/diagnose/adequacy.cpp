@@ -227,15 +227,27 @@ std::string shape_in_words(const SensorAdequacy& s) {
                                    : ": the model runs ahead as the motor gets hot: a cooling that grows with "
                                      "temperature (free convection, radiation) is missing");
   }
+  // Nothing beyond chance. Say what is strongest all the same, and where the residual is largest:
+  // with few independent samples a real cause can stay under the bar (a rotor loss growing as
+  // speed^3 where the model has speed^2: r = -0.46 with speed on 7 samples, largest at top speed).
   std::snprintf(part, sizeof part,
                 "; nothing it was compared with (the inputs, its warming, its temperature) follows it beyond chance "
-                "(|r| < %.2f on its %.0f independent samples)",
+                "(|r| < %.2f on its %.0f independent samples",
                 follow_min, sh.effective_readings);
   out += part;
+  if (input) {
+    std::snprintf(part, sizeof part, "; the strongest, %s at r = %+.2f, would need more cycles", input->input.c_str(),
+                  input->correlation);
+    out += part;
+  }
+  out += ")";
+  if (!s.where.region.empty()) {
+    std::snprintf(part, sizeof part, "; it is largest at %s (%.2f K)", s.where.region.c_str(), s.where.region_rmse_k);
+    out += part;
+  }
   return out + (sh.correlation_time_s >= kSlowResidualS
-                    ? ": a slow mode the model lacks: heat stored in a mass it "
-                      "does not have (a frame, a housing: mass_* in the dictionary), a cooling that changes within "
-                      "the cycles, or a start the model gets wrong"
+                    ? ": a slow mode the model lacks (heat stored in a mass it does not have: mass_* in the "
+                      "dictionary; a cooling that changes within the cycles), or a cause these samples cannot show"
                     : ": compare its cycles and operating regions in lptn report");
 }
 
