@@ -4,7 +4,6 @@
 #include <chrono>
 #include <cmath>
 #include <ctime>
-#include <fstream>
 #include <iterator>
 #include <optional>
 #include <utility>
@@ -21,6 +20,7 @@
 #include "trainer/check/sensor_corrections.hpp"
 #include "trainer/data/dataset.hpp"
 #include "trainer/diagnose/diagnose.hpp"
+#include "trainer/diagnose/diagnosis_file.hpp"
 #include "trainer/model/motor_file.hpp"
 #include "trainer/model/simulate.hpp"
 
@@ -93,12 +93,6 @@ json number(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
 json metrics_json(const ErrorMetrics& m) {
   return {{"rmse_k", m.rmse_k}, {"mean_abs_k", m.mean_abs_k}, {"max_abs_k", m.max_abs_k},
           {"bias_k", m.bias_k}, {"samples", m.samples}};
-}
-
-std::string read_text(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw ReportInputError(path.string() + ": cannot be read");
-  return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
 std::vector<std::string> effect_names(EffectSet effects) {
@@ -311,48 +305,6 @@ json failures_json(const StatSeries& s, const std::vector<CycleRun>& runs) {
 
 // --- What is missing ----------------------------------------------------------------------------
 
-double number_or_nan(const json& j, const char* key) {
-  const auto it = j.find(key);
-  return it != j.end() && it->is_number() ? it->get<double>() : std::nan("");
-}
-
-std::string string_or(const json& j, const char* key, const char* fallback) {
-  const auto it = j.find(key);
-  return it != j.end() && it->is_string() ? it->get<std::string>() : fallback;
-}
-
-SavedCandidate parse_candidate(const json& j, const std::string& where) {
-  if (!j.is_object() || !j.contains("effect") || !j["effect"].is_string())
-    throw ReportInputError(where + ": expected an object with a string 'effect'");
-  SavedCandidate c;
-  c.effect = j["effect"].get<std::string>();
-  c.kind = string_or(j, "kind", "library");
-  c.words = string_or(j, "words", "");
-  c.verdict = string_or(j, "verdict", "");
-  c.statistic = number_or_nan(j, "statistic");
-  c.threshold = number_or_nan(j, "threshold");
-  c.predicted_rmse_k = number_or_nan(j, "predicted_rmse_k");
-  c.refit_rmse_k = number_or_nan(j, "refit_rmse_k");
-  c.test_rmse_k_before = number_or_nan(j, "test_rmse_k_before");
-  c.test_rmse_k_after = number_or_nan(j, "test_rmse_k_after");
-  c.significant = j.value("significant", false);
-  c.recommended = j.value("recommended", false);
-  const auto named_values = [&](const char* key, std::vector<std::pair<std::string, double>>& out, bool nested) {
-    const auto p = j.find(key);
-    if (p == j.end() || !p->is_object()) return;
-    for (const auto& [name, v] : p->items()) {
-      const double value = nested ? (v.is_object() ? number_or_nan(v, "value") : std::nan(""))
-                                  : (v.is_number() ? v.get<double>() : std::nan(""));
-      if (!std::isfinite(value))
-        throw ReportInputError(where + ": " + key + "." + name + (nested ? ": expected {\"value\": number}" : ": expected a number"));
-      out.emplace_back(name, value);
-    }
-  };
-  named_values("parameters", c.parameters, true);
-  named_values("refit_values", c.refit_values, false);
-  return c;
-}
-
 // Which candidates get an evidence plot: the recommended one, then the significant ones, each
 // group by statistic; never a drift or a sensor fault (findings about the data, with their own charts).
 std::vector<SavedCandidate> leading(std::vector<SavedCandidate> c) {
@@ -518,34 +470,6 @@ json meta_json(const ReportOptions& o, const CalibrationResult& cal, const data:
 
 }  // namespace
 
-SavedDiagnosis load_diagnosis(const std::filesystem::path& path) {
-  json j;
-  try {
-    j = json::parse(read_text(path));
-  } catch (const json::parse_error& e) {
-    throw ReportInputError(path.string() + ": not JSON (expected `lptn diagnose --json` output): " + e.what());
-  }
-  if (!j.is_object() || !j.contains("candidates") || !j["candidates"].is_array())
-    throw ReportInputError(path.string() + ": no 'candidates' array (expected `lptn diagnose --json` output)");
-  // Format 1 (no format_version) predates the sensor check: it is read, without sensor findings.
-  if (j.contains("format_version")) {
-    const json& v = j["format_version"];
-    if (!v.is_number_integer() || v.get<int>() < 1 || v.get<int>() > diagnose::kDiagnosisFormatVersion)
-      throw ReportInputError(path.string() + ": format_version " + v.dump() + ", this lptn reads diagnosis files of format 1 to " +
-                             std::to_string(diagnose::kDiagnosisFormatVersion) + " (a newer lptn wrote it)");
-  }
-  SavedDiagnosis d;
-  d.rmse_k = number_or_nan(j, "rmse_k");
-  if (j.contains("adequate") && j["adequate"].is_boolean() && j.contains("sensors") && j["sensors"].is_object())
-    d.adequacy = {{"adequate", j["adequate"]}, {"adequate_within", number(number_or_nan(j, "adequate_within"))},
-                  {"sensors", j["sensors"]}};
-  if (j.contains("drift") && j["drift"].is_object()) d.drift = j["drift"];
-  if (j.contains("sensor_faults") && j["sensor_faults"].is_array()) d.sensor_faults = j["sensor_faults"];
-  for (std::size_t i = 0; i < j["candidates"].size(); ++i)
-    d.candidates.push_back(parse_candidate(j["candidates"][i], path.string() + ": candidates[" + std::to_string(i) + "]"));
-  return d;
-}
-
 nlohmann::json report_data(const ReportOptions& o, const std::function<void(const std::string&)>& progress) {
   if (o.data.empty() && o.calibration.empty()) {
     if (o.fleet.empty()) throw ReportInputError("report: give --data and --calibration, or --fleet");
@@ -554,7 +478,7 @@ nlohmann::json report_data(const ReportOptions& o, const std::function<void(cons
   const json fleet = o.fleet.empty() ? json(nullptr) : fleet_section(o.fleet);  // bad input fails fast
   const CalibrationResult cal = load_calibration(o.calibration);
   std::optional<SavedDiagnosis> diagnosis;
-  if (!o.diagnosis.empty()) diagnosis = load_diagnosis(o.diagnosis);  // before the long part: bad input fails fast
+  if (!o.diagnosis.empty()) diagnosis = diagnose::load_diagnosis(o.diagnosis);  // before the long part: bad input fails fast
   const CalibratedModel cm = calibrated_model(cal);
   data::Dataset ds = data::load_fleet_dump({o.data});
   const std::vector<std::string> corrections = check::correct_as_calibrated(ds, cal);

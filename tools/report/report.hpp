@@ -12,6 +12,8 @@
 #include <utility>
 #include <vector>
 
+#include "trainer/diagnose/diagnosis_file.hpp"
+
 namespace lptn::report {
 
 // Bad input the report itself finds (a diagnosis file that is not `lptn diagnose --json`);
@@ -30,35 +32,9 @@ struct ReportOptions {
                                       // calibration empty, the page holds the Fleet section alone
 };
 
-// A diagnosis as lptn diagnose --json-out saved it (the keys the report knows; others are ignored).
-// One candidate:
-struct SavedCandidate {
-  std::string effect;
-  std::string kind = "library";  // "library", "term", "drift" or "sensor"
-  std::string words;             // in physical words with the refit's values
-  std::string verdict;
-  double statistic = std::numeric_limits<double>::quiet_NaN();
-  double threshold = std::numeric_limits<double>::quiet_NaN();
-  double predicted_rmse_k = std::numeric_limits<double>::quiet_NaN();
-  double refit_rmse_k = std::numeric_limits<double>::quiet_NaN();
-  double test_rmse_k_before = std::numeric_limits<double>::quiet_NaN();
-  double test_rmse_k_after = std::numeric_limits<double>::quiet_NaN();
-  bool significant = false;
-  bool recommended = false;
-  std::vector<std::pair<std::string, double>> parameters;  // the refit's values by parameter name
-  std::vector<std::pair<std::string, double>> refit_values;  // every parameter after the refit, where given
-};
-struct SavedDiagnosis {
-  double rmse_k = std::numeric_limits<double>::quiet_NaN();
-  std::vector<SavedCandidate> candidates;
-  // The verdict on the model itself and the drift between cycles, as diagnose wrote them (null in
-  // a diagnosis from before they existed); the page reads them as they are.
-  nlohmann::json adequacy;  // {"adequate", "sensors"}
-  nlohmann::json drift;
-  nlohmann::json sensor_faults;  // [{"sensor", "found", "finding", ...}] (sensor_check.hpp)
-};
-// Throws ReportInputError naming the file when it is not JSON or lacks "candidates".
-SavedDiagnosis load_diagnosis(const std::filesystem::path& path);
+// The diagnosis the page shows: diagnose::load_diagnosis (trainer/diagnose/diagnosis_file.hpp).
+using diagnose::SavedCandidate;
+using diagnose::SavedDiagnosis;
 
 // Everything the page shows, as the JSON its script reads.
 nlohmann::json report_data(const ReportOptions& options, const std::function<void(const std::string&)>& progress);
