@@ -208,6 +208,25 @@ int stop_signals_fd() {
   return signalfd(-1, &set, SFD_CLOEXEC | SFD_NONBLOCK);
 }
 
+// After this many ticks of frames arriving without the estimator starting, say why on stderr (its
+// status frame says it every tick; a person at the console should not have to decode it).
+constexpr std::uint64_t kWarnUninitializedTicks = 100;
+
+void warn_uninitialized(const lptn::fw::EstimatorOutput<double>& est, TimeUs dt_us) {
+  std::string stale, required;
+  for (int i = 0; i < lptn::fw::kNumInputs; ++i) {
+    const auto b = lptn::fw::bit(static_cast<lptn::fw::Input>(i));
+    if (est.stale & b) stale += std::string(stale.empty() ? "" : ", ") + lptn::fw::kInputNames[i];
+    if (lptn::fw::kRequiredInputs & b) required += std::string(required.empty() ? "" : ", ") + lptn::fw::kInputNames[i];
+  }
+  std::fprintf(stderr,
+               "lptn-daemon: warning: no estimates after %.0f s of frames: %s (the estimator starts once every "
+               "required input is fresh)\n",
+               static_cast<double>(kWarnUninitializedTicks * static_cast<std::uint64_t>(dt_us)) / 1e6,
+               stale.empty() ? ("a required input has not arrived yet (" + required + " are required)").c_str()
+                             : ("stale inputs: " + stale + " (older than their timeout at every tick)").c_str());
+}
+
 // The live loop: a monotonic timer every dt / time-scale; the estimator's clock is the monotonic
 // clock since start, times the scale, so its ages and the ticks agree however fast it runs.
 int run_live(const Options& o) {
@@ -266,6 +285,9 @@ int run_live(const Options& o) {
   // first frame instead, as a replay's do.
   TimeUs tick_time = log ? -dt_us : 0;
   std::uint64_t ticks = 0, frames_in = 0, frames_out = 0;
+  // Ticks without estimates: all of them before the first frame; with frames arriving, a warning
+  // once they last (the converter's frames are there, yet an input stays stale or absent).
+  std::uint64_t uninitialized_ticks = 0, waiting_with_frames = 0;
   lptn::fw::CanFrame outputs[lptn::fw::kMaxOutputFrames];
   char line[160];
   int rc = 0;
@@ -308,6 +330,10 @@ int run_live(const Options& o) {
       }
       const lptn::fw::EstimatorOutput<double>& est = estimator.tick(tick_time);
       ++ticks;
+      if (est.mode == lptn::fw::Mode::not_initialized) {
+        ++uninitialized_ticks;
+        if (frames_in > 0 && ++waiting_with_frames == kWarnUninitializedTicks) warn_uninitialized(est, dt_us);
+      }
       const int n = lptn::fw::pack_outputs(est, outputs);
       for (int i = 0; i < n; ++i) {
         if (log) {
@@ -325,9 +351,9 @@ int run_live(const Options& o) {
     std::fclose(log);
     if (!out.commit()) rc = 1;
   }
-  std::fprintf(stderr, "lptn-daemon: stopped after %llu ticks, %llu frames in, %llu frames out\n",
-               static_cast<unsigned long long>(ticks), static_cast<unsigned long long>(frames_in),
-               static_cast<unsigned long long>(frames_out));
+  std::fprintf(stderr, "lptn-daemon: stopped after %llu ticks (%llu without estimates), %llu frames in, %llu frames out\n",
+               static_cast<unsigned long long>(ticks), static_cast<unsigned long long>(uninitialized_ticks),
+               static_cast<unsigned long long>(frames_in), static_cast<unsigned long long>(frames_out));
   return rc;
 }
 

@@ -158,6 +158,44 @@ TEST_F(ReplayGolden, TheDaemonsTimerLoopSendsWhatTheReplayComputes) {
   EXPECT_LE(worst, resolution / 2 + 1e-9) << "the frames' resolution is " << resolution << " K";
 }
 
+// A converter that never sends its fast frame (speed, current, frequency): the daemon never starts
+// its estimator, and says so on stderr once frames have arrived for a while, not only in the status
+// frames it sends, and counts the ticks without estimates when it stops.
+TEST_F(ReplayGolden, TheDaemonSaysWhyItSendsNoEstimates) {
+  const fs::path without = dir() / "without_fast_frame.log", frames = dir() / "no_estimates.log";
+  {
+    std::ifstream in(log());
+    std::ofstream out(without);
+    std::size_t dropped = 0;
+    for (std::string line; std::getline(in, line);) {
+      fw::CandumpRecord rec;
+      ASSERT_EQ(fw::parse_candump_line(line, rec), nullptr) << line;
+      if (rec.frame.id == can::TcElectrical::kId) {
+        ++dropped;
+        continue;
+      }
+      out << line << "\n";
+    }
+    ASSERT_GT(dropped, 100u);
+  }
+  const Outcome r = run(LPTN_DAEMON, "--log " + without.string() + " --time-scale 1000 --out " + frames.string(), dir());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("warning: no estimates after 10 s of frames"), std::string::npos) << r.err;
+  std::size_t temperatures = 0;
+  std::ifstream in(frames);
+  for (std::string line; std::getline(in, line);) {
+    fw::CandumpRecord rec;
+    ASSERT_EQ(fw::parse_candump_line(line, rec), nullptr) << line;
+    temperatures += rec.frame.id == can::LptnTemperatures::kId;
+  }
+  EXPECT_EQ(temperatures, 0u);
+  // "stopped after N ticks (N without estimates)": every tick.
+  const std::size_t at = r.err.find("stopped after ");
+  ASSERT_NE(at, std::string::npos) << r.err;
+  const unsigned long long ticks = std::stoull(r.err.substr(at + 14));
+  EXPECT_NE(r.err.find("(" + std::to_string(ticks) + " without estimates)"), std::string::npos) << r.err;
+}
+
 // The schedule follows the daemon's own word, not a wall time guessed for this machine: SIGTERM
 // goes one second after the daemon said it started its loop (however long the start took on a
 // loaded machine), and what it sent is held to the ticks it says it ran.
