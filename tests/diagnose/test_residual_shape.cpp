@@ -43,16 +43,20 @@ data::Cycle cycle(std::uint64_t seed) {
   return c;
 }
 
-// `residual(k, cycle)` at the stator's readings; the sums over four cycles, then the sensor's
-// verdict as assess_adequacy would make it (inadequate, so that it is worded).
+// `residual(k, cycle)` at the stator's readings (every `read_every` grid steps: 10 is 1 Hz); the
+// sums over four cycles, then the sensor's verdict as assess_adequacy would make it (inadequate, so
+// that it is worded).
 template <class Residual>
-SensorAdequacy shaped(Residual residual) {
+SensorAdequacy shaped(Residual residual, std::size_t read_every = 10) {
   internal::WhereSums sums;
   std::vector<std::size_t> all{0};
   for (std::uint64_t seed = 1; seed <= 4; ++seed) {
     data::Dataset d;
     d.cycles.push_back(cycle(seed));
-    const data::Cycle& c = d.cycles[0];
+    data::Cycle& c = d.cycles[0];
+    auto& stator = c.samples[static_cast<std::size_t>(Channel::stator_winding_c)];
+    for (std::size_t k = 0; k < c.steps; ++k)
+      if (k % read_every != 0) stator[k] = NAN;
     const internal::RegionEdges edges = internal::region_edges(d, all);
     std::vector<float> r(c.steps, NAN);
     std::mt19937_64 rng(100 + seed);
@@ -99,6 +103,21 @@ TEST(ResidualShape, AnExponentiallyCorrelatedResidualHasItsCorrelationTime) {
       EXPECT_NE(words.find("follows it beyond chance"), std::string::npos) << words;
     }
   }
+}
+
+// A sensor read every 10 s: no pairs of residuals at the lags shorter than that, and the correlation
+// time still measured from the lags that have them.
+TEST(ResidualShape, ASensorReadEveryTenSecondsHasItsCorrelationTime) {
+  double state = 0;
+  const double tau = 300, a = std::exp(-10.0 / tau);  // one step per reading
+  const SensorAdequacy s = shaped([&](const data::Cycle&, std::size_t k, std::mt19937_64& rng) {
+    const double e = std::normal_distribution<double>(0, std::sqrt(1 - a * a))(rng);
+    state = k == 0 ? e / std::sqrt(1 - a * a) : a * state + e;
+    return state;
+  }, 100);
+  std::printf("read every 10 s, tau %.0f s: correlation time %.0f s\n", tau, s.shape.correlation_time_s);
+  EXPECT_NEAR(s.shape.correlation_time_s, tau, 0.3 * tau);
+  EXPECT_NE(shape_in_words(s), "");
 }
 
 // The model warms and cools faster than the sensor's node: model - measured is the measured

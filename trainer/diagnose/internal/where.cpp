@@ -51,8 +51,8 @@ double correlation(double n, double sx, double sxx, double sxy, double sy, doubl
   return (sxy - sx * sy / n) / std::sqrt(vx * vy);
 }
 
-// The residual and the sensor's reading at 1 Hz (the last reading at or before each second: a
-// sensor read more slowly repeats its value, which the lags of its own period then show).
+// The residual at 1 Hz (NaN between the readings of a sensor read more slowly) and the sensor's
+// reading, the last at or before each second (for its rate of warming over a window).
 void add_shape_sums(WhereSums& s, const data::Cycle& cycle, Channel sensor, const std::vector<float>& residual) {
   const std::size_t every = one_hertz(cycle);
   const std::size_t n = std::min(cycle.steps, residual.size()) / every;
@@ -103,7 +103,12 @@ Shape shape(const WhereSums& s) {
   if (!(var > 0)) return out;
   double prev_lag = 0, prev_rho = 1;
   for (std::size_t l = 0; l < kShapeLagsS.size(); ++l) {
-    if (s.lag_n[l] < 30) break;  // too few pairs this far apart: the cycles are shorter
+    if (s.lag_n[l] < 30) {
+      // Before any lag with pairs: shorter than the sensor's reading period (a sensor read every
+      // 10 s has no pairs 1 s apart). After: the cycles are shorter than this lag.
+      if (prev_lag == 0) continue;
+      break;
+    }
     const double rho = (s.lag_sab[l] / s.lag_n[l] - mean * (s.lag_sa[l] + s.lag_sb[l]) / s.lag_n[l] + mean * mean) / var;
     if (rho < kOneOverE) {
       // Linear between the last lag above 1/e and this one.
