@@ -9,6 +9,7 @@
 
 #include "hostio/worker_threads.hpp"
 #include "trainer/calibrate/sensor_noise.hpp"
+#include "trainer/diagnose/internal/json_number.hpp"
 #include "trainer/diagnose/internal/where.hpp"
 
 namespace lptn::diagnose {
@@ -110,7 +111,7 @@ Adequacy assess_adequacy(const Model<double>& model, const ParamVector<double>& 
 }
 
 nlohmann::json to_json(const Adequacy& adequacy) {
-  auto number = [](double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); };
+  const auto number = internal::json_number;
   nlohmann::json sensors = nlohmann::json::object();
   for (const SensorAdequacy& s : adequacy.sensors) {
     const double worst = std::max(std::isnan(s.train_rmse_k) ? 0.0 : s.train_rmse_k,

@@ -5,13 +5,12 @@
 #include <iterator>
 
 #include "trainer/diagnose/diagnose.hpp"
+#include "trainer/diagnose/internal/json_number.hpp"
 
 namespace lptn::diagnose {
 namespace {
 
 using nlohmann::json;
-
-json number(double x) { return std::isfinite(x) ? json(x) : json(nullptr); }
 
 double number_or_nan(const json& j, const char* key) {
   const auto it = j.find(key);
@@ -78,7 +77,7 @@ SavedDiagnosis load_diagnosis(const std::filesystem::path& path) {
   SavedDiagnosis d;
   d.rmse_k = number_or_nan(j, "rmse_k");
   if (j.contains("adequate") && j["adequate"].is_boolean() && j.contains("sensors") && j["sensors"].is_object())
-    d.adequacy = {{"adequate", j["adequate"]}, {"adequate_within", number(number_or_nan(j, "adequate_within"))},
+    d.adequacy = {{"adequate", j["adequate"]}, {"adequate_within", internal::json_number(number_or_nan(j, "adequate_within"))},
                   {"sensors", j["sensors"]}};
   if (j.contains("drift") && j["drift"].is_object()) d.drift = j["drift"];
   if (j.contains("sensor_faults") && j["sensor_faults"].is_array()) d.sensor_faults = j["sensor_faults"];

@@ -3,12 +3,12 @@
 #include <string>
 
 #include "trainer/diagnose/diagnose.hpp"
+#include "trainer/diagnose/internal/json_number.hpp"
 
 namespace lptn::diagnose {
 namespace {
 
-// NaN (no test cycles, no standard error) as null.
-nlohmann::json number(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+using internal::json_number;
 
 // The candidate's reason: why it is not distinguishable, not significant or failed; for a significant
 // one, why it is not recommended (empty for the recommendation).
@@ -23,7 +23,7 @@ nlohmann::json to_json(const Candidate& c, const Diagnosis& d) {
   nlohmann::json params = nlohmann::json::object();
   for (int i = 0; i < kNumParams; ++i)
     if (effect_of_param(i) == c.effect)
-      params[std::string(param_spec(i).name)] = {{"value", c.refit.values[i]}, {"std_error", number(c.refit.std_error[i])},
+      params[std::string(param_spec(i).name)] = {{"value", c.refit.values[i]}, {"std_error", json_number(c.refit.std_error[i])},
                                                  {"unit", std::string(param_spec(i).unit)}};
   // Every parameter as the refit left it (the paper's readjust too): what lptn report simulates to
   // show what the refit changes in each sensor's reading.
@@ -31,7 +31,7 @@ nlohmann::json to_json(const Candidate& c, const Diagnosis& d) {
   for (int i = 0; i < kNumParams; ++i) values[std::string(param_spec(i).name)] = c.refit.values[i];
   nlohmann::json starts = nlohmann::json::array();
   for (const RefitStart& s : c.starts)
-    starts.push_back({{"from", s.from}, {"rmse_k", number(s.rmse_k)}, {"iterations", s.iterations},
+    starts.push_back({{"from", s.from}, {"rmse_k", json_number(s.rmse_k)}, {"iterations", s.iterations},
                       {"converged", s.converged}, {"error", s.error}});
   const Candidate* best = d.best();
   nlohmann::json j = {{"effect", c.name},
@@ -40,20 +40,20 @@ nlohmann::json to_json(const Candidate& c, const Diagnosis& d) {
           {"df", c.df},
           {"score", c.score},
           {"predicted_rmse_k", c.predicted_rmse_k},
-          {"refit_rmse_k", number(c.refit_rmse_k)},
-          {"train_stator_rmse_k", number(c.train_stator_rmse_k)},
-          {"test_stator_rmse_k", number(c.test_stator_rmse_k)},
+          {"refit_rmse_k", json_number(c.refit_rmse_k)},
+          {"train_stator_rmse_k", json_number(c.train_stator_rmse_k)},
+          {"test_stator_rmse_k", json_number(c.test_stator_rmse_k)},
           {"significant", c.verdict == Verdict::significant},
           {"kind", c.kind == EffectKind::term ? "term" : "library"},
           {"words", c.words},
           {"blocks", c.blocks},
           {"block_gain", c.block_gain},
-          {"block_t", number(c.block_t)},
+          {"block_t", json_number(c.block_t)},
           {"block_threshold", c.block_threshold},
           {"recommended", best == &c},
           {"pinned", pinned(c)},
-          {"test_rmse_k_before", number(d.test_rmse_k)},
-          {"test_rmse_k_after", number(c.test_rmse_k_after)},
+          {"test_rmse_k_before", json_number(d.test_rmse_k)},
+          {"test_rmse_k_after", json_number(c.test_rmse_k_after)},
           {"verdict", to_string(c.verdict)},
           {"reason", reason(c, d, best)},
           {"needs", c.needs},
@@ -85,8 +85,8 @@ nlohmann::json drift_candidate(const Diagnosis& d) {
           {"needs", d.drift.inspect},
           {"p_value", d.drift.p_value},
           {"change", d.drift.change},
-          {"test_rmse_k_before", number(d.test_rmse_k)},
-          {"test_rmse_k_after", number(d.test_rmse_k)}};
+          {"test_rmse_k_before", json_number(d.test_rmse_k)},
+          {"test_rmse_k_after", json_number(d.test_rmse_k)}};
 }
 
 // A sensor fault likewise (kind "sensor"): a finding about the data's sensor, never recommended.
@@ -106,8 +106,8 @@ nlohmann::json sensor_candidate(const Diagnosis& d, const SensorFinding& s) {
           {"needs", s.inspect},
           {"calibrate", s.calibrate},
           {"p_value", s.p_value},
-          {"test_rmse_k_before", number(d.test_rmse_k)},
-          {"test_rmse_k_after", number(d.test_rmse_k)}};
+          {"test_rmse_k_before", json_number(d.test_rmse_k)},
+          {"test_rmse_k_after", json_number(d.test_rmse_k)}};
 }
 
 }  // namespace
@@ -120,7 +120,7 @@ nlohmann::json to_json(const Diagnosis& d) {
   nlohmann::json j = to_json(d.adequacy);  // "adequate" and "sensors" first: the verdict on the model itself
   j["format_version"] = kDiagnosisFormatVersion;
   j["rmse_k"] = d.rmse_k;
-  j["test_rmse_k"] = number(d.test_rmse_k);
+  j["test_rmse_k"] = json_number(d.test_rmse_k);
   j["correlation_time_steps"] = d.baseline.correlation_time;
   j["candidates"] = candidates;
   j["drift"] = to_json(d.drift);

@@ -102,7 +102,7 @@ Shape shape(const WhereSums& s) {
   out.correlation_time_s = NAN;
   if (!(var > 0)) return out;
   double prev_lag = 0, prev_rho = 1;
-  for (std::size_t l = 0; l < kShapeLagsS.size(); ++l) {
+  for (std::size_t l = 0; l < kShapeLagsS.size() && std::isnan(out.correlation_time_s); ++l) {
     if (s.lag_n[l] < 30) {
       // Before any lag with pairs: shorter than the sensor's reading period (a sensor read every
       // 10 s has no pairs 1 s apart). After: the cycles are shorter than this lag.
@@ -110,16 +110,12 @@ Shape shape(const WhereSums& s) {
       break;
     }
     const double rho = (s.lag_sab[l] / s.lag_n[l] - mean * (s.lag_sa[l] + s.lag_sb[l]) / s.lag_n[l] + mean * mean) / var;
-    if (rho < kOneOverE) {
-      // Linear between the last lag above 1/e and this one.
+    if (rho < kOneOverE)  // linear between the last lag above 1/e and this one
       out.correlation_time_s = prev_lag + (kShapeLagsS[l] - prev_lag) * (prev_rho - kOneOverE) / (prev_rho - rho);
-      out.effective_readings = s.n / std::max(1.0, 2 * out.correlation_time_s);
-      return out;
-    }
     prev_lag = kShapeLagsS[l], prev_rho = rho;
   }
-  if (prev_lag > 0) {
-    out.correlation_time_s = prev_lag;
+  if (std::isnan(out.correlation_time_s) && prev_lag > 0) {
+    out.correlation_time_s = prev_lag;  // still above 1/e at the longest lag with pairs
     out.correlation_time_at_least = true;
   }
   out.effective_readings = s.n / std::max(1.0, 2 * out.correlation_time_s);  // readings at 1 Hz
