@@ -41,7 +41,7 @@ inline constexpr double kTestRmseRotorK = 0.41861341338046415;  // test cycles, 
 inline constexpr EffectSet kEffects = 0;  // the paper's model only
 
 // The parameter layout this header was exported for: a model with another one stops here.
-static_assert(kNumParams == 66, "this header holds 66 parameters, this lptn's model has another number: export the calibration again");
+static_assert(kNumParams == 85, "this header holds 85 parameters, this lptn's model has another number: export the calibration again");
 static_assert(param_index("lambda_1s") == 0, "parameter 0 is not 'lambda_1s' in this lptn: export the calibration again");
 static_assert(param_index("lambda_2s") == 1, "parameter 1 is not 'lambda_2s' in this lptn: export the calibration again");
 static_assert(param_index("lambda_12s") == 2, "parameter 2 is not 'lambda_12s' in this lptn: export the calibration again");
@@ -108,6 +108,25 @@ static_assert(param_index("mass_rotor_core_lambda_air") == 62, "parameter 62 is 
 static_assert(param_index("mass_stator_winding_lambda") == 63, "parameter 63 is not 'mass_stator_winding_lambda' in this lptn: export the calibration again");
 static_assert(param_index("mass_stator_winding_capacity") == 64, "parameter 64 is not 'mass_stator_winding_capacity' in this lptn: export the calibration again");
 static_assert(param_index("mass_stator_winding_lambda_air") == 65, "parameter 65 is not 'mass_stator_winding_lambda_air' in this lptn: export the calibration again");
+static_assert(param_index("heat_stator_winding_above_f_w") == 66, "parameter 66 is not 'heat_stator_winding_above_f_w' in this lptn: export the calibration again");
+static_assert(param_index("heat_stator_winding_above_f_threshold") == 67, "parameter 67 is not 'heat_stator_winding_above_f_threshold' in this lptn: export the calibration again");
+static_assert(param_index("heat_stator_winding_above_i_w") == 68, "parameter 68 is not 'heat_stator_winding_above_i_w' in this lptn: export the calibration again");
+static_assert(param_index("heat_stator_winding_above_i_threshold") == 69, "parameter 69 is not 'heat_stator_winding_above_i_threshold' in this lptn: export the calibration again");
+static_assert(param_index("heat_stator_core_above_f_w") == 70, "parameter 70 is not 'heat_stator_core_above_f_w' in this lptn: export the calibration again");
+static_assert(param_index("heat_stator_core_above_f_threshold") == 71, "parameter 71 is not 'heat_stator_core_above_f_threshold' in this lptn: export the calibration again");
+static_assert(param_index("heat_stator_core_above_i_w") == 72, "parameter 72 is not 'heat_stator_core_above_i_w' in this lptn: export the calibration again");
+static_assert(param_index("heat_stator_core_above_i_threshold") == 73, "parameter 73 is not 'heat_stator_core_above_i_threshold' in this lptn: export the calibration again");
+static_assert(param_index("heat_rotor_winding_above_f_w") == 74, "parameter 74 is not 'heat_rotor_winding_above_f_w' in this lptn: export the calibration again");
+static_assert(param_index("heat_rotor_winding_above_f_threshold") == 75, "parameter 75 is not 'heat_rotor_winding_above_f_threshold' in this lptn: export the calibration again");
+static_assert(param_index("heat_rotor_winding_above_i_w") == 76, "parameter 76 is not 'heat_rotor_winding_above_i_w' in this lptn: export the calibration again");
+static_assert(param_index("heat_rotor_winding_above_i_threshold") == 77, "parameter 77 is not 'heat_rotor_winding_above_i_threshold' in this lptn: export the calibration again");
+static_assert(param_index("heat_rotor_core_above_f_w") == 78, "parameter 78 is not 'heat_rotor_core_above_f_w' in this lptn: export the calibration again");
+static_assert(param_index("heat_rotor_core_above_f_threshold") == 79, "parameter 79 is not 'heat_rotor_core_above_f_threshold' in this lptn: export the calibration again");
+static_assert(param_index("heat_rotor_core_above_i_w") == 80, "parameter 80 is not 'heat_rotor_core_above_i_w' in this lptn: export the calibration again");
+static_assert(param_index("heat_rotor_core_above_i_threshold") == 81, "parameter 81 is not 'heat_rotor_core_above_i_threshold' in this lptn: export the calibration again");
+static_assert(param_index("cooling_both_speed_gain") == 82, "parameter 82 is not 'cooling_both_speed_gain' in this lptn: export the calibration again");
+static_assert(param_index("cooling_both_speed_k") == 83, "parameter 83 is not 'cooling_both_speed_k' in this lptn: export the calibration again");
+static_assert(param_index("airflow_both_exponent_change") == 84, "parameter 84 is not 'airflow_both_exponent_change' in this lptn: export the calibration again");
 
 // The parameters in model order (+- the fit's standard error, where the method gives one).
 inline constexpr ParamVector<double> kParams = {{
@@ -177,6 +196,25 @@ inline constexpr ParamVector<double> kParams = {{
     100.0,  // [63] mass_stator_winding_lambda [W/K] (fixed)
     300.0,  // [64] mass_stator_winding_capacity [kJ/K] (fixed)
     50.0,  // [65] mass_stator_winding_lambda_air [W/K] (fixed)
+    500.0,  // [66] heat_stator_winding_above_f_w [W] (fixed)
+    0.5,  // [67] heat_stator_winding_above_f_threshold [1] (fixed)
+    500.0,  // [68] heat_stator_winding_above_i_w [W] (fixed)
+    0.5,  // [69] heat_stator_winding_above_i_threshold [1] (fixed)
+    500.0,  // [70] heat_stator_core_above_f_w [W] (fixed)
+    0.5,  // [71] heat_stator_core_above_f_threshold [1] (fixed)
+    500.0,  // [72] heat_stator_core_above_i_w [W] (fixed)
+    0.5,  // [73] heat_stator_core_above_i_threshold [1] (fixed)
+    500.0,  // [74] heat_rotor_winding_above_f_w [W] (fixed)
+    0.5,  // [75] heat_rotor_winding_above_f_threshold [1] (fixed)
+    500.0,  // [76] heat_rotor_winding_above_i_w [W] (fixed)
+    0.5,  // [77] heat_rotor_winding_above_i_threshold [1] (fixed)
+    500.0,  // [78] heat_rotor_core_above_f_w [W] (fixed)
+    0.5,  // [79] heat_rotor_core_above_f_threshold [1] (fixed)
+    500.0,  // [80] heat_rotor_core_above_i_w [W] (fixed)
+    0.5,  // [81] heat_rotor_core_above_i_threshold [1] (fixed)
+    0.3,  // [82] cooling_both_speed_gain [1] (fixed)
+    1.0,  // [83] cooling_both_speed_k [1] (fixed)
+    -0.4,  // [84] airflow_both_exponent_change [1] (fixed)
 }};
 static_assert(kParams.size() == kNumParams);
 
@@ -250,9 +288,28 @@ inline constexpr double kParamStdError[kNumParams] = {
     -1.0,  // [63] mass_stator_winding_lambda
     -1.0,  // [64] mass_stator_winding_capacity
     -1.0,  // [65] mass_stator_winding_lambda_air
+    -1.0,  // [66] heat_stator_winding_above_f_w
+    -1.0,  // [67] heat_stator_winding_above_f_threshold
+    -1.0,  // [68] heat_stator_winding_above_i_w
+    -1.0,  // [69] heat_stator_winding_above_i_threshold
+    -1.0,  // [70] heat_stator_core_above_f_w
+    -1.0,  // [71] heat_stator_core_above_f_threshold
+    -1.0,  // [72] heat_stator_core_above_i_w
+    -1.0,  // [73] heat_stator_core_above_i_threshold
+    -1.0,  // [74] heat_rotor_winding_above_f_w
+    -1.0,  // [75] heat_rotor_winding_above_f_threshold
+    -1.0,  // [76] heat_rotor_winding_above_i_w
+    -1.0,  // [77] heat_rotor_winding_above_i_threshold
+    -1.0,  // [78] heat_rotor_core_above_f_w
+    -1.0,  // [79] heat_rotor_core_above_f_threshold
+    -1.0,  // [80] heat_rotor_core_above_i_w
+    -1.0,  // [81] heat_rotor_core_above_i_threshold
+    -1.0,  // [82] cooling_both_speed_gain
+    -1.0,  // [83] cooling_both_speed_k
+    -1.0,  // [84] airflow_both_exponent_change
 };
-inline constexpr bool kParamCalibrated[kNumParams] = {true, true, true, true, true, true, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false};
-inline constexpr bool kParamIdentifiable[kNumParams] = {true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true};
+inline constexpr bool kParamCalibrated[kNumParams] = {true, true, true, true, true, true, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false, false};
+inline constexpr bool kParamIdentifiable[kNumParams] = {true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true, true};
 
 // The motor file's constants (fleet/motor.toml, kept whole in the calibration).
 constexpr MotorConstants<double> motor_constants() {

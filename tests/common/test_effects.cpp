@@ -2,7 +2,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <string>
+#include <string_view>
 
 #include "lptn/model.hpp"
 #include "reference_case.hpp"
@@ -117,6 +119,57 @@ TEST(Effects, SensorLagIsAFirstOrderLagOfTheWinding) {
   }
   EXPECT_LT(worst, 0.02);
   EXPECT_GT(largest_lag, 1.0);
+}
+
+// A step switches on above its threshold and does nothing below it: the cycle runs at 1.55 of the
+// rated frequency and 0.91 of the rated current. Five step widths away it is off (or on) to within
+// 1 %; the smooth step stays finite for every ratio, in float too.
+TEST(Effects, AStepHeatsAboveItsThresholdOnly) {
+  for (const char* name : {"heat_stator_winding_above_f", "heat_rotor_core_above_i"}) {
+    const int e = effect_index(name);
+    ASSERT_GE(e, 0) << name;
+    const int size = kNumPaperParams + EffectLibrary::kParamOffsets[static_cast<std::size_t>(e)];
+    const double ratio = std::string_view(name).ends_with("_f") ? 100.5 / testing::example_motor().rated_frequency_hz
+                                                                 : 105.0 / testing::example_motor().rated_current_a;
+    auto p = default_params<double>();
+    p[size] = 800.0;
+    const Outcome off = run(0, p);
+    p[size + 1] = ratio + 5 * terms::forms::kStepWidth;
+    const Outcome above = run(effect_bit(e), p);
+    p[size + 1] = ratio - 5 * terms::forms::kStepWidth;
+    const Outcome below = run(effect_bit(e), p);
+    const int node = EffectLibrary::kNodes[static_cast<std::size_t>(e)];
+    const double rise = below.final[node] - off.final[node];
+    EXPECT_GT(rise, 1.0) << name;
+    EXPECT_LT(std::abs(above.final[node] - off.final[node]), 0.01 * rise) << name;
+  }
+  using terms::forms::smooth_step;
+  EXPECT_EQ((smooth_step<double, double>(0.77, 0.77)), 0.5);
+  EXPECT_EQ((smooth_step<float, float>(1e6f, 0.05f)), 1.0f);
+  EXPECT_GT((smooth_step<float, float>(0.0f, 2.0f)), 0.0f);
+}
+
+// A cooling term on both sides is the stator's and the rotor's twins at the same value.
+TEST(Effects, ACoolingTermOnBothSidesIsBothSidesTermsAtOnce) {
+  for (const char* family : {"airflow_%s_exponent", "cooling_%s_speed"}) {
+    char both[64], stator[64], rotor[64];
+    std::snprintf(both, sizeof both, family, "both");
+    std::snprintf(stator, sizeof stator, family, "stator");
+    std::snprintf(rotor, sizeof rotor, family, "rotor");
+    auto p = default_params<double>();
+    for (const char* name : {both, stator, rotor}) {
+      const int first = kNumPaperParams + EffectLibrary::kParamOffsets[static_cast<std::size_t>(effect_index(name))];
+      p[first] = std::string_view(family).starts_with("airflow") ? -0.3 : 0.4;
+      if (EffectLibrary::kParamCounts[static_cast<std::size_t>(effect_index(name))] > 1) p[first + 1] = 1.5;
+    }
+    const Outcome one = run(effect_bit(effect_index(both)), p);
+    const Outcome two = run(effect_bit(effect_index(stator)) | effect_bit(effect_index(rotor)), p);
+    const Outcome off = run(0, p);
+    for (int i = 0; i < kNumNodes; ++i) {
+      EXPECT_NEAR(one.final[i], two.final[i], 1e-9) << both << " node " << i;
+      EXPECT_GT(std::abs(one.final[i] - off.final[i]), 0.5) << both << " node " << i;
+    }
+  }
 }
 
 }  // namespace

@@ -208,5 +208,48 @@ TEST(HiddenPhysics, CleanDataIsAdequateAndNothingIsRecommendedOverSeeds) {
   EXPECT_EQ(drifts, 0);
 }
 
+// A loss that switches on above 50 Hz (tools/generate/plant_physics.hpp: 700 W into the stator
+// winding). The smooth forms would spread it over every frequency (psi^2 f^k puts heat at 30-50 Hz
+// where there is none); the dictionary's step on frequency finds where it switches on.
+TEST(HiddenPhysics, ALossThatSwitchesOnAboveAFrequencyIsAStepAtItsThreshold) {
+  const auto g = testing::generate({}, 8, 20, 25, 3, {}, gen::plant_bit(gen::PlantPhysics::step_loss));
+  const diagnose::Diagnosis d = diagnose::diagnose(g->motor, g->calibrated.values, g->dataset, g->split, settings());
+  print("step_loss", d);
+  EXPECT_FALSE(d.adequacy.adequate);
+  EXPECT_FALSE(d.drift.found);
+  const diagnose::Candidate* best = d.best();
+  ASSERT_NE(best, nullptr);
+  ASSERT_EQ(best->name, "heat_stator_winding_above_f");
+  const int first = kNumPaperParams + EffectLibrary::kParamOffsets[static_cast<std::size_t>(best->effect)];
+  const double threshold_hz = best->refit.values[first + 1] * g->motor.constants.rated_frequency_hz;
+  std::printf("  threshold %.1f Hz (the plant's 50 Hz), size %.0f W (700 W)\n", threshold_hz, best->refit.values[first]);
+  EXPECT_NEAR(threshold_hz, 50.0, 5.0);
+  EXPECT_LT(best->test_rmse_k_after, d.test_rmse_k);
+}
+
+// Warm exhaust air drawn back in at low airflow: both sides breathe air warmer than the logged
+// ambient (up to 3.6 K on the stator and 4.5 K on the rotor here; cycles of an hour and more, so
+// that the motor's heat reaches the air). A cooling term on both sides says so in one term, and
+// outdoes the library's windage, which the data also find significant; --auto's loop
+// (select_effects) ends adequate, with at most two effects added.
+TEST(HiddenPhysics, RecirculatingExhaustAirIsAdequateWithinTwoRounds) {
+  const auto g = testing::generate({}, 6, 60, 90, 3, {}, gen::plant_bit(gen::PlantPhysics::recirculation));
+  int round = 0;
+  const diagnose::Selection s = diagnose::select_effects(
+      g->motor, g->calibrated.values, g->dataset, g->split, settings(), {}, [&](const diagnose::Diagnosis& d) {
+        char label[48];
+        std::snprintf(label, sizeof label, "recirculation, round %d", ++round);
+        print(label, d);
+      });
+  ASSERT_FALSE(s.rounds.empty());
+  EXPECT_FALSE(s.rounds.front().adequacy.adequate);
+  EXPECT_TRUE(s.rounds.back().adequacy.adequate);
+  EXPECT_GE(s.added.size(), 1u);
+  EXPECT_LE(s.added.size(), 2u);
+  for (const std::string& name : s.added) std::printf("  added: %s\n", name.c_str());
+  ASSERT_FALSE(s.added.empty());
+  EXPECT_NE(s.added.front().find("_both_"), std::string::npos) << s.added.front();
+}
+
 }  // namespace
 }  // namespace lptn

@@ -37,7 +37,7 @@ void check_motor(const MotorFile& m) {
     LPTN_FUZZ_CHECK(std::isfinite(s.min) && std::isfinite(s.max) && std::isfinite(s.initial), param_spec(i).name.data());
     LPTN_FUZZ_CHECK(s.min < s.max && s.initial >= s.min && s.initial <= s.max, param_spec(i).name.data());
   }
-  LPTN_FUZZ_CHECK((m.effects & ~EffectSet((1u << kNumEffects) - 1)) == 0, "an effect bit beyond the library");
+  LPTN_FUZZ_CHECK((m.effects & ~((EffectSet{1} << kNumEffects) - 1)) == 0, "an effect bit beyond the library");
   (void)m.model();  // the model takes whatever the reader accepted
 }
 

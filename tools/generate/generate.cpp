@@ -211,8 +211,10 @@ std::vector<CycleSummary> generate(const GenerateOptions& options, const std::fi
         csv += '\n';
       }
       for (int sub = 0; sub < kTruthSubsteps; ++sub) {
-        plant_model.step(x, in, cycle_truth.data(), kLogStepS / kTruthSubsteps);
-        step_plant_physics(options.plant, motor.constants, in, x, extra, kLogStepS / kTruthSubsteps);
+        // What the motor really breathes and carries; the log above keeps what the logger saw.
+        const Inputs<double> truth_in = plant_inputs(options.plant, motor.constants, in, x, cycle_truth);
+        plant_model.step(x, truth_in, cycle_truth.data(), kLogStepS / kTruthSubsteps);
+        step_plant_physics(options.plant, motor.constants, truth_in, x, extra, kLogStepS / kTruthSubsteps);
       }
     }
     write_file(dir / (summary.name + ".csv"), csv);

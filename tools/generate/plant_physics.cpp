@@ -1,5 +1,6 @@
 #include "tools/generate/plant_physics.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace lptn::gen {
@@ -17,6 +18,13 @@ constexpr double kFrameToAirWPerK = 150.0;
 // With the frame, the stator core's direct path to the air is (almost) gone: the lower bound of
 // the paper's lambda_2s.
 constexpr double kDirectCoreToAirWPerK = 1.0;
+
+constexpr double kStepLossW = 700.0;
+constexpr double kStepLossAboveHz = 50.0;
+
+constexpr double kRecirculationShare = 0.8;   // with the blower at a standstill
+constexpr double kRecirculationBelow = 1.0;   // of nominal airflow
+constexpr double kAirHeatCapacityJPerM3K = 1206.0;  // rho c_p of air at 20 C
 
 bool has(PlantPhysicsSet set, PlantPhysics p) { return (set & plant_bit(p)) != 0; }
 
@@ -47,6 +55,26 @@ ParamVector<double> cycle_parameters(PlantPhysicsSet set, const ParamVector<doub
   return p;
 }
 
+Inputs<double> plant_inputs(PlantPhysicsSet set, const MotorConstants<double>& m, const Inputs<double>& in,
+                            const double* x, const ParamVector<double>& params) {
+  Inputs<double> out = in;
+  if (!has(set, PlantPhysics::recirculation)) return out;
+  const double share = kRecirculationShare * std::max(0.0, 1.0 - in.airflow_m3s / (kRecirculationBelow * m.nominal_airflow_m3s));
+  if (share <= 0) return out;
+  // The inlet's rise d over ambient mixes in a share s of the exhaust's, which the heat to air Q
+  // raises over the inlet by Q / (rho c_p V):  d = s (d + Q(d) / C),  Q(d) = Q0 - G d,  so
+  // d = s Q0 / (C (1 - s) + s G), with G the conductances to air and Q0 their heat at ambient.
+  const StepConductances<double> g = paper_conductances(m, in, params.data());
+  double conductance = 0, heat_at_ambient = 0;
+  for (int n = 0; n < kNumNodes; ++n) {
+    conductance += g.to_air[n];
+    heat_at_ambient += g.to_air[n] * (x[n] - in.ambient_c);
+  }
+  const double c = kAirHeatCapacityJPerM3K * effective_airflow(m, in.airflow_m3s);
+  out.ambient_c += std::max(0.0, share * heat_at_ambient / (c * (1 - share) + share * conductance));
+  return out;
+}
+
 PlantExtraState initial_extra_state(double soak_c) { return PlantExtraState{soak_c}; }
 
 void step_plant_physics(PlantPhysicsSet set, const MotorConstants<double>& m, const Inputs<double>& in, double* x,
@@ -57,6 +85,8 @@ void step_plant_physics(PlantPhysicsSet set, const MotorConstants<double>& m, co
     const double p = kEddyRatedW * i * i * (std::pow(f, 1.5) + 0.3 * f * f * f) / 1.3;
     x[kStatorWinding] += p * dt / c[kStatorWinding];
   }
+  if (has(set, PlantPhysics::step_loss) && std::abs(in.frequency_hz) > kStepLossAboveHz)
+    x[kStatorWinding] += kStepLossW * dt / c[kStatorWinding];
   if (has(set, PlantPhysics::windage_cubed)) {
     const double n = std::abs(in.speed_rpm) / m.base_speed_rpm();
     const double p = kWindageBaseW * n * n * n;

@@ -32,7 +32,12 @@ std::string in_words(int effect, const ParamVector<double>& values) {
   const std::string summary(EffectLibrary::kSummaries[e]);
   char buf[256];
   if (EffectLibrary::kKinds[e] == EffectKind::term) {
-    if (starts_with(name, "heat_")) {
+    if (starts_with(name, "heat_") && name.find("_above_") != std::string_view::npos) {
+      // A step: its second parameter is the threshold, a share of the rated frequency or current.
+      std::snprintf(buf, sizeof buf, "%s, at %.0f %% of the rated %s, %s above it", summary.c_str(),
+                    100 * value_of(effect, 1, values), name.ends_with("_f") ? "frequency" : "current",
+                    watts(value_of(effect, 0, values)).c_str());
+    } else if (starts_with(name, "heat_")) {
       std::snprintf(buf, sizeof buf, "%s with k = %.2f, %s at the rated point", summary.c_str(),
                     value_of(effect, 1, values), watts(value_of(effect, 0, values)).c_str());
     } else if (starts_with(name, "cooling_")) {

@@ -12,18 +12,28 @@
 //                                fluxf  psi^2 (f/f_r)^k       flux-and-frequency losses (iron-like)
 //                                speed  (n/n_b)^k             mechanical losses (bearings, windage)
 //                                power  (P/P_r)^k             losses following the shaft power
+//                              and, for sources that switch on (a modulation pattern changing, a
+//                              cooling duct's resonance), P_r times a step at a fitted threshold x:
+//                                above_f  s((f/f_r - x)/w)    above a frequency
+//                                above_i  s((I/I_r - x)/w)    above a current
+//                              s the logistic, w = 0.03 (2 Hz at a 65 Hz rating): a smooth step, so
+//                              that LM can move the threshold. No speed threshold: speed is
+//                              frequency over the pole pairs to within the slip, and the two
+//                              would be twins the data cannot tell apart.
 //   cooling_<side>_speed       the side's conductances to air times 1 + a (n/n_b)^k (a fan or
 //                              rotor stirring the air, beyond eq. 14's airflow)
 //   airflow_<side>_exponent    the side's conductances to air times (V/V_n)^d: eq. 14's exponent
 //                              0.8 changed by d (another flow regime)
+//                              <side> is stator, rotor or both: a change of the cooling air itself
+//                              (warm exhaust air drawn back in at low airflow, a duct that chokes)
+//                              acts on both sides at once, and one term then explains both sensors
 //   path_<node>_<node>         a conductance between two nodes the paper leaves unconnected
 //   mass_<node>                a fifth thermal mass behind the node (a frame or housing behind the
 //                              stator core, a shaft behind the rotor core, end-winding air behind the
 //                              stator winding): its conductance to the node, its capacity and its own
 //                              conductance to the cooling air (scaled with airflow as eq. 14 scales
 //                              the paper's); the slow mode four nodes cannot make. Three, not four:
-//                              with sensor_lag and all three, the states fill kMaxStates, and the
-//                              effect set its 32 bits but one.
+//                              with sensor_lag and all three, the states fill kMaxStates.
 //
 // Terms are appended to the library's list (effects/library.hpp) as one group, after the named
 // effects, so that every existing parameter keeps its index.
@@ -108,6 +118,46 @@ struct Speed {
   }
 };
 
+// A smooth step at threshold x of the ratio r: 0 well below, 1 well above, 1/2 at x.
+inline constexpr double kStepWidth = 0.03;
+template <class T, class R>
+T smooth_step(R ratio, const T& threshold) {
+  using std::exp;
+  T z = (T(ratio) - threshold) / T(kStepWidth);
+  // Beyond +-40 widths the step is 0 or 1 to double precision; the clamp keeps exp finite (float too).
+  if (z > T(40)) z = T(40);
+  if (z < T(-40)) z = T(-40);
+  return T(1) / (T(1) + exp(-z));
+}
+
+struct FrequencyThreshold {
+  static constexpr std::string_view kId = "above_f";
+  static constexpr std::string_view kFormula = "P_r s((f/f_r - x)/0.03)";
+  static constexpr std::string_view kWords = "switching on above a frequency";
+  static constexpr std::string_view kSecondId = "threshold";
+  static constexpr std::string_view kSecondDescription = "the frequency it switches on above, as a share of the rated frequency";
+  static constexpr double kExponent[3] = {0.5, 0.05, 2.0};  // the threshold: initial (and neutral), min, max
+  template <class T, class R>
+  static T shape(const EffectInputs<R>& e, const T& x) {
+    using std::abs;
+    return smooth_step<T, R>(abs(e.in.frequency_hz) / e.motor.rated_frequency_hz, x);
+  }
+};
+
+struct CurrentThreshold {
+  static constexpr std::string_view kId = "above_i";
+  static constexpr std::string_view kFormula = "P_r s((I/I_r - x)/0.03)";
+  static constexpr std::string_view kWords = "switching on above a current";
+  static constexpr std::string_view kSecondId = "threshold";
+  static constexpr std::string_view kSecondDescription = "the current it switches on above, as a share of the rated current";
+  static constexpr double kExponent[3] = {0.5, 0.05, 2.0};
+  template <class T, class R>
+  static T shape(const EffectInputs<R>& e, const T& x) {
+    using std::abs;
+    return smooth_step<T, R>(abs(e.in.current_a) / e.motor.rated_current_a, x);
+  }
+};
+
 struct ShaftPower {
   static constexpr std::string_view kId = "power";
   static constexpr std::string_view kFormula = "P_r (|T w|/P_rated)^k";
@@ -126,7 +176,18 @@ struct ShaftPower {
 
 }  // namespace forms
 
-// Extra heat into node `Node`: p[0] W at the rated point, times the form's shape with exponent p[1].
+// A form's second parameter: its exponent k, unless the form names another (a threshold).
+template <class Form>
+constexpr std::string_view second_id() {
+  if constexpr (requires { Form::kSecondId; }) return Form::kSecondId; else return "k";
+}
+template <class Form>
+constexpr std::string_view second_description() {
+  if constexpr (requires { Form::kSecondDescription; }) return Form::kSecondDescription; else return "the term's exponent k";
+}
+
+// Extra heat into node `Node`: p[0] W at the rated point (above the threshold, for a step), times
+// the form's shape with exponent (or threshold) p[1].
 template <int Node, class Form>
 struct HeatTerm {
   static constexpr EffectKind kKind = EffectKind::term;
@@ -135,14 +196,14 @@ struct HeatTerm {
   static constexpr FixedText kNameText = join({"heat_", kNodeIds[Node], "_", Form::kId});
   static constexpr FixedText kSummaryText = join({"extra heat in the ", kNodeWords[Node], " ", Form::kWords});
   static constexpr FixedText kSizeName = join({kNameText.view(), "_w"});
-  static constexpr FixedText kExponentName = join({kNameText.view(), "_k"});
+  static constexpr FixedText kExponentName = join({kNameText.view(), "_", second_id<Form>()});
   static constexpr std::string_view kName = kNameText.view();
   static constexpr std::string_view kSummary = kSummaryText.view();
   static constexpr int kExtraStates = 0;
   static constexpr ParamSpec kParams[] = {
       {kSizeName.view(), "W", 500.0, 1.0, 20000.0, 0.0, "the term's heat at the rated point"},
       {kExponentName.view(), "1", Form::kExponent[0], Form::kExponent[1], Form::kExponent[2], Form::kExponent[0],
-       "the term's exponent k"},
+       second_description<Form>()},
   };
 
   template <class T, class R>
@@ -151,19 +212,26 @@ struct HeatTerm {
   }
 };
 
-// The conductances to air of one side: the stator's (nodes 1, 2) or the rotor's (nodes 3, 4).
-enum class Side { stator, rotor };
-constexpr int first_node(Side s) { return s == Side::stator ? kStatorWinding : kRotorWinding; }
-constexpr std::string_view side_id(Side s) { return s == Side::stator ? "stator" : "rotor"; }
+// The conductances to air of one side: the stator's (nodes 1, 2), the rotor's (nodes 3, 4), or
+// both sides' (the cooling air itself).
+enum class Side { stator, rotor, both };
+constexpr int first_node(Side s) { return s == Side::rotor ? kRotorWinding : kStatorWinding; }
+constexpr int end_node(Side s) { return s == Side::stator ? kRotorWinding : kNumNodes; }
+constexpr std::string_view side_id(Side s) { return s == Side::stator ? "stator" : s == Side::rotor ? "rotor" : "both"; }
+constexpr std::string_view side_words(Side s) {
+  return s == Side::stator ? "the stator's" : s == Side::rotor ? "the rotor's" : "both sides'";
+}
+// A term's node: where one side's term acts first; none (-1) for one on both sides.
+constexpr int side_node(Side s) { return s == Side::both ? -1 : first_node(s); }
 
 // The side's conductances to air times 1 + a (n/n_b)^k.
 template <Side S>
 struct SpeedCooling {
   static constexpr EffectKind kKind = EffectKind::term;
-  static constexpr int kNode = first_node(S);
+  static constexpr int kNode = side_node(S);
   static constexpr std::string_view kFormula = "lambda_air (1 + a (n/n_b)^k)";
   static constexpr FixedText kNameText = join({"cooling_", side_id(S), "_speed"});
-  static constexpr FixedText kSummaryText = join({"the ", side_id(S), "'s conductances to air grow with speed^k"});
+  static constexpr FixedText kSummaryText = join({side_words(S), " conductances to air grow with speed^k"});
   static constexpr FixedText kGainName = join({kNameText.view(), "_gain"});
   static constexpr FixedText kExponentName = join({kNameText.view(), "_k"});
   static constexpr std::string_view kName = kNameText.view();
@@ -178,8 +246,7 @@ struct SpeedCooling {
   static void adjust(const EffectInputs<R>& e, const T* p, StepConductances<T>& g) {
     using std::pow;
     const T factor = T(1) + p[0] * pow(at_least_tiny(e.speed_ratio), p[1]);
-    g.to_air[first_node(S)] *= factor;
-    g.to_air[first_node(S) + 1] *= factor;
+    for (int n = first_node(S); n < end_node(S); ++n) g.to_air[n] *= factor;
   }
 };
 
@@ -187,11 +254,11 @@ struct SpeedCooling {
 template <Side S>
 struct AirflowExponent {
   static constexpr EffectKind kKind = EffectKind::term;
-  static constexpr int kNode = first_node(S);
+  static constexpr int kNode = side_node(S);
   static constexpr std::string_view kFormula = "lambda_air (V/V_n)^(0.8 + d)";
   static constexpr FixedText kNameText = join({"airflow_", side_id(S), "_exponent"});
   static constexpr FixedText kSummaryText =
-      join({"the ", side_id(S), "'s conductances to air follow the airflow with another exponent"});
+      join({side_words(S), " conductances to air follow the airflow with another exponent"});
   static constexpr FixedText kChangeName = join({kNameText.view(), "_change"});
   static constexpr std::string_view kName = kNameText.view();
   static constexpr std::string_view kSummary = kSummaryText.view();
@@ -204,8 +271,7 @@ struct AirflowExponent {
   static void adjust(const EffectInputs<R>& e, const T* p, StepConductances<T>& g) {
     using std::pow;
     const T factor = pow(e.effective_airflow_m3s / e.motor.nominal_airflow_m3s, p[0]);
-    g.to_air[first_node(S)] *= factor;
-    g.to_air[first_node(S) + 1] *= factor;
+    for (int n = first_node(S); n < end_node(S); ++n) g.to_air[n] *= factor;
   }
 };
 
@@ -280,6 +346,12 @@ using Dictionary = EffectGroup<
     HeatTerm<kRotorCore, forms::Speed>, HeatTerm<kRotorCore, forms::ShaftPower>,
     SpeedCooling<Side::stator>, SpeedCooling<Side::rotor>, AirflowExponent<Side::stator>, AirflowExponent<Side::rotor>,
     Path<kStatorWinding, kRotorWinding>, Path<kStatorWinding, kRotorCore>, Path<kStatorCore, kRotorWinding>,
-    Mass<kStatorCore>, Mass<kRotorCore>, Mass<kStatorWinding>>;
+    Mass<kStatorCore>, Mass<kRotorCore>, Mass<kStatorWinding>,
+    // Appended after the first round's terms, so that their parameters keep their indices.
+    HeatTerm<kStatorWinding, forms::FrequencyThreshold>, HeatTerm<kStatorWinding, forms::CurrentThreshold>,
+    HeatTerm<kStatorCore, forms::FrequencyThreshold>, HeatTerm<kStatorCore, forms::CurrentThreshold>,
+    HeatTerm<kRotorWinding, forms::FrequencyThreshold>, HeatTerm<kRotorWinding, forms::CurrentThreshold>,
+    HeatTerm<kRotorCore, forms::FrequencyThreshold>, HeatTerm<kRotorCore, forms::CurrentThreshold>,
+    SpeedCooling<Side::both>, AirflowExponent<Side::both>>;
 
 }  // namespace lptn::terms

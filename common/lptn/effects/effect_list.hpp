@@ -12,7 +12,7 @@
 namespace lptn {
 
 // A set of enabled effects, one bit per position in the list.
-using EffectSet = std::uint32_t;
+using EffectSet = std::uint64_t;
 
 namespace internal {
 template <class E>
@@ -57,7 +57,8 @@ namespace internal {
 template <class... E>
 struct FlatEffectList {
   static constexpr int kCount = sizeof...(E);
-  static_assert(kCount <= 32, "EffectSet holds 32 effects");
+  // Below 64, so that (EffectSet{1} << kCount) - 1, every effect, exists.
+  static_assert(kCount < 64, "EffectSet holds 63 effects");
 
   static constexpr std::array<std::string_view, kCount> kNames{E::kName...};
   static constexpr std::array<std::string_view, kCount> kSummaries{E::kSummary...};
@@ -105,7 +106,7 @@ struct FlatEffectList {
  private:
   template <class F, std::size_t... I>
   static void visit(EffectSet set, F& f, std::index_sequence<I...>) {
-    (((set >> I) & 1u ? f(std::integral_constant<int, static_cast<int>(I)>{}, static_cast<E*>(nullptr))
+    (((set >> I) & 1 ? f(std::integral_constant<int, static_cast<int>(I)>{}, static_cast<E*>(nullptr))
                       : void()),
      ...);
   }

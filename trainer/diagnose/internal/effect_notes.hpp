@@ -42,7 +42,8 @@ inline constexpr EffectNotes kNotes[] = {
 };
 
 // The notes of an effect, or generic ones for an effect without any (its sides: both, so that every
-// correlation counts). A term's sides follow from its node: a path links both.
+// correlation counts). A term's sides follow from its node: a path links both, and a cooling term
+// on both sides (no node) acts on both.
 inline EffectNotes notes_for(int effect) {
   const auto e = static_cast<std::size_t>(effect);
   const std::string_view name = EffectLibrary::kNames[e];
