@@ -9,7 +9,7 @@
 #include <utility>
 
 #include "trainer/diagnose/diagnose.hpp"
-#include "trainer/diagnose/internal/effect_notes.hpp"
+#include "trainer/diagnose/internal/heat_path.hpp"
 
 namespace lptn {
 namespace {

@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "../diagnose/hidden_effect_check.hpp"
+#include "trainer/diagnose/internal/heat_path.hpp"
 
 namespace lptn::diagnose {
 namespace {
@@ -19,6 +20,17 @@ TEST(EffectHowTo, TheDocumentsBearingLossIsRegisteredAfterTheLibrarysEffects) {
   ASSERT_EQ(e, EffectLibrary::kCount - 1);
   EXPECT_EQ(param_index("bearing_loss_w"), kNumParams - 1);  // appended: every other index kept
   EXPECT_EQ(param_spec(param_index("bearing_loss_w")).neutral, 0.0);
+}
+
+// What the header declares for a diagnosis is what the diagnosis uses: nothing else was written.
+TEST(EffectHowTo, TheDiagnosisReadsTheHeadersKnowledge) {
+  const int e = effect_index("bearing_loss");
+  EXPECT_EQ(EffectLibrary::kNeeds[static_cast<std::size_t>(e)], effects::BearingLoss::kNeeds);
+  // A rotor-side loss: a stator conductance has no heat path to it, a rotor one has.
+  EXPECT_FALSE(internal::shares_heat_path(kLambda12s, e, effect_bit(e)));
+  EXPECT_TRUE(internal::shares_heat_path(kLambda1r, e, effect_bit(e)));
+  // No kScoreAt: NaN, the score test at the neutral value.
+  EXPECT_TRUE(std::isnan(EffectLibrary::kScoreAt[static_cast<std::size_t>(e)]));
 }
 
 TEST(EffectHowTo, BearingLossHiddenInTheDataIsFoundAndFitted) {

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <functional>
+#include <type_traits>
 
 #include "trainer/calibrate/problem.hpp"
 
@@ -16,53 +17,31 @@ std::vector<float> per_step(const data::Cycle& cycle, const StepValue& f) {
   return out;
 }
 
-double speed_ratio(const Model<double>& model, const Inputs<double>& in) {
-  return std::abs(in.speed_rpm) / model.motor().base_speed_rpm();
-}
-
 }  // namespace
 
 std::optional<Signature> effect_signature(std::string_view effect, const Model<double>& model,
                                           const ParamVector<double>& params, const data::Cycle& cycle,
                                           const CycleSimulation& sim) {
-  const auto& T = sim.nodes;
-  const double* p = params.data();
-  // airgap.hpp: l_ag (0.25 + 0.75 n/n_base) (T2 - T4); the conductance's own size is what a fit finds.
-  if (effect == "airgap")
-    return Signature{"(0.25 + 0.75 n/n_base)(T2 - T4), model", "K", per_step(cycle, [&](const Inputs<double>& in, std::size_t k) {
-                       return (0.25 + 0.75 * speed_ratio(model, in)) * (T[kStatorCore][k] - T[kRotorCore][k]);
-                     })};
-  // windage.hpp: P_w ~ (n/n_base)^2 into the rotor core.
-  if (effect == "windage")
-    return Signature{"(n/n_base)^2", "1", per_step(cycle, [&](const Inputs<double>& in, std::size_t) {
-                       const double r = speed_ratio(model, in);
-                       return r * r;
-                     })};
-  // air_heating.hpp: the rotor's air warmed by Q_stator / (rho c_p Vdot), Q_stator through the
-  // calibrated stator conductances to air.
-  if (effect == "air_heating")
-    return Signature{"Q_stator / (rho c_p Vdot), model", "K", per_step(cycle, [&](const Inputs<double>& in, std::size_t k) {
-                       const auto g = paper_conductances(model.motor(), in, p);
-                       const double q = g.to_air[kStatorWinding] * (T[kStatorWinding][k] - in.ambient_c) +
-                                        g.to_air[kStatorCore] * (T[kStatorCore][k] - in.ambient_c);
-                       return q / (1206.0 * effective_airflow(model.motor(), in.airflow_m3s));
-                     })};
-  // rotor_speed_convection.hpp: the rotor's heat to air, scaled by n/n_base.
-  if (effect == "rotor_speed_convection")
-    return Signature{"n/n_base x rotor heat to air, model", "W", per_step(cycle, [&](const Inputs<double>& in, std::size_t k) {
-                       const auto g = paper_conductances(model.motor(), in, p);
-                       const double q = g.to_air[kRotorWinding] * (T[kRotorWinding][k] - in.ambient_c) +
-                                        g.to_air[kRotorCore] * (T[kRotorCore][k] - in.ambient_c);
-                       return speed_ratio(model, in) * q;
-                     })};
-  // sensor_lag.hpp: a lagging sensor reads T1 - tau dT1/dt.
-  if (effect == "sensor_lag")
-    return Signature{"dT1/dt, model", "K/s", per_step(cycle, [&](const Inputs<double>&, std::size_t k) {
-                       const auto& t1 = T[kStatorWinding];
-                       if (k == 0 || k + 1 >= t1.size()) return std::nan("");
-                       return (t1[k + 1] - t1[k - 1]) / (2 * cycle.dt_s);
-                     })};
-  return std::nullopt;
+  const int e = effect_index(effect);
+  if (e < 0) return std::nullopt;
+  std::optional<Signature> out;
+  // The effect's own signature (its kSignatureLabel and signature(), common/lptn/effects/).
+  EffectLibrary::for_each_enabled(effect_bit(e), [&](auto, auto* type) {
+    using E = std::remove_pointer_t<decltype(type)>;
+    if constexpr (requires { E::kSignatureLabel; }) {
+      const auto& T = sim.nodes;
+      out = Signature{std::string(E::kSignatureLabel), std::string(E::kSignatureUnit),
+                      per_step(cycle, [&](const Inputs<double>& in, std::size_t k) {
+                        const double nodes[kNumNodes] = {T[kStatorWinding][k], T[kStatorCore][k], T[kRotorWinding][k],
+                                                         T[kRotorCore][k]};
+                        const auto& t1 = T[kStatorWinding];
+                        const double rate = k == 0 || k + 1 >= t1.size() ? std::nan("")
+                                                                          : (t1[k + 1] - t1[k - 1]) / (2 * cycle.dt_s);
+                        return E::signature(SignatureInputs<double>{model.motor(), in, params.data(), nodes, rate});
+                      })};
+    }
+  });
+  return out;
 }
 
 std::optional<Signature> refit_signature(std::string_view effect, const std::vector<RefitValue>& values,

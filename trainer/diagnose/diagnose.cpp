@@ -12,7 +12,6 @@
 
 #include "trainer/diagnose/in_words.hpp"
 #include "trainer/diagnose/internal/block_test.hpp"
-#include "trainer/diagnose/internal/effect_notes.hpp"
 #include "trainer/diagnose/internal/refit.hpp"
 #include "trainer/diagnose/internal/score_test.hpp"
 
@@ -171,7 +170,7 @@ Candidate examine(const MotorFile& motor, const Scored& scored, const Diagnosis&
   c.node = node_id(effect);
   c.formula = EffectLibrary::kFormulas[e];
   c.df = EffectLibrary::kParamCounts[e];
-  c.needs = internal::notes_for(effect).needs;
+  c.needs = EffectLibrary::kNeeds[e];
   const internal::Score& score = scored.score;
   c.score = score.statistic;
   c.predicted_rmse_k = std::sqrt(std::max(0.0, score.rss_k2 - score.reduction_k2) / static_cast<double>(score.residuals));
@@ -382,22 +381,32 @@ Diagnosis diagnose(const MotorFile& motor, const ParamVector<double>& calibrated
   // score alike (a missing thermal mass behind the stator core: four stator-core heat forms at 29..32
   // between the winding's mass at 33 and the core's at 28), so a second form of it would spend a
   // refit on what the first already asked.
-  std::vector<std::string> groups;
+  std::vector<std::string_view> groups;
   int refits = 0;
   for (const Scored& t : terms) {
     if (refits >= settings.term_refits) break;
-    if (!t.score.feasible) continue;
     const auto e = static_cast<std::size_t>(t.effect);
-    const std::string_view name = EffectLibrary::kNames[e];
-    // A step (heat switching on above a threshold) is its own group: at the score test's threshold
-    // it points like the smooth forms, and only its refit finds where it switches on.
-    const bool step = name.find("_above_") != std::string_view::npos;
-    const std::string group =
-        name.starts_with("heat_") ? "heat_" + node_id(t.effect) + (step ? "_step" : "") : std::string(name);
+    if (!t.score.feasible || EffectLibrary::kRefinesGroup[e]) continue;
+    const std::string_view group = EffectLibrary::kRefitGroups[e];
     if (std::find(groups.begin(), groups.end(), group) != groups.end()) continue;
     groups.push_back(group);
     ++refits;
     d.candidates.push_back(examine(motor, t, d, dataset, coarse, split, settings, progress, baseline_blocks));
+  }
+  // A refinement of a group (a step: heat that switches on) points like its group at the score
+  // test and only a refit tells it apart: the best-scoring one is refit beside a group's refit that
+  // is significant, outside the budget. On clean data no group is, and nothing more is refit.
+  const std::size_t examined = d.candidates.size();
+  for (std::size_t i = 0; i < examined; ++i) {
+    const Candidate& found = d.candidates[i];
+    if (found.kind != EffectKind::term || found.verdict != Verdict::significant) continue;
+    const std::string_view group = EffectLibrary::kRefitGroups[static_cast<std::size_t>(found.effect)];
+    for (const Scored& t : terms) {
+      const auto e = static_cast<std::size_t>(t.effect);
+      if (!t.score.feasible || !EffectLibrary::kRefinesGroup[e] || EffectLibrary::kRefitGroups[e] != group) continue;
+      d.candidates.push_back(examine(motor, t, d, dataset, coarse, split, settings, progress, baseline_blocks));
+      break;
+    }
   }
   // The library first: a named effect with its physics and reference is preferred to a generic
   // term that fits as well or a little better (a term with a free exponent contains windage's

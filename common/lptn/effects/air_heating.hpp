@@ -19,6 +19,11 @@ struct AirHeating {
   static constexpr std::string_view kName = "air_heating";
   static constexpr std::string_view kSummary = "rotor cooling air pre-warmed by the stator's heat";
   static constexpr int kExtraStates = 0;
+  static constexpr std::string_view kNeeds = "cycles at fixed blower levels (airflow not moving with load), with rotor telemetry";
+  static constexpr HeatSides kSides = HeatSides::both;
+  // The rotor's air warmed by Q_stator / (rho c_p Vdot), Q_stator through the stator's conductances to air.
+  static constexpr std::string_view kSignatureLabel = "Q_stator / (rho c_p Vdot), model";
+  static constexpr std::string_view kSignatureUnit = "K";
   static constexpr ParamSpec kParams[] = {
       {"air_heating_fraction", "1", 0.5, 0.0, 1.0, 0.0, "share of the stator's heat carried to the rotor's air"},
   };
@@ -36,6 +41,14 @@ struct AirHeating {
       sys.coupling(r, kStatorCore, gk * g.to_air[kStatorCore]);
       sys.heat(r, -gk * (g.to_air[kStatorWinding] + g.to_air[kStatorCore]) * ta);
     }
+  }
+
+  template <class R>
+  static R signature(const SignatureInputs<R>& s) {
+    const auto g = paper_conductances(s.motor, s.in, s.params);
+    const R q = g.to_air[kStatorWinding] * (s.nodes[kStatorWinding] - s.in.ambient_c) +
+                g.to_air[kStatorCore] * (s.nodes[kStatorCore] - s.in.ambient_c);
+    return q / (R(kAirVolumetricHeatJPerM3K) * effective_airflow(s.motor, s.in.airflow_m3s));
   }
 };
 

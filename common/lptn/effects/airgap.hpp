@@ -19,6 +19,13 @@ struct Airgap {
   static constexpr std::string_view kSummary =
       "stator core <-> rotor core across the air gap, growing with speed";
   static constexpr int kExtraStates = 0;
+  static constexpr std::string_view kNeeds =
+      "rotor telemetry, and stator and rotor temperatures moving apart (hard acceleration after a soak, or "
+      "cycles where rotor and stator losses differ)";
+  static constexpr HeatSides kSides = HeatSides::both;
+  // The conductance's own size is what a fit finds.
+  static constexpr std::string_view kSignatureLabel = "(0.25 + 0.75 n/n_base)(T2 - T4), model";
+  static constexpr std::string_view kSignatureUnit = "K";
   static constexpr ParamSpec kParams[] = {
       {"airgap_lambda", "W/K", 50.0, 1.0, 3000.0, 0.0, "air-gap conductance at base speed"},
   };
@@ -27,6 +34,11 @@ struct Airgap {
   static void apply(const EffectInputs<R>& e, const T* p, const StepConductances<T>&, HeatBalance<T>& sys,
                     int) {
     sys.path(kStatorCore, kRotorCore, p[0] * (R(0.25) + R(0.75) * e.speed_ratio));
+  }
+
+  template <class R>
+  static R signature(const SignatureInputs<R>& s) {
+    return (R(0.25) + R(0.75) * s.speed_ratio()) * (s.nodes[kStatorCore] - s.nodes[kRotorCore]);
   }
 };
 

@@ -136,6 +136,7 @@ struct FrequencyThreshold {
   static constexpr std::string_view kWords = "switching on above a frequency";
   static constexpr std::string_view kSecondId = "threshold";
   static constexpr std::string_view kSecondDescription = "the frequency it switches on above, as a share of the rated frequency";
+  static constexpr std::string_view kThresholdWords = " of the rated frequency, ";
   static constexpr double kExponent[3] = {0.5, 0.05, 2.0};  // the threshold: initial (and neutral), min, max
   template <class T, class R>
   static T shape(const EffectInputs<R>& e, const T& x) {
@@ -150,6 +151,7 @@ struct CurrentThreshold {
   static constexpr std::string_view kWords = "switching on above a current";
   static constexpr std::string_view kSecondId = "threshold";
   static constexpr std::string_view kSecondDescription = "the current it switches on above, as a share of the rated current";
+  static constexpr std::string_view kThresholdWords = " of the rated current, ";
   static constexpr double kExponent[3] = {0.5, 0.05, 2.0};
   template <class T, class R>
   static T shape(const EffectInputs<R>& e, const T& x) {
@@ -186,6 +188,22 @@ constexpr std::string_view second_description() {
   if constexpr (requires { Form::kSecondDescription; }) return Form::kSecondDescription; else return "the term's exponent k";
 }
 
+// A step's form: one with a threshold for its second parameter.
+template <class Form>
+constexpr bool is_step() {
+  return requires { Form::kThresholdWords; };
+}
+
+// How a heat term's fitted values read: "... with k = 1.97, 1.19 kW at the rated point", or for a
+// step "..., at 72 % of the rated frequency, 719 W above it".
+template <class Form>
+constexpr std::array<WordPart, 3> heat_words() {
+  if constexpr (is_step<Form>())
+    return {{{", at ", 1, WordStyle::percent}, {Form::kThresholdWords, 0, WordStyle::watts}, {" above it"}}};
+  else
+    return {{{" with k = ", 1, WordStyle::fixed2}, {", ", 0, WordStyle::watts}, {" at the rated point"}}};
+}
+
 // Extra heat into node `Node`: p[0] W at the rated point (above the threshold, for a step), times
 // the form's shape with exponent (or threshold) p[1].
 template <int Node, class Form>
@@ -197,8 +215,15 @@ struct HeatTerm {
   static constexpr FixedText kSummaryText = join({"extra heat in the ", kNodeWords[Node], " ", Form::kWords});
   static constexpr FixedText kSizeName = join({kNameText.view(), "_w"});
   static constexpr FixedText kExponentName = join({kNameText.view(), "_", second_id<Form>()});
+  // The forms of one node's heat point nearly the same way at their neutral value (a step at its
+  // initial threshold too) and share one refit in a diagnosis. Only a step's refit finds where it
+  // switches on: it is refit beside its group's where that one is significant (the node needs heat).
+  static constexpr FixedText kRefitGroupText = join({"heat_", kNodeIds[Node]});
+  static constexpr bool kRefinesGroup = is_step<Form>();
   static constexpr std::string_view kName = kNameText.view();
   static constexpr std::string_view kSummary = kSummaryText.view();
+  static constexpr std::string_view kRefitGroup = kRefitGroupText.view();
+  static constexpr std::array<WordPart, 3> kWords = heat_words<Form>();
   static constexpr int kExtraStates = 0;
   static constexpr ParamSpec kParams[] = {
       {kSizeName.view(), "W", 500.0, 1.0, 20000.0, 0.0, "the term's heat at the rated point"},
@@ -236,6 +261,8 @@ struct SpeedCooling {
   static constexpr FixedText kExponentName = join({kNameText.view(), "_k"});
   static constexpr std::string_view kName = kNameText.view();
   static constexpr std::string_view kSummary = kSummaryText.view();
+  static constexpr WordPart kWords[] = {{" with k = ", 1, WordStyle::fixed2}, {", ", 0, WordStyle::signed_percent},
+                                        {" at base speed"}};
   static constexpr int kExtraStates = 0;
   static constexpr ParamSpec kParams[] = {
       {kGainName.view(), "1", 0.3, 0.0, 5.0, 0.0, "relative rise of the conductances to air at base speed"},
@@ -262,6 +289,7 @@ struct AirflowExponent {
   static constexpr FixedText kChangeName = join({kNameText.view(), "_change"});
   static constexpr std::string_view kName = kNameText.view();
   static constexpr std::string_view kSummary = kSummaryText.view();
+  static constexpr WordPart kWords[] = {{": ", 0, WordStyle::plus_0_8}, {" instead of 0.8"}};
   static constexpr int kExtraStates = 0;
   static constexpr ParamSpec kParams[] = {
       {kChangeName.view(), "1", -0.4, -0.7, 0.7, 0.0, "change d of the airflow exponent"},
@@ -286,6 +314,8 @@ struct Path {
   static constexpr FixedText kConductanceName = join({kNameText.view(), "_lambda"});
   static constexpr std::string_view kName = kNameText.view();
   static constexpr std::string_view kSummary = kSummaryText.view();
+  static constexpr HeatSides kSides = HeatSides::both;  // it links them
+  static constexpr WordPart kWords[] = {{" of ", 0, WordStyle::one_decimal}, {" W/K"}};
   static constexpr int kExtraStates = 0;
   static constexpr ParamSpec kParams[] = {
       {kConductanceName.view(), "W/K", 20.0, 0.1, 2000.0, 0.0, "the path's conductance"},
@@ -313,6 +343,14 @@ struct Mass {
   static constexpr FixedText kAirName = join({kNameText.view(), "_lambda_air"});
   static constexpr std::string_view kName = kNameText.view();
   static constexpr std::string_view kSummary = kSummaryText.view();
+  // "... of 581 kJ/K, 288 W/K to it and 135 W/K to the air (time constant 23 min)"
+  static constexpr WordPart kWords[] = {{" of ", 1, WordStyle::whole},
+                                        {" kJ/K, ", 0, WordStyle::whole},
+                                        {" W/K to it and ", 2, WordStyle::whole},
+                                        {" W/K to the air (time constant ", -1, WordStyle::whole, true},
+                                        {" min)"}};
+  // Its time constant in minutes: the capacity over both its conductances.
+  static double derived(const double* p) { return p[1] * 1000 / (p[0] + p[2]) / 60; }
   static constexpr int kExtraStates = 1;
   static constexpr ParamSpec kParams[] = {
       {kConductanceName.view(), "W/K", 100.0, 0.1, 5000.0, 0.0, "the mass's conductance to its node"},

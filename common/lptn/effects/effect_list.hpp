@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cstdint>
+#include <span>
 #include <string_view>
 #include <utility>
 
@@ -26,6 +27,41 @@ constexpr int node_of() {
 template <class E>
 constexpr std::string_view formula_of() {
   if constexpr (requires { E::kFormula; }) return E::kFormula; else return {};
+}
+
+// What a diagnosis knows of each effect (effect.hpp), with the defaults where it declares nothing.
+inline constexpr std::string_view kDefaultNeeds = "data in which this effect's inputs vary independently of load and airflow";
+template <class E>
+constexpr std::string_view needs_of() {
+  if constexpr (requires { E::kNeeds; }) return E::kNeeds; else return kDefaultNeeds;
+}
+template <class E>
+constexpr HeatSides sides_of() {
+  if constexpr (requires { E::kSides; }) return E::kSides;
+  else if constexpr (kind_of<E>() == EffectKind::term && node_of<E>() >= 0)
+    return node_of<E>() < kRotorWinding ? HeatSides::stator : HeatSides::rotor;
+  else return HeatSides::both;
+}
+template <class E>
+constexpr double score_at_of() {
+  if constexpr (requires { E::kScoreAt; }) return E::kScoreAt; else return __builtin_nan("");
+}
+template <class E>
+constexpr std::string_view refit_group_of() {
+  if constexpr (requires { E::kRefitGroup; }) return E::kRefitGroup; else return E::kName;
+}
+template <class E>
+constexpr bool refines_group_of() {
+  if constexpr (requires { E::kRefinesGroup; }) return E::kRefinesGroup; else return false;
+}
+template <class E>
+constexpr std::span<const WordPart> words_of() {
+  if constexpr (requires { E::kWords; }) return std::span<const WordPart>(E::kWords); else return {};
+}
+using Derived = double (*)(const double*);
+template <class E>
+constexpr Derived derived_of() {
+  if constexpr (requires { &E::derived; }) return &E::derived; else return nullptr;
 }
 }  // namespace internal
 
@@ -68,6 +104,14 @@ struct FlatEffectList {
   static constexpr std::array<int, kCount> kNodes{node_of<E>()...};  // terms' node, -1 for library effects
   static constexpr std::array<std::string_view, kCount> kFormulas{formula_of<E>()...};
   static constexpr int kNumParams = (0 + ... + static_cast<int>(std::size(E::kParams)));
+  // A diagnosis's knowledge of each (effect.hpp; NaN score point: the neutral value).
+  static constexpr std::array<std::string_view, kCount> kNeeds{needs_of<E>()...};
+  static constexpr std::array<HeatSides, kCount> kSides{sides_of<E>()...};
+  static constexpr std::array<double, kCount> kScoreAt{score_at_of<E>()...};
+  static constexpr std::array<std::string_view, kCount> kRefitGroups{refit_group_of<E>()...};
+  static constexpr std::array<bool, kCount> kRefinesGroup{refines_group_of<E>()...};
+  static constexpr std::array<std::span<const WordPart>, kCount> kWords{words_of<E>()...};
+  static constexpr std::array<Derived, kCount> kDerived{derived_of<E>()...};
 
   // Offsets of each effect's first parameter, counted from the first effect parameter.
   static constexpr std::array<int, kCount> kParamOffsets = [] {

@@ -17,6 +17,16 @@ struct SensorLag {
   static constexpr std::string_view kName = "sensor_lag";
   static constexpr std::string_view kSummary = "first-order lag of the stator winding sensor";
   static constexpr int kExtraStates = 1;
+  static constexpr std::string_view kNeeds =
+      "fast load steps (hard acceleration or braking from a steady state), logged at 1 Hz or faster";
+  static constexpr HeatSides kSides = HeatSides::stator;
+  // Its neutral tau = 0 is singular (1/tau in the model). Its limit is Ts = T1 - tau dT1/dt, so the
+  // score at a small tau (1 ms, below every sensor's and far below the 0.1 s step) is the score at
+  // the limit: the sensitivity -dT1/dt.
+  static constexpr double kScoreAt = 1e-3;
+  // A lagging sensor reads T1 - tau dT1/dt.
+  static constexpr std::string_view kSignatureLabel = "dT1/dt, model";
+  static constexpr std::string_view kSignatureUnit = "K/s";
   static constexpr ParamSpec kParams[] = {
       {"sensor_time_constant_s", "s", 30.0, 0.5, 1000.0, 0.0, "time constant of the stator sensor"},
   };
@@ -34,6 +44,11 @@ struct SensorLag {
   template <class T>
   static void initialize(T* x, int first_state) {
     x[first_state] = x[kStatorWinding];
+  }
+
+  template <class R>
+  static R signature(const SignatureInputs<R>& s) {
+    return s.winding_rate_k_per_s;
   }
 };
 

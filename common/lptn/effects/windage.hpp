@@ -17,6 +17,11 @@ struct Windage {
   static constexpr std::string_view kName = "windage";
   static constexpr std::string_view kSummary = "friction and windage loss ~ speed^2, into the rotor core";
   static constexpr int kExtraStates = 0;
+  static constexpr std::string_view kNeeds =
+      "rotor telemetry, and speed varying independently of load (coasting at speed, light trains at line speed)";
+  static constexpr HeatSides kSides = HeatSides::rotor;
+  static constexpr std::string_view kSignatureLabel = "(n/n_base)^2";
+  static constexpr std::string_view kSignatureUnit = "1";
   static constexpr ParamSpec kParams[] = {
       {"windage_base_w", "W", 300.0, 1.0, 20000.0, 0.0, "friction and windage loss at base speed"},
   };
@@ -25,6 +30,12 @@ struct Windage {
   static void apply(const EffectInputs<R>& e, const T* p, const StepConductances<T>&, HeatBalance<T>& sys,
                     int) {
     sys.heat(kRotorCore, p[0] * (e.speed_ratio * e.speed_ratio));
+  }
+
+  template <class R>
+  static R signature(const SignatureInputs<R>& s) {
+    const R r = s.speed_ratio();
+    return r * r;
   }
 };
 

@@ -7,7 +7,7 @@
 #include "trainer/calibrate/grid_residuals.hpp"
 #include "trainer/data/coarse_grid.hpp"
 
-#include "trainer/diagnose/internal/effect_notes.hpp"
+#include "trainer/diagnose/internal/heat_path.hpp"
 
 namespace lptn::diagnose::internal {
 namespace {

@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "trainer/diagnose/internal/effect_notes.hpp"
 
 namespace lptn::diagnose::internal {
 namespace {
@@ -37,7 +36,7 @@ ParamVector<double> neutral_point(const ParamVector<double>& calibrated, int eff
   bool first = true;
   for (int i = 0; i < kNumParams; ++i) {
     if (effect_of_param(i) != effect) continue;
-    const double override_at = notes_for(effect).score_at;
+    const double override_at = EffectLibrary::kScoreAt[static_cast<std::size_t>(effect)];
     at[i] = first && !std::isnan(override_at) ? override_at : param_spec(i).neutral;
     first = false;
   }
