@@ -24,7 +24,6 @@ constexpr double kStepLossAboveHz = 50.0;
 
 constexpr double kRecirculationShare = 0.8;   // with the blower at a standstill
 constexpr double kRecirculationBelow = 1.0;   // of nominal airflow
-constexpr double kAirHeatCapacityJPerM3K = 1206.0;  // rho c_p of air at 20 C
 
 bool has(PlantPhysicsSet set, PlantPhysics p) { return (set & plant_bit(p)) != 0; }
 
@@ -70,7 +69,7 @@ Inputs<double> plant_inputs(PlantPhysicsSet set, const MotorConstants<double>& m
     conductance += g.to_air[n];
     heat_at_ambient += g.to_air[n] * (x[n] - in.ambient_c);
   }
-  const double c = kAirHeatCapacityJPerM3K * effective_airflow(m, in.airflow_m3s);
+  const double c = effects::AirHeating::kAirVolumetricHeatJPerM3K * effective_airflow(m, in.airflow_m3s);
   out.ambient_c += std::max(0.0, share * heat_at_ambient / (c * (1 - share) + share * conductance));
   return out;
 }
