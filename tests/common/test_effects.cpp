@@ -143,6 +143,13 @@ TEST(Effects, AStepHeatsAboveItsThresholdOnly) {
     EXPECT_GT(rise, 1.0) << name;
     EXPECT_LT(std::abs(above.final[node] - off.final[node]), 0.01 * rise) << name;
   }
+  // Both steps are one template; what a user reads of each is its own quantity's.
+  EXPECT_EQ(EffectLibrary::kFormulas[static_cast<std::size_t>(effect_index("heat_rotor_core_above_i"))],
+            "P_r s((I/I_r - x)/0.03)");
+  EXPECT_EQ(param_spec(param_index("heat_stator_winding_above_f_threshold")).description,
+            "the frequency it switches on above, as a share of the rated frequency");
+  EXPECT_EQ(EffectLibrary::kSummaries[static_cast<std::size_t>(effect_index("heat_rotor_core_above_i"))],
+            "extra heat in the rotor core switching on above a current");
   using terms::forms::smooth_step;
   EXPECT_EQ((smooth_step<double, double>(0.77, 0.77)), 0.5);
   EXPECT_EQ((smooth_step<float, float>(1e6f, 0.05f)), 1.0f);

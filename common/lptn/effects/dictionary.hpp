@@ -130,35 +130,54 @@ T smooth_step(R ratio, const T& threshold) {
   return T(1) / (T(1) + exp(-z));
 }
 
-struct FrequencyThreshold {
-  static constexpr std::string_view kId = "above_f";
-  static constexpr std::string_view kFormula = "P_r s((f/f_r - x)/0.03)";
-  static constexpr std::string_view kWords = "switching on above a frequency";
+// Heat that switches on above a threshold x of one input's ratio to its rating: one template, the
+// quantity (frequency, current) giving its name, its id in the term's name, its variable in the
+// formula and its ratio.
+template <class Quantity>
+struct Threshold {
+  static constexpr FixedText kIdText = join({"above_", Quantity::kSymbol});
+  static constexpr FixedText kFormulaText = join({"P_r s((", Quantity::kVariable, "/", Quantity::kVariable, "_r - x)/0.03)"});
+  static constexpr FixedText kWordsText = join({"switching on above a ", Quantity::kName});
+  static constexpr FixedText kSecondDescriptionText =
+      join({"the ", Quantity::kName, " it switches on above, as a share of the rated ", Quantity::kName});
+  static constexpr FixedText kThresholdWordsText = join({" of the rated ", Quantity::kName, ", "});
+  static constexpr std::string_view kId = kIdText.view();
+  static constexpr std::string_view kFormula = kFormulaText.view();
+  static constexpr std::string_view kWords = kWordsText.view();
   static constexpr std::string_view kSecondId = "threshold";
-  static constexpr std::string_view kSecondDescription = "the frequency it switches on above, as a share of the rated frequency";
-  static constexpr std::string_view kThresholdWords = " of the rated frequency, ";
+  static constexpr std::string_view kSecondDescription = kSecondDescriptionText.view();
+  static constexpr std::string_view kThresholdWords = kThresholdWordsText.view();
   static constexpr double kExponent[3] = {0.5, 0.05, 2.0};  // the threshold: initial (and neutral), min, max
   template <class T, class R>
   static T shape(const EffectInputs<R>& e, const T& x) {
-    using std::abs;
-    return smooth_step<T, R>(abs(e.in.frequency_hz) / e.motor.rated_frequency_hz, x);
+    return smooth_step<T, R>(Quantity::ratio(e), x);
   }
 };
 
-struct CurrentThreshold {
-  static constexpr std::string_view kId = "above_i";
-  static constexpr std::string_view kFormula = "P_r s((I/I_r - x)/0.03)";
-  static constexpr std::string_view kWords = "switching on above a current";
-  static constexpr std::string_view kSecondId = "threshold";
-  static constexpr std::string_view kSecondDescription = "the current it switches on above, as a share of the rated current";
-  static constexpr std::string_view kThresholdWords = " of the rated current, ";
-  static constexpr double kExponent[3] = {0.5, 0.05, 2.0};
-  template <class T, class R>
-  static T shape(const EffectInputs<R>& e, const T& x) {
+struct Frequency {
+  static constexpr std::string_view kName = "frequency";
+  static constexpr std::string_view kSymbol = "f";
+  static constexpr std::string_view kVariable = "f";
+  template <class R>
+  static R ratio(const EffectInputs<R>& e) {
     using std::abs;
-    return smooth_step<T, R>(abs(e.in.current_a) / e.motor.rated_current_a, x);
+    return abs(e.in.frequency_hz) / e.motor.rated_frequency_hz;
   }
 };
+
+struct Current {
+  static constexpr std::string_view kName = "current";
+  static constexpr std::string_view kSymbol = "i";
+  static constexpr std::string_view kVariable = "I";
+  template <class R>
+  static R ratio(const EffectInputs<R>& e) {
+    using std::abs;
+    return abs(e.in.current_a) / e.motor.rated_current_a;
+  }
+};
+
+using FrequencyThreshold = Threshold<Frequency>;
+using CurrentThreshold = Threshold<Current>;
 
 struct ShaftPower {
   static constexpr std::string_view kId = "power";
