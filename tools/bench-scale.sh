@@ -26,6 +26,7 @@ work=build/bench-scale
 mkdir -p "$work"
 (($# > 0)) || set -- 50 200
 mpi=0
+ratios=()
 if [[ $1 == fleet ]]; then set --; fi  # the fleet's row alone
 if [[ $1 == mpi ]]; then mpi=1; set -- "${2:-200}"; fi
 
@@ -40,6 +41,7 @@ measure() {
   awk -v step="$step" -v hours="$hours" '{
     printf "| %-9s | %5s h | %8.1f s | %8.1f s | %7.0f MB | %6.1f h/min |\n", step, hours, $1, $2 + $3, $4 / 1024, hours * 60 / $1
   }' "$work/time.txt"
+  last_wall=$(awk '{ print $1 }' "$work/time.txt")
 }
 
 echo "| step      | data    | wall       | CPU        | peak RSS   | data/time   |"
@@ -70,8 +72,13 @@ for f in sys.argv[1:]:
   measure load "$hours" "$lptn" inspect --data "$fleet"
   measure calibrate "$hours" "$lptn" calibrate --data "$fleet" --motor "$fleet/motor.toml" --method lm --seed 1 \
     --out "$work/calibration-$hours.json" --force
+  calibrate_wall=$last_wall
   measure diagnose "$hours" "$lptn" diagnose --data "$fleet" --calibration "$work/calibration-$hours.json" --quiet
+  ratios+=("$(awk -v h="$hours" -v d="$last_wall" -v c="$calibrate_wall" \
+    'BEGIN { printf "%s h: diagnose %.1f s = %.1fx the LM calibration of the same data (%.1f s)", h, d, d / c, c }')")
 done
+# Issue 28's measure: diagnose's wall time as a multiple of the calibration's, in the same run.
+for r in "${ratios[@]}"; do echo "$r"; done
 # A fleet of FLEET_MOTORS (default 20) motors, 3 cycles each (one motor weak): the type over all of them, each
 # motor's cooling factor, the outliers (lptn calibrate --fleet). Its hours are counted from truth.json.
 : "${FLEET_MOTORS:=20}"

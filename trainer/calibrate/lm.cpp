@@ -46,6 +46,10 @@ class CycleBlock : public ceres::CostFunction {
  public:
   // Grid points with a measurement (the residuals before compression).
   std::size_t measured() const { return measured_; }
+  // The cycle's J^T J and J^T r as they are, before compression (columns: the free parameters,
+  // then the two offsets), and r^T r; false where the model is not finite on the cycle.
+  virtual bool normal_sums(const double* theta, const double* offset, Eigen::MatrixXd& jtj, Eigen::VectorXd& jtr,
+                           double& rss) const = 0;
 
  protected:
   std::size_t measured_ = 0;
@@ -98,12 +102,22 @@ class CycleResiduals final : public CycleBlock {
            std::equal(offset, offset + kOffsets, cached_at_.begin() + static_cast<std::ptrdiff_t>(nf));
   }
 
-  // The simulation with Jets: the compressed residuals and both Jacobians, into the cache (rows
-  // past the informative ones, and the last row, stay zero).
-  bool evaluate_jets(const double* theta, const double* offset) const {
-    const std::size_t nf = free_.size(), m = columns();
-    cached_ = false;
-    std::fill(cached_residuals_.begin(), cached_residuals_.end(), 0.0);
+  bool normal_sums(const double* theta, const double* offset, Eigen::MatrixXd& jtj, Eigen::VectorXd& jtr,
+                   double& rss) const override {
+    const auto mm = static_cast<Eigen::Index>(columns());
+    Eigen::Matrix<double, N, N> jtj_n;
+    Eigen::Matrix<double, N, 1> jtr_n;
+    if (!accumulate(theta, offset, jtj_n, jtr_n, rss)) return false;
+    jtj = jtj_n.topLeftCorner(mm, mm);
+    jtr = jtr_n.head(mm);
+    return true;
+  }
+
+ private:
+  // The simulation with Jets: J^T J, J^T r (derivative slots beyond the columns zero) and r^T r.
+  bool accumulate(const double* theta, const double* offset, Eigen::Matrix<double, N, N>& jtj_n,
+                  Eigen::Matrix<double, N, 1>& jtr_n, double& rss) const {
+    const std::size_t nf = free_.size();
     using Jet = ceres::Jet<double, N>;
     ParamVector<Jet> p;
     for (int i = 0; i < kNumParams; ++i) p[i] = Jet(fixed_[i]);
@@ -113,7 +127,6 @@ class CycleResiduals final : public CycleBlock {
       p[free_.index[j]].v[static_cast<int>(j)] = free_.slope(j, value);  // chain rule into internal coordinates
     }
     const InitialOffsets<Jet> start{Jet(offset[0], static_cast<int>(nf)), Jet(offset[1], static_cast<int>(nf) + 1)};
-    const auto mm = static_cast<Eigen::Index>(m);
     // J^T J and J^T r summed a batch of residuals at a time: a product of a kBatch x N block with
     // itself (vectorized, cache-resident) instead of a rank-one update per residual, which took a
     // fifth of the fit. Derivative slots beyond the m columns are zero throughout.
@@ -121,8 +134,8 @@ class CycleResiduals final : public CycleBlock {
     using Rows = Eigen::Matrix<double, kBatch, N, Eigen::RowMajor>;
     Rows rows;
     Eigen::Matrix<double, kBatch, 1> values;
-    Eigen::Matrix<double, N, N> jtj_n = Eigen::Matrix<double, N, N>::Zero();
-    Eigen::Matrix<double, N, 1> jtr_n = Eigen::Matrix<double, N, 1>::Zero();
+    jtj_n.setZero();
+    jtr_n.setZero();
     int filled = 0;
     const auto flush = [&] {
       const auto block = rows.topRows(filled);
@@ -130,7 +143,7 @@ class CycleResiduals final : public CycleBlock {
       jtr_n.noalias() += block.transpose() * values.head(filled);
       filled = 0;
     };
-    double rss = 0;
+    rss = 0;
     const bool ok = fill(with_cooling_factor(p, cooling_), start, [&](const Jet& e) {
       rows.row(filled) = e.v.transpose();
       values(filled) = e.a;
@@ -138,7 +151,20 @@ class CycleResiduals final : public CycleBlock {
       if (++filled == kBatch) flush();
     });
     if (filled > 0) flush();
-    if (!ok) return false;
+    return ok;
+  }
+
+  // The compressed residuals and both Jacobians, into the cache (rows past the informative ones,
+  // and the last row, stay zero).
+  bool evaluate_jets(const double* theta, const double* offset) const {
+    const std::size_t nf = free_.size(), m = columns();
+    cached_ = false;
+    std::fill(cached_residuals_.begin(), cached_residuals_.end(), 0.0);
+    const auto mm = static_cast<Eigen::Index>(m);
+    Eigen::Matrix<double, N, N> jtj_n;
+    Eigen::Matrix<double, N, 1> jtr_n;
+    double rss = 0;
+    if (!accumulate(theta, offset, jtj_n, jtr_n, rss)) return false;
     const Eigen::MatrixXd jtj = jtj_n.topLeftCorner(mm, mm);
     const Eigen::VectorXd jtr = jtr_n.head(mm);
     const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(jtj);  // Lower: the default
@@ -725,40 +751,52 @@ NormalEquations normal_equations(const Model<double>& model, const FreeParameter
   const std::size_t nf = free.size();
   std::vector<double> theta(nf);
   for (std::size_t j = 0; j < nf; ++j) theta[j] = free.to_internal(j, at[free.index[j]]);
-  std::vector<std::array<double, kOffsets>> offset(cycles.size());
-  ceres::Problem::Options problem_options;
-  problem_options.cost_function_ownership = ceres::TAKE_OWNERSHIP;
-  ceres::Problem problem(problem_options);
-  ceres::Problem::EvaluateOptions evaluate;
-  evaluate.parameter_blocks = {theta.data()};
-  evaluate.num_threads = threads;
   NormalEquations out;
+  // Each cycle's sums as they are (not the compressed blocks LM sees: a direction the compression
+  // drops, nearly null in J^T J, still carries a share of J^T r, and a score test restricted to
+  // some of the columns would miss it). A cycle without measurements has no offsets' columns.
+  struct CycleSums {
+    std::unique_ptr<CycleBlock> block;
+    std::array<double, kOffsets> offset{};
+    Eigen::MatrixXd jtj;
+    Eigen::VectorXd jtr;
+    double rss = 0;
+    bool ok = true;
+  };
+  std::vector<CycleSums> sums;
   for (std::size_t i = 0; i < cycles.size(); ++i) {
-    offset[i] = {offsets[i].stator_core, offsets[i].rotor_core};
-    CycleBlock* cost = make_residuals(model, dataset.cycles[cycles[i]], free, at, SIZE_MAX);
-    out.residuals += cost->measured();
-    // A cycle without measurements has no residual block, and its offsets no columns.
-    if (cost->measured() == 0) {
-      delete cost;
+    std::unique_ptr<CycleBlock> block(make_residuals(model, dataset.cycles[cycles[i]], free, at, SIZE_MAX));
+    out.residuals += block->measured();
+    if (block->measured() == 0) continue;
+    sums.push_back({std::move(block), {offsets[i].stator_core, offsets[i].rotor_core}, {}, {}, 0, true});
+  }
+  parallel_for(sums.size(), threads, [&](std::size_t i) {
+    CycleSums& c = sums[i];
+    c.ok = c.block->normal_sums(theta.data(), c.offset.data(), c.jtj, c.jtr, c.rss);
+  });
+  const auto p = static_cast<Eigen::Index>(nf);
+  const Eigen::Index m = p + static_cast<Eigen::Index>(kOffsets * sums.size());
+  Eigen::MatrixXd jtj = Eigen::MatrixXd::Zero(m, m);
+  Eigen::VectorXd jtr = Eigen::VectorXd::Zero(m);
+  for (std::size_t i = 0; i < sums.size(); ++i) {
+    const CycleSums& c = sums[i];
+    if (!c.ok) {
+      out.rss = std::numeric_limits<double>::quiet_NaN();
+      jtr.setConstant(out.rss);
       continue;
     }
-    problem.AddResidualBlock(cost, nullptr, theta.data(), offset[i].data());
+    const Eigen::Index o = p + static_cast<Eigen::Index>(kOffsets * i);
+    jtj.topLeftCorner(p, p) += c.jtj.topLeftCorner(p, p);
+    jtj.block(0, o, p, kOffsets) = c.jtj.topRightCorner(p, kOffsets);
+    jtj.block(o, 0, kOffsets, p) = c.jtj.bottomLeftCorner(kOffsets, p);
+    jtj.block(o, o, kOffsets, kOffsets) = c.jtj.bottomRightCorner(kOffsets, kOffsets);
+    jtr.head(p) += c.jtr.head(p);
+    jtr.segment(o, kOffsets) = c.jtr.tail(kOffsets);
+    out.rss += c.rss;
   }
-  for (auto& o : offset)
-    if (problem.HasParameterBlock(o.data())) evaluate.parameter_blocks.push_back(o.data());
-  ceres::CRSMatrix jacobian;
-  std::vector<double> residuals;
-  double cost = 0;
-  problem.Evaluate(evaluate, &cost, &residuals, nullptr, &jacobian);
-  const Eigen::MatrixXd jtj = gram(jacobian);
-  Eigen::VectorXd jtr = Eigen::VectorXd::Zero(jacobian.num_cols);
-  for (int r = 0; r < jacobian.num_rows; ++r)
-    for (int a = jacobian.rows[static_cast<std::size_t>(r)]; a < jacobian.rows[static_cast<std::size_t>(r) + 1]; ++a)
-      jtr(jacobian.cols[static_cast<std::size_t>(a)]) += jacobian.values[static_cast<std::size_t>(a)] * residuals[static_cast<std::size_t>(r)];
-  out.columns = static_cast<std::size_t>(jacobian.num_cols);
+  out.columns = static_cast<std::size_t>(m);
   out.jtj.assign(jtj.data(), jtj.data() + jtj.size());  // symmetric: column-major equals row-major
   out.jtr.assign(jtr.data(), jtr.data() + jtr.size());
-  out.rss = 2.0 * cost;
   return out;
 }
 

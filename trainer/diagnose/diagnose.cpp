@@ -94,14 +94,6 @@ struct Scored {
   internal::Score score;
 };
 
-Scored score_effect(const MotorFile& motor, int effect, const Diagnosis& before, const data::Dataset& dataset,
-                    const Split& split, const Settings& settings, const Progress& progress) {
-  MotorFile with = motor;
-  enable_effect(with, effect);
-  if (progress) progress(std::string(EffectLibrary::kNames[static_cast<std::size_t>(effect)]) + ": score test");
-  return {effect, internal::score_test(with, effect, before.baseline, dataset, split.train, settings.threads)};
-}
-
 // The baseline's block errors by block length: refits whose residuals are short-correlated all get
 // the shortest blocks, and share one simulation of the training cycles.
 using BaselineBlocks = std::map<std::size_t, std::vector<double>>;
@@ -136,8 +128,9 @@ std::string kelvin_text(double v) {
 std::string ended(const RefitStart& s) {
   if (!s.error.empty()) return "from " + s.from + " no fit (" + s.error + ")";
   char buf[200];
-  std::snprintf(buf, sizeof buf, "from %s to %.3f K (%s, %d iterations)", s.from.c_str(), s.rmse_k,
-                s.converged ? "converged" : "not converged", s.iterations);
+  std::snprintf(buf, sizeof buf, "from %s to %.3f K%s (%s, %d iterations)", s.from.c_str(), s.rmse_k,
+                s.coarse_only ? " on the coarse grid, not polished" : "", s.converged ? "converged" : "not converged",
+                s.iterations);
   return buf;
 }
 
@@ -186,30 +179,60 @@ Candidate examine(const MotorFile& motor, const Scored& scored, const Diagnosis&
 
   // Two starts, the better kept: the score test's step (where the residuals point) and the
   // neutral value (the baseline's own fit). The second is skipped where the step did not move.
+  // Both run on the coarse grid, and the one that ends lower there is polished on the data's own
+  // (the polish is most of a refit's cost); without readings on the coarse grid, both on the data's.
   LmSettings lm = lm_settings(settings);
   lm.max_iterations = settings.refit_iterations;
   const std::pair<const char*, ParamVector<double>> starts[] = {
       {"the score test's step", score.predicted}, {"the neutral value", neutral_start(with, effect, before.baseline.values)}};
   std::optional<internal::Refit> kept;
+  std::optional<LmReport> best_coarse;
+  std::size_t best_start = 0;
   for (const auto& [from, values] : starts) {
     if (&from != &starts[0].first && values == starts[0].second) continue;
     RefitStart s;
     s.from = from;
+    const LmProgress report = lm_progress(progress, c.name + ": refit from " + from);
     try {
-      internal::Refit r = internal::refit_with(with, effect, values, dataset, split.train, lm,
-                                               lm_progress(progress, c.name + ": refit from " + from), &coarse);
-      s.rmse_k = r.fit.rmse_k;
-      s.iterations = r.fit.iterations;
-      s.converged = r.fit.converged;
-      if (!kept || r.fit.final_cost < kept->fit.final_cost) {
-        kept = std::move(r);
-        c.start = from;
+      if (std::optional<LmReport> on_coarse = internal::coarse_stage(with, values, coarse, split.train, lm, report)) {
+        s.rmse_k = on_coarse->rmse_k;
+        s.iterations = on_coarse->iterations;
+        s.converged = on_coarse->converged;
+        s.coarse_only = true;
+        if (!best_coarse || on_coarse->final_cost < best_coarse->final_cost) {
+          best_coarse = std::move(on_coarse);
+          best_start = c.starts.size();
+        }
+      } else {
+        internal::Refit r = internal::refit_with(with, effect, values, dataset, split.train, lm, report);
+        s.rmse_k = r.fit.rmse_k;
+        s.iterations = r.fit.iterations;
+        s.converged = r.fit.converged;
+        if (!kept || r.fit.final_cost < kept->fit.final_cost) {
+          kept = std::move(r);
+          c.start = from;
+        }
       }
     } catch (const ModelNotSimulable& error) {
       s.rmse_k = kNoTest;
       s.error = error.what();
     }
     c.starts.push_back(s);
+  }
+  if (best_coarse) {
+    RefitStart& s = c.starts[best_start];
+    try {
+      kept = internal::polish(with, effect, *best_coarse, dataset, split.train, lm,
+                              lm_progress(progress, c.name + ": polish from " + s.from));
+      s.rmse_k = kept->fit.rmse_k;
+      s.iterations = kept->fit.iterations;
+      s.converged = kept->fit.converged;
+      s.coarse_only = false;
+      c.start = s.from;
+    } catch (const ModelNotSimulable& error) {
+      s.rmse_k = kNoTest;
+      s.error = error.what();
+    }
   }
   // Both fits have the same residuals: the likelihood ratio of the kept refit against the baseline.
   const double lr = kept ? before.effective_residuals * std::log(before.baseline.final_cost / kept->fit.final_cost)
@@ -361,10 +384,17 @@ Diagnosis diagnose(const MotorFile& motor, const ParamVector<double>& calibrated
   BaselineBlocks baseline_blocks;
   // Each refit takes its steps on the 1 s grid and polishes on the data's (refit.hpp).
   const data::Dataset coarse = internal::coarse_dataset(dataset, kRefitCoarseFactor);
-  for (int e = 0; e < kNumEffects; ++e) {
-    if (motor.effects & effect_bit(e)) continue;
-    const Scored scored = score_effect(motor, e, d, dataset, split, settings, progress);
-    if (EffectLibrary::kKinds[static_cast<std::size_t>(e)] == EffectKind::library)
+  std::vector<int> missing;
+  for (int e = 0; e < kNumEffects; ++e)
+    if (!(motor.effects & effect_bit(e))) missing.push_back(e);
+  const std::vector<internal::Score> scores = internal::score_tests(
+      motor, missing, d.baseline, dataset, split.train, settings.threads, [&](int e) {
+        if (progress)
+          progress(e < 0 ? std::string("score tests") : std::string(EffectLibrary::kNames[static_cast<std::size_t>(e)]) + ": score test");
+      });
+  for (std::size_t k = 0; k < missing.size(); ++k) {
+    const Scored scored{missing[k], scores[k]};
+    if (EffectLibrary::kKinds[static_cast<std::size_t>(scored.effect)] == EffectKind::library)
       d.candidates.push_back(examine(motor, scored, d, dataset, coarse, split, settings, progress, baseline_blocks));
     else
       terms.push_back(scored);

@@ -93,6 +93,7 @@ struct RefitStart {
   int iterations = 0;
   bool converged = false;
   std::string error;          // why the fit could not be made (empty: it was)
+  bool coarse_only = false;   // ended on the coarse grid, not polished: the other start ended lower there
 };
 
 struct Candidate {

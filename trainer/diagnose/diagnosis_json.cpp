@@ -32,7 +32,7 @@ nlohmann::json to_json(const Candidate& c, const Diagnosis& d) {
   nlohmann::json starts = nlohmann::json::array();
   for (const RefitStart& s : c.starts)
     starts.push_back({{"from", s.from}, {"rmse_k", json_number(s.rmse_k)}, {"iterations", s.iterations},
-                      {"converged", s.converged}, {"error", s.error}});
+                      {"converged", s.converged}, {"coarse_grid_only", s.coarse_only}, {"error", s.error}});
   const Candidate* best = d.best();
   nlohmann::json j = {{"effect", c.name},
           {"statistic", c.statistic},

@@ -15,7 +15,9 @@ namespace lptn::diagnose {
 namespace {
 
 constexpr double kMinLogFactor = -1.0, kMaxLogFactor = 1.0;  // c in [0.37, 2.7]
-constexpr int kGoldenIterations = 22;                        // brackets log c to 1e-4
+// log c to within this: a tenth of kFactorResolution (what the golden section's 22 steps bracketed).
+constexpr double kLogFactorTolerance = 1e-4;
+constexpr int kMaxEvaluations = 40;  // Brent's worst case on [-1, 1] to 1e-4 is about 30
 // A cycle's factor is not more precise than this (log units) whatever its fit says: it keeps the
 // t statistics finite when cycles agree to the last digit.
 constexpr double kFactorResolution = 0.005;
@@ -28,23 +30,53 @@ double squared_error(const Model<double>& model, const ParamVector<double>& p, c
   return sse;
 }
 
-// The factor of the group that fits `cycle` best, the other parameters at `p`.
+// The factor of the group that fits `cycle` best, the other parameters at `p`: Brent's minimizer
+// (golden-section steps, parabolic ones where the error is smooth, which it is: about 8 cycle
+// simulations where the golden section alone took 24, most of what the drift check costs).
 double best_factor(const Model<double>& model, const ParamVector<double>& p, DriftGroup g, const data::Cycle& cycle) {
-  constexpr double kInvPhi = 0.6180339887498949;
-  double a = kMinLogFactor, b = kMaxLogFactor;
-  double x1 = b - kInvPhi * (b - a), x2 = a + kInvPhi * (b - a);
+  constexpr double kGolden = 0.3819660112501051;  // 2 - phi
   auto f = [&](double y) { return squared_error(model, scaled_group(p, g, std::exp(y)), cycle); };
-  double f1 = f(x1), f2 = f(x2);
-  for (int it = 0; it < kGoldenIterations; ++it) {
-    if (f1 <= f2) {
-      b = x2, x2 = x1, f2 = f1;
-      x1 = b - kInvPhi * (b - a), f1 = f(x1);
+  double a = kMinLogFactor, b = kMaxLogFactor;
+  double x = a + kGolden * (b - a), w = x, v = x;
+  double fx = f(x), fw = fx, fv = fx;
+  double d = 0, e = 0;  // the last step and the one before it
+  for (int evaluations = 1; evaluations < kMaxEvaluations; ++evaluations) {
+    const double m = 0.5 * (a + b), tol = 0.5 * kLogFactorTolerance;
+    if (std::abs(x - m) <= 2 * tol - 0.5 * (b - a)) break;
+    bool parabolic = false;
+    if (std::abs(e) > tol) {
+      // The parabola through x, w and v; its minimum if it falls inside and the step shrinks.
+      double r = (x - w) * (fx - fv), q = (x - v) * (fx - fw), step = (x - v) * q - (x - w) * r;
+      q = 2 * (q - r);
+      if (q > 0) step = -step;
+      q = std::abs(q);
+      if (std::abs(step) < std::abs(0.5 * q * e) && step > q * (a - x) && step < q * (b - x)) {
+        e = d;
+        d = step / q;
+        const double u = x + d;
+        if (u - a < 2 * tol || b - u < 2 * tol) d = x < m ? tol : -tol;
+        parabolic = true;
+      }
+    }
+    if (!parabolic) {
+      e = (x < m ? b : a) - x;
+      d = kGolden * e;
+    }
+    const double u = std::abs(d) >= tol ? x + d : x + (d > 0 ? tol : -tol);
+    const double fu = f(u);
+    if (fu <= fx) {
+      (u < x ? b : a) = x;
+      v = w, fv = fw, w = x, fw = fx, x = u, fx = fu;
     } else {
-      a = x1, x1 = x2, f1 = f2;
-      x2 = a + kInvPhi * (b - a), f2 = f(x2);
+      (u < x ? a : b) = u;
+      if (fu <= fw || w == x) {
+        v = w, fv = fw, w = u, fw = fu;
+      } else if (fu <= fv || v == x || v == w) {
+        v = u, fv = fu;
+      }
     }
   }
-  return std::exp(0.5 * (a + b));
+  return std::exp(x);
 }
 
 struct Statistic {

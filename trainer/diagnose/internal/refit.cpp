@@ -12,8 +12,6 @@
 namespace lptn::diagnose::internal {
 namespace {
 
-constexpr int kCrawlPolishIterations = 3;
-
 // "P is +0.97 correlated with Q" for the first flagged pair of parameter `i` with one the model
 // already has, or empty. Two parameters of the effect itself (a term's size and its exponent)
 // trading off against each other make its form imprecise, not the effect indistinguishable; a
@@ -63,29 +61,22 @@ data::Dataset coarse_dataset(const data::Dataset& fine, int factor) {
   return out;
 }
 
-Refit refit_with(const MotorFile& with_effect, int effect, const ParamVector<double>& start, const data::Dataset& dataset,
-                 const std::vector<std::size_t>& train, const LmSettings& settings, const LmProgress& progress,
-                 const data::Dataset* coarse) {
-  Refit out;
-  // The coarse grid keeps a measured channel at its 1 s instants only: a sensor sampled off them
-  // leaves it no reading, and the fit runs on the data's own grid alone. (The counts include
-  // remote cycles', so every process decides alike.)
+std::optional<LmReport> coarse_stage(const MotorFile& with_effect, const ParamVector<double>& start,
+                                     const data::Dataset& coarse, const std::vector<std::size_t>& train,
+                                     const LmSettings& settings, const LmProgress& progress) {
+  // The counts include remote cycles', so every process decides alike.
   std::size_t coarse_readings = 0;
-  if (coarse != nullptr)
-    for (std::size_t c : train) coarse_readings += count_grid_residuals(coarse->cycles[c]);
-  if (coarse_readings > 0) {
-    const LmReport on_coarse = fit_lm(with_effect, start, *coarse, train, settings, progress);
-    LmSettings polish = settings;
-    polish.start_offsets = on_coarse.offsets;
-    // A coarse fit that used up its iterations is crawling along a direction the data barely
-    // supports, and where it got is its verdict's ground (Settings::refit_iterations): the polish
-    // then only takes the grid's bias out, at ten times the cost of a coarse step, instead of
-    // crawling on (a thermal mass's refit on clean data: 15 fine-grid iterations, most of its time).
-    if (!on_coarse.converged) polish.max_iterations = std::min(polish.max_iterations, kCrawlPolishIterations);
-    out.fit = fit_lm(with_effect, on_coarse.values, dataset, train, polish, progress);
-  } else {
-    out.fit = fit_lm(with_effect, start, dataset, train, settings, progress);
-  }
+  for (std::size_t c : train) coarse_readings += count_grid_residuals(coarse.cycles[c]);
+  if (coarse_readings == 0) return std::nullopt;
+  return fit_lm(with_effect, start, coarse, train, settings, progress);
+}
+
+namespace {
+
+// Whether the data can tell the effect apart in `fit`.
+Refit judged(LmReport fit, const MotorFile& with_effect, int effect) {
+  Refit out;
+  out.fit = std::move(fit);
   // Whether the effect is there at all is its first parameter's question (a term's size; its
   // exponent may well be near zero and imprecise while the term is plainly present).
   const int first = kNumPaperParams + EffectLibrary::kParamOffsets[static_cast<std::size_t>(effect)];
@@ -95,6 +86,29 @@ Refit refit_with(const MotorFile& with_effect, int effect, const ParamVector<dou
     if (out.imprecise.empty() && i == first) out.imprecise = imprecise(out.fit, i);
   }
   return out;
+}
+
+}  // namespace
+
+Refit polish(const MotorFile& with_effect, int effect, const LmReport& on_coarse, const data::Dataset& dataset,
+             const std::vector<std::size_t>& train, const LmSettings& settings, const LmProgress& progress) {
+  LmSettings fine = settings;
+  fine.start_offsets = on_coarse.offsets;
+  // A coarse fit that used up its iterations is crawling along a direction the data barely
+  // supports, and where it got is its verdict's ground (Settings::refit_iterations): the polish
+  // then only takes the grid's bias out, at ten times the cost of a coarse step, instead of
+  // crawling on (a thermal mass's refit on clean data: 15 fine-grid iterations, most of its time).
+  if (!on_coarse.converged) fine.max_iterations = std::min(fine.max_iterations, kCrawlPolishIterations);
+  return judged(fit_lm(with_effect, on_coarse.values, dataset, train, fine, progress), with_effect, effect);
+}
+
+Refit refit_with(const MotorFile& with_effect, int effect, const ParamVector<double>& start, const data::Dataset& dataset,
+                 const std::vector<std::size_t>& train, const LmSettings& settings, const LmProgress& progress,
+                 const data::Dataset* coarse) {
+  if (coarse != nullptr)
+    if (const std::optional<LmReport> on_coarse = coarse_stage(with_effect, start, *coarse, train, settings, progress))
+      return polish(with_effect, effect, *on_coarse, dataset, train, settings, progress);
+  return judged(fit_lm(with_effect, start, dataset, train, settings, progress), with_effect, effect);
 }
 
 }  // namespace lptn::diagnose::internal

@@ -1,6 +1,7 @@
 // The refit with one effect added, and whether the data can tell the effect apart.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -23,15 +24,29 @@ data::Dataset coarse_dataset(const data::Dataset& fine, int factor);
 // baseline's values with the effect's at one of diagnose's starts (the score test's Gauss-Newton
 // step, or the neutral value: from the step alone, or from the motor file's initial guess, a refit
 // of a few iterations can end worse than the baseline; diagnose.cpp keeps the better of the two).
-// With `coarse` (coarse_dataset of `dataset`): the fit first runs there, a tenth of the work per
-// iteration, and then on `dataset` from where it ended (its parameters and the cycles' initial
-// offsets), where it polishes: the result is the fit on `dataset`, and its iterations are the
-// polish's. Where the data pin the effect the polish takes a few iterations to the same optimum;
-// along a flat direction (an absent effect) it may end elsewhere on it than a fit without the
-// coarse stage (README, "Scale: a fleet dump of 200 hours"). Without a reading on the coarse
-// grid, the fine fit alone.
+// With `coarse` (coarse_dataset of `dataset`): coarse_stage, then polish (below). Without a
+// reading on the coarse grid, the fine fit alone.
 Refit refit_with(const MotorFile& with_effect, int effect, const ParamVector<double>& start, const data::Dataset& dataset,
                  const std::vector<std::size_t>& train, const LmSettings& settings, const LmProgress& progress,
                  const data::Dataset* coarse = nullptr);
+
+// The fit on `coarse` alone, a tenth of the work per iteration: where a start leads. Empty where
+// the coarse grid keeps no reading of the training cycles (a sensor sampled off its 1 s instants:
+// the fit must run on the data's own grid). diagnose compares its starts here and polishes the
+// better one only: the polish costs ten times a coarse iteration.
+std::optional<LmReport> coarse_stage(const MotorFile& with_effect, const ParamVector<double>& start,
+                                     const data::Dataset& coarse, const std::vector<std::size_t>& train,
+                                     const LmSettings& settings, const LmProgress& progress);
+
+// The fit on `dataset` from where `on_coarse` ended (its parameters and the cycles' initial
+// offsets): the result is the fit on `dataset`, and its iterations are the polish's. Where the data
+// pin the effect the polish takes a few iterations to the same optimum; along a flat direction (an
+// absent effect) it ends elsewhere on it than a fit without the coarse stage would (README, "Scale:
+// a fleet dump of 200 hours"). After a coarse fit that used up its iterations, at most
+// kCrawlPolishIterations.
+Refit polish(const MotorFile& with_effect, int effect, const LmReport& on_coarse, const data::Dataset& dataset,
+             const std::vector<std::size_t>& train, const LmSettings& settings, const LmProgress& progress);
+
+constexpr int kCrawlPolishIterations = 3;
 
 }  // namespace lptn::diagnose::internal
