@@ -1,6 +1,8 @@
-// candump -L logs: the reader is the firmware's own (firmware/linux/frame_source.hpp), which owns
-// no file; the writer formats lines as lptn/firmware/candump_line.hpp does.
+// candump -L logs: lines parsed by the firmware's own parser (lptn/firmware/candump_line.hpp), as
+// firmware/linux/frame_source.hpp's CandumpSource does, read a block at a time; the writer formats
+// lines as candump_line.hpp does.
 #include "lptn/firmware/candump_line.hpp"
+#include "tools/canfile/internal/block_line_reader.hpp"
 #include "tools/canfile/internal/formats.hpp"
 
 namespace lptn::canfile {
@@ -8,17 +10,33 @@ namespace {
 
 class OwningCandumpSource final : public fw::FrameSource {
  public:
-  explicit OwningCandumpSource(File file) : file_(std::move(file)), source_(file_.get()) {}
+  explicit OwningCandumpSource(File file) : file_(std::move(file)), reader_(file_.get()) {}
+  // CandumpSource::next, word for word, on the block reader.
   Status next(fw::TimeUs& time_us, fw::CanFrame& frame, const char*& why) override {
-    return source_.next(time_us, frame, why);
+    std::string_view line;
+    for (BlockLineReader::Status s; (s = reader_.next(line)) != BlockLineReader::Status::end;) {
+      if (s == BlockLineReader::Status::too_long) {
+        why = "line longer than 512 bytes, not a candump line";
+        return Status::bad;
+      }
+      if (line.empty()) continue;
+      fw::CandumpRecord rec;
+      if ((why = fw::parse_candump_line(line, rec)) != nullptr) return Status::bad;
+      time_us = rec.time_us;
+      frame = rec.frame;
+      channel_ = rec.interface;
+      return Status::frame;
+    }
+    return Status::end;
   }
-  std::size_t record() const override { return source_.record(); }
-  const char* record_name() const override { return source_.record_name(); }
-  std::string_view channel() const override { return source_.channel(); }
+  std::size_t record() const override { return reader_.line_number(); }
+  const char* record_name() const override { return "line"; }
+  std::string_view channel() const override { return channel_; }
 
  private:
   File file_;
-  fw::CandumpSource source_;
+  BlockLineReader reader_;
+  std::string_view channel_;
 };
 
 class CandumpWriter final : public LogWriter {

@@ -16,6 +16,7 @@
 #include "tools/canlog/bus_channels.hpp"
 #include "tools/canlog/convert.hpp"
 #include "tools/cli/bus_option.hpp"
+#include "tools/cli/blas_threads.hpp"
 #include "tools/cli/commands.hpp"
 #include "hostio/atomic_file.hpp"
 
@@ -250,6 +251,7 @@ void add_convert(CLI::App& app) {
   cmd->add_flag("--force", args->force, "Replace --out if it exists");
   cmd->footer(footer());
   cmd->callback([cmd, args] {
+    stop_blas_threads();
     if (!args->bus.empty()) check_input_path(args->bus, "--bus", InputPath::file);
     if (!args->bus.empty()) args->map = read_bus_map(args->bus);
     if (fs::is_directory(args->in)) {

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "tools/cli/bus_option.hpp"
+#include "tools/cli/blas_threads.hpp"
 #include "tools/cli/commands.hpp"
 #include "hostio/progress_line.hpp"
 #include "tools/replay/calibrated_estimator.hpp"
@@ -89,6 +90,7 @@ void add_replay(CLI::App& app) {
   cmd->add_flag("--force", args->force, "Replace --out if it exists");
   cmd->add_flag("--quiet", args->quiet, "No progress line");
   cmd->callback([args] {
+    stop_blas_threads();
     // Inputs, then the output, before any work (a missing input is the first thing to hear of).
     check_input_path(args->log, "--log", InputPath::file);
     if (!args->calibration.empty()) check_input_path(args->calibration, "--calibration", InputPath::file);
