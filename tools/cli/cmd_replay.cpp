@@ -36,12 +36,14 @@ namespace {
 // against the speed), currents or voltages no motor of that nameplate sees. A calibration of
 // another motor type gives estimates that look like any others; this is what says so. Each
 // finding names the log.
-std::vector<std::string> log_against_motor(const std::string& log, const std::string& out, std::size_t rows,
+// `inputs_csv`: the CSV's fleet-dump columns as written (ReplaySummary::inputs_csv), loaded as the
+// CSV `out` would be.
+std::vector<std::string> log_against_motor(const std::string& log, const std::string& out, const ReplaySummary& r,
                                            const CalibrationResult& cal, const std::string& source) {
-  if (rows == 0) return {};  // the estimator never started: no inputs to check
+  if (r.stats.rows == 0) return {};  // the estimator never started: no inputs to check
   data::Dataset replayed;
   try {
-    replayed = data::load_cycle_file(out);
+    replayed = data::parse_cycle_csv(r.inputs_csv, out);
   } catch (const data::DataError& e) {
     return {log + ": its inputs were not checked against the motor of " + source + " (" + e.what() + ")"};
   }
@@ -101,7 +103,8 @@ void replay_directory(const fs::path& dir, const std::string& out_dir, bool forc
       const fs::path csv = out.path() / (logs[i].stem().string() + ".csv");
       try {
         item.summary = replay_to_csv(logs[i].string(), config, csv.string(), true, select);
-        item.warnings = log_against_motor(logs[i].string(), csv.string(), item.summary.stats.rows, calibrated, source);
+        item.warnings = log_against_motor(logs[i].string(), csv.string(), item.summary, calibrated, source);
+        item.summary.inputs_csv = std::string();  // done with: not nine logs' worth held at once
       } catch (...) {
         item.failure = std::current_exception();
       }
@@ -258,7 +261,7 @@ void add_replay(CLI::App& app) {
                   r.cooling_factor_std, r.cooling_state == fw::CoolingState::tracking ? "tracking" : "frozen: open loop",
                   r.cooling_alarm_from_s < 0 ? "never raised"
                                              : ("raised from " + ProgressLine::clock(r.cooling_alarm_from_s)).c_str());
-    for (const std::string& w : log_against_motor(args->log, args->out, s.rows, calibrated, source))
+    for (const std::string& w : log_against_motor(args->log, args->out, r, calibrated, source))
       std::fprintf(stderr, "lptn: warning: %s\n", w.c_str());
   });
 }

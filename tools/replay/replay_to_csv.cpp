@@ -25,6 +25,13 @@ struct Track {
   }
 };
 
+// The length of a row's (or the header's) first ten columns: up to its tenth comma.
+std::size_t inputs_length(const char* row) {
+  const char* p = row;
+  for (int commas = 0;; ++p)
+    if (*p == ',' && ++commas == 10) return static_cast<std::size_t>(p - row);
+}
+
 constexpr std::size_t kNoiseLagTicks = 20;  // 2 s at the 0.1 s step (BandCoverage says why)
 
 BandCoverage coverage_of(const Track& t) {
@@ -66,6 +73,8 @@ ReplaySummary replay_to_csv(const std::string& log_path, const fw::EstimatorConf
   if (!csv.open(csv_path)) throw std::invalid_argument(csv_path + ": cannot be written");
   auto estimator = std::make_unique<fw::Estimator<double>>(config);
   fw::write_estimate_header(csv.get());
+  summary.inputs_csv.append(fw::kEstimateHeader, inputs_length(fw::kEstimateHeader));
+  summary.inputs_csv += '\n';
   // Rows are formatted into a buffer of 1 MiB and written a buffer at a time.
   std::vector<char> out(std::size_t{1} << 20);
   std::size_t used = 0;
@@ -79,7 +88,10 @@ ReplaySummary replay_to_csv(const std::string& log_path, const fw::EstimatorConf
   Track stator, rotor;
   sinks.row = [&](const fw::EstimatorOutput<double>& o, fw::TimeUs start) {
     if (out.size() - used < fw::kMaxEstimateRow) flush();
+    const char* row = out.data() + used;
     used += fw::format_estimate_row(out.data() + used, o, start);
+    summary.inputs_csv.append(row, inputs_length(row));
+    summary.inputs_csv += '\n';
     summary.cooling_factor = o.cooling_factor;
     summary.cooling_factor_std = o.cooling_factor_std;
     summary.cooling_state = o.cooling_state;
