@@ -1,8 +1,8 @@
 // Numbers as the estimates' CSV prints them, without printf: printf's "%.6f" and "%.9g" (glibc:
 // the exact binary value rounded half to even) took half of `lptn replay`'s time. Each function
-// writes the very bytes printf would (tests/replay/test_csv_number.cpp holds them to snprintf on
-// millions of values and the edge cases) and returns the end; `out` needs 40 bytes (more only for
-// "%.6f" of values beyond 1e30, which take to_chars's way: 330).
+// writes the very bytes printf would (tests/replay/test_replay_output.cpp holds them to snprintf on
+// a million doubles of every kind and the edge cases) and returns the end; `out` needs kMaxChars
+// bytes ("%.6f" of the largest doubles; 32 suffice for magnitudes below 9.2e12 and for "%.9g").
 #pragma once
 
 #include <charconv>
