@@ -2,53 +2,91 @@
 
 #include <cmath>
 
+#include "csv_number.hpp"
+
 namespace lptn::fw {
 namespace {
 
-// Nine significant digits: a float (the loader stores inputs as float) survives the round trip.
-void put(std::FILE* out, double v) {
-  if (std::isnan(v)) {
-    std::fputc(',', out);
-  } else {
-    std::fprintf(out, ",%.9g", v);
-  }
+using namespace csv_number;
+
+// Nine significant digits ("%.9g"): a float (the loader stores inputs as float) survives the round
+// trip. NaN: an empty cell.
+char* put(char* out, double v) {
+  *out++ = ',';
+  return std::isnan(v) ? out : put_general9(out, v);
+}
+
+char* put6(char* out, double v) {
+  *out++ = ',';
+  return put_fixed6(out, v);
+}
+
+char* put_int_field(char* out, long long v) {
+  *out++ = ',';
+  return put_int(out, v);
+}
+
+// "%06lld": at least six characters, zero-padded after a minus sign.
+char* put_padded6(char* out, long long v) {
+  char digits[24];
+  char* end = put_int(digits, v);
+  const bool negative = v < 0;
+  const char* first = digits + (negative ? 1 : 0);
+  const long width = static_cast<long>(end - digits);
+  if (negative) *out++ = '-';
+  for (long pad = 6 - width; pad > 0; --pad) *out++ = '0';
+  for (const char* p = first; p < end; ++p) *out++ = *p;
+  return out;
 }
 
 }  // namespace
 
-void write_estimate_header(std::FILE* out) {
-  std::fputs(
-      "time_s,speed_rpm,torque_nm,current_a,frequency_hz,voltage_v,airflow_m3s,ambient_c,stator_winding_c,rotor_c,"
-      "est_stator_winding_c,est_stator_core_c,est_rotor_winding_c,est_rotor_core_c,"
-      "std_stator_winding_k,std_stator_core_k,std_rotor_winding_k,std_rotor_core_k,"
-      "limiting_node,margin_k,margin_conservative_k,mode,stator_sensor,innovation_k,innovation_std_k,test_ratio,"
-      "rejected_readings,stale_inputs,implausible_inputs,substituted_inputs,torque_route,voltage_route,actor,"
-      "bus_events,cooling_factor,cooling_factor_std,cooling_state,cooling_alarm\n",
-      out);
+void write_estimate_header(std::FILE* out) { std::fputs(kEstimateHeader, out); }
+
+std::size_t format_estimate_row(char* buf, const EstimatorOutput<double>& o, TimeUs t0_us) {
+  const TimeUs t = o.time_us - t0_us;
+  char* p = put_int(buf, static_cast<long long>(t / kUsPerS));
+  *p++ = '.';
+  p = put_padded6(p, static_cast<long long>(t % kUsPerS));
+  const Inputs<double>& in = o.inputs;
+  p = put(p, in.speed_rpm);
+  p = put(p, in.has_torque ? in.torque_nm : NAN);
+  p = put(p, in.current_a);
+  p = put(p, in.frequency_hz);
+  p = put(p, in.has_voltage ? in.voltage_v : NAN);
+  p = put(p, in.airflow_m3s);
+  p = put(p, in.ambient_c);
+  p = put(p, o.stator_reading_c);
+  p = put(p, o.rotor_reading_c);
+  for (double v : o.node_c) p = put6(p, v);
+  for (double v : o.node_std_k) p = put6(p, v);
+  p = put_int_field(p, o.limiting_node);
+  p = put6(p, o.margin_k);
+  p = put6(p, o.margin_conservative_k);
+  p = put_int_field(p, static_cast<unsigned>(o.mode));
+  p = put_int_field(p, static_cast<unsigned>(o.sensor));
+  p = put6(p, o.fusion.innovation_k);
+  p = put6(p, o.fusion.innovation_std_k);
+  p = put6(p, o.fusion.test_ratio);
+  p = put_int_field(p, static_cast<unsigned>(o.rejected_readings));
+  p = put_int_field(p, static_cast<unsigned>(o.stale));
+  p = put_int_field(p, static_cast<unsigned>(o.implausible));
+  p = put_int_field(p, static_cast<unsigned>(o.substituted));
+  p = put_int_field(p, o.torque_route ? 1 : 0);
+  p = put_int_field(p, o.voltage_route ? 1 : 0);
+  p = put_int_field(p, o.actor_scheduling ? 1 : 0);
+  p = put_int_field(p, static_cast<unsigned>(o.bus_events));
+  p = put6(p, o.cooling_factor);
+  p = put6(p, o.cooling_factor_std);
+  p = put_int_field(p, static_cast<unsigned>(o.cooling_state));
+  p = put_int_field(p, o.cooling_alarm ? 1 : 0);
+  *p++ = '\n';
+  return static_cast<std::size_t>(p - buf);
 }
 
 void write_estimate_row(std::FILE* out, const EstimatorOutput<double>& o, TimeUs t0_us) {
-  const TimeUs t = o.time_us - t0_us;
-  std::fprintf(out, "%lld.%06lld", static_cast<long long>(t / kUsPerS), static_cast<long long>(t % kUsPerS));
-  const Inputs<double>& in = o.inputs;
-  put(out, in.speed_rpm);
-  put(out, in.has_torque ? in.torque_nm : NAN);
-  put(out, in.current_a);
-  put(out, in.frequency_hz);
-  put(out, in.has_voltage ? in.voltage_v : NAN);
-  put(out, in.airflow_m3s);
-  put(out, in.ambient_c);
-  put(out, o.stator_reading_c);
-  put(out, o.rotor_reading_c);
-  for (double v : o.node_c) std::fprintf(out, ",%.6f", v);
-  for (double v : o.node_std_k) std::fprintf(out, ",%.6f", v);
-  std::fprintf(out, ",%d,%.6f,%.6f,%u,%u,%.6f,%.6f,%.6f,%u,%u,%u,%u,%d,%d,%d,%u,%.6f,%.6f,%u,%d\n", o.limiting_node, o.margin_k,
-               o.margin_conservative_k, static_cast<unsigned>(o.mode), static_cast<unsigned>(o.sensor),
-               o.fusion.innovation_k, o.fusion.innovation_std_k, o.fusion.test_ratio,
-               static_cast<unsigned>(o.rejected_readings), static_cast<unsigned>(o.stale),
-               static_cast<unsigned>(o.implausible), static_cast<unsigned>(o.substituted), o.torque_route ? 1 : 0,
-               o.voltage_route ? 1 : 0, o.actor_scheduling ? 1 : 0, static_cast<unsigned>(o.bus_events),
-               o.cooling_factor, o.cooling_factor_std, static_cast<unsigned>(o.cooling_state), o.cooling_alarm ? 1 : 0);
+  char row[kMaxEstimateRow];
+  std::fwrite(row, 1, format_estimate_row(row, o, t0_us), out);
 }
 
 }  // namespace lptn::fw

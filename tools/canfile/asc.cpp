@@ -17,7 +17,7 @@
 #include <ctime>
 #include <string>
 
-#include "hostio/line_reader.hpp"
+#include "tools/canfile/internal/block_line_reader.hpp"
 #include "tools/canfile/internal/formats.hpp"
 
 namespace lptn::canfile {
@@ -166,8 +166,8 @@ class AscSource final : public FrameSource {
 
   Status next(TimeUs& time_us, CanFrame& frame, const char*& why) override {
     std::string_view line;
-    for (LineReader::Status s; (s = reader_.next(line)) != LineReader::Status::end;) {
-      if (s == LineReader::Status::too_long) {
+    for (BlockLineReader::Status s; (s = reader_.next(line)) != BlockLineReader::Status::end;) {
+      if (s == BlockLineReader::Status::too_long) {
         why = "line longer than 512 bytes, not an ASC line";
         return Status::bad;
       }
@@ -226,7 +226,7 @@ class AscSource final : public FrameSource {
   }
 
   File file_;
-  LineReader reader_;
+  BlockLineReader reader_;
   int base_ = 16;
   bool relative_ = false;
   std::string_view channel_;

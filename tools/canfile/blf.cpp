@@ -11,6 +11,7 @@
 #include <zlib.h>
 
 #include <algorithm>
+#include <charconv>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
@@ -271,7 +272,8 @@ class BlfSource final : public FrameSource {
       // Every CAN object starts with its channel: 16 bits, but one byte in CAN_FD_MESSAGE_64.
       const std::uint8_t* body = o + header_size;
       const unsigned channel = type == kCanFdMessage64 ? body[0] : get<std::uint16_t>(body);
-      channel_length_ = static_cast<std::size_t>(std::snprintf(channel_, sizeof channel_, "%u", channel));
+      // "%u" (to_chars: snprintf per frame was a fifth of BLF reading's own time).
+      channel_length_ = static_cast<std::size_t>(std::to_chars(channel_, channel_ + sizeof channel_, channel).ptr - channel_);
       time_us = start_us_ + offset_us;
       return Inner::frame;
     }

@@ -1,6 +1,8 @@
 // lptn convert: a fleet-dump CSV as a CAN log (candump -L, what canplayer plays onto a bus; Vector
 // ASC or BLF, what CANoe and CANalyzer replay), and such a log back into the fleet-dump CSV contract.
 #include <algorithm>
+#include <atomic>
+#include <exception>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
@@ -16,8 +18,10 @@
 #include "tools/canlog/bus_channels.hpp"
 #include "tools/canlog/convert.hpp"
 #include "tools/cli/bus_option.hpp"
+#include "tools/cli/blas_threads.hpp"
 #include "tools/cli/commands.hpp"
 #include "hostio/atomic_file.hpp"
+#include "hostio/worker_threads.hpp"
 
 namespace lptn::cli {
 namespace {
@@ -198,18 +202,45 @@ void convert_directory(const CLI::App& cmd, const Args& args) {
   const std::vector<fs::path>& files = from_log ? logs : csvs;
   const std::string out_ext = from_log ? ".csv" : canfile::format_extension(log_format);
 
+  // The files are converted over the cores (each file on one thread, the next to whichever is
+  // free), each output written as it is done; reported in the order of the names, as one at a time
+  // would: a bad file (the first by name) ends it after the ones before it, and nothing is written.
   AtomicDirectory out(args.out, args.force);
+  struct Item {
+    std::size_t frames = 0;
+    double duration_s = 0;
+    std::vector<std::string> warnings;
+    std::exception_ptr failure;
+  };
+  std::vector<Item> items(files.size());
+  std::atomic<std::size_t> next{0};
+  const int threads = worker_threads();
+  parallel_for(static_cast<std::size_t>(threads), threads, [&](std::size_t) {
+    for (std::size_t i; (i = next.fetch_add(1)) < files.size();) {
+      Item& item = items[i];
+      try {
+        const std::string name = files[i].stem().string() + out_ext;
+        canlog::Converted c = convert(files[i], name, from_log, args);
+        write_file_atomically(out.path() / name, c.text);
+        item.frames = c.frames;
+        item.duration_s = c.duration_s;
+        item.warnings = std::move(c.warnings);
+      } catch (...) {
+        item.failure = std::current_exception();
+      }
+    }
+  });
   std::size_t frames = 0;
   double hours = 0;
   for (std::size_t i = 0; i < files.size(); ++i) {
+    const Item& item = items[i];
+    if (item.failure) std::rethrow_exception(item.failure);
+    for (const std::string& w : item.warnings) std::fprintf(stderr, "lptn: warning: %s\n", w.c_str());
     const std::string name = files[i].stem().string() + out_ext;
-    const canlog::Converted c = convert(files[i], name, from_log, args);
-    print_warnings(c);
-    write_file_atomically(out.path() / name, c.text);
-    frames += c.frames;
-    hours += c.duration_s / 3600;
+    frames += item.frames;
+    hours += item.duration_s / 3600;
     std::fprintf(stderr, "[%zu/%zu] %s -> %s: %zu frames, %.2f h\n", i + 1, files.size(),
-                 files[i].filename().string().c_str(), name.c_str(), c.frames, c.duration_s / 3600);
+                 files[i].filename().string().c_str(), name.c_str(), item.frames, item.duration_s / 3600);
   }
   out.commit();
   std::printf("wrote %zu %s (%zu frames, %.1f h) to %s\n", files.size(), from_log ? "CSVs" : "logs", frames, hours,
@@ -250,6 +281,7 @@ void add_convert(CLI::App& app) {
   cmd->add_flag("--force", args->force, "Replace --out if it exists");
   cmd->footer(footer());
   cmd->callback([cmd, args] {
+    stop_blas_threads();
     if (!args->bus.empty()) check_input_path(args->bus, "--bus", InputPath::file);
     if (!args->bus.empty()) args->map = read_bus_map(args->bus);
     if (fs::is_directory(args->in)) {

@@ -1,15 +1,25 @@
 // lptn replay: a CAN log (candump, Vector ASC or BLF) through the firmware's estimator, in-process and as fast as the CPU
 // allows, the frames' time stamps driving the ticks; the estimates and status as CSV.
+#include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <cstdio>
+#include <exception>
+#include <filesystem>
+#include <map>
 #include <memory>
 #include <optional>
 #include <stdexcept>
-#include <filesystem>
 #include <string>
+#include <thread>
+#include <vector>
 
 #include "tools/cli/bus_option.hpp"
+#include "tools/cli/blas_threads.hpp"
 #include "tools/cli/commands.hpp"
+#include "hostio/atomic_file.hpp"
 #include "hostio/progress_line.hpp"
+#include "hostio/worker_threads.hpp"
 #include "tools/replay/calibrated_estimator.hpp"
 #include "tools/replay/replay_to_csv.hpp"
 #include "trainer/calibrate/calibration_file.hpp"
@@ -26,12 +36,14 @@ namespace {
 // against the speed), currents or voltages no motor of that nameplate sees. A calibration of
 // another motor type gives estimates that look like any others; this is what says so. Each
 // finding names the log.
-std::vector<std::string> log_against_motor(const std::string& log, const std::string& out, std::size_t rows,
+// `inputs_csv`: the CSV's fleet-dump columns as written (ReplaySummary::inputs_csv), loaded as the
+// CSV `out` would be.
+std::vector<std::string> log_against_motor(const std::string& log, const std::string& out, const ReplaySummary& r,
                                            const CalibrationResult& cal, const std::string& source) {
-  if (rows == 0) return {};  // the estimator never started: no inputs to check
+  if (r.stats.rows == 0) return {};  // the estimator never started: no inputs to check
   data::Dataset replayed;
   try {
-    replayed = data::load_cycle_file(out);
+    replayed = data::parse_cycle_csv(r.inputs_csv, out);
   } catch (const data::DataError& e) {
     return {log + ": its inputs were not checked against the motor of " + source + " (" + e.what() + ")"};
   }
@@ -44,6 +56,87 @@ std::vector<std::string> log_against_motor(const std::string& log, const std::st
   for (const data::Finding& f : data::check_against_nameplate(replayed, motor.constants))
     out_lines.push_back(f.message + " (the motor of " + source + ": " + cal.motor_name + ")");
   return out_lines;
+}
+
+namespace fs = std::filesystem;
+
+// The logs directly in `dir` (*.log, *.asc, *.blf), sorted by name; two that would write the same
+// CSV (a.log and a.asc) are bad input.
+std::vector<fs::path> logs_in(const fs::path& dir) {
+  std::vector<fs::path> logs;
+  for (const fs::directory_entry& e : fs::directory_iterator(dir))
+    if (e.is_regular_file() && canfile::format_from_extension(e.path())) logs.push_back(e.path());
+  std::sort(logs.begin(), logs.end());
+  std::map<std::string, fs::path> by_stem;
+  for (const fs::path& log : logs) {
+    const auto [it, fresh] = by_stem.emplace(log.stem().string(), log);
+    if (!fresh)
+      throw BadInput(dir.string() + ": " + it->second.filename().string() + " and " + log.filename().string() +
+                     " would both be replayed into " + log.stem().string() + ".csv; replay them apart");
+  }
+  if (logs.empty()) throw BadInput("--log " + dir.string() + ": no *.log, *.asc or *.blf files in this directory");
+  return logs;
+}
+
+// One log of a directory: its summary and warnings, or the bad input that stopped it.
+struct DirectoryItem {
+  ReplaySummary summary;
+  std::vector<std::string> warnings;
+  std::exception_ptr failure;
+};
+
+// Every log of `dir` into OUT/NAME.csv, the logs shared over the cores (each log on one thread,
+// the next log to whichever thread is free). Each CSV is the bytes a replay of that log alone
+// writes. Reported in the order of the names; the first bad log (in that order) is the error, and
+// then nothing is written: the CSVs go into a temporary directory renamed into place at the end.
+void replay_directory(const fs::path& dir, const std::string& out_dir, bool force, const fw::EstimatorConfig<double>& config,
+                      const canfile::LogSelection& select, const CalibrationResult& calibrated,
+                      const std::string& source, int threads) {
+  const std::vector<fs::path> logs = logs_in(dir);
+  AtomicDirectory out(out_dir, force);
+  std::vector<DirectoryItem> items(logs.size());
+  std::atomic<std::size_t> next{0};
+  const auto start = std::chrono::steady_clock::now();
+  auto work = [&](std::size_t) {
+    for (std::size_t i; (i = next.fetch_add(1)) < logs.size();) {
+      DirectoryItem& item = items[i];
+      const fs::path csv = out.path() / (logs[i].stem().string() + ".csv");
+      try {
+        item.summary = replay_to_csv(logs[i].string(), config, csv.string(), true, select);
+        item.warnings = log_against_motor(logs[i].string(), csv.string(), item.summary, calibrated, source);
+        item.summary.inputs_csv = std::string();  // done with: not nine logs' worth held at once
+      } catch (...) {
+        item.failure = std::current_exception();
+      }
+    }
+  };
+  parallel_for(static_cast<std::size_t>(std::max(1, threads)), threads, work);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  for (const DirectoryItem& item : items) {
+    if (!item.failure) continue;
+    try {
+      std::rethrow_exception(item.failure);
+    } catch (const std::invalid_argument& e) {
+      throw BadInput(e.what());
+    }
+  }
+  std::size_t frames = 0, rows = 0;
+  for (std::size_t i = 0; i < logs.size(); ++i) {
+    const ReplaySummary& r = items[i].summary;
+    frames += r.stats.frames;
+    rows += r.stats.rows;
+    std::printf("[%zu/%zu] %s (%s): %zu frames, %zu estimates%s", i + 1, logs.size(), logs[i].filename().string().c_str(),
+                canfile::format_name(r.format), r.stats.frames, r.stats.rows,
+                r.stats.bad_records ? (", " + std::to_string(r.stats.bad_records) + " bad records skipped").c_str() : "");
+    if (r.stator_samples) std::printf(", stator rmse %.3f K", r.rmse_stator_k);
+    if (r.rotor_samples) std::printf(", rotor rmse %.3f K", r.rmse_rotor_k);
+    std::printf(" -> %s.csv\n", logs[i].stem().string().c_str());
+    for (const std::string& w : items[i].warnings) std::fprintf(stderr, "lptn: warning: %s\n", w.c_str());
+  }
+  out.commit();
+  std::printf("replayed %zu logs of %s: %zu frames, %zu estimates in %.2f s on %d threads, %.0f frames/s -> %s\n",
+              logs.size(), dir.string().c_str(), frames, rows, seconds, threads,
+              static_cast<double>(frames) / seconds, out_dir.c_str());
 }
 
 }  // namespace
@@ -61,13 +154,20 @@ void add_replay(CLI::App& app) {
       "The log's format is --format, else its content's (BLF's \"LOGG\", a candump line, an ASC header), else its "
       "extension's (.log candump, .asc, .blf); a file in none is one error line. --channel picks one bus of a "
       "log that holds several; without it every channel's frames are read as one bus, with a warning. Malformed lines (BLF: objects) are reported with their number and skipped, the first ten "
-      "of them one by one, then as a count.");
+      "of them one by one, then as a count. "
+      "--log DIR replays every *.log, *.asc and *.blf in DIR into --out DIR/NAME.csv, several logs at once "
+      "(--threads, default one per core), each CSV the bytes a replay of that log alone writes; a line per log in the "
+      "order of the names, then the total. A bad log is reported as for one log (the first by name) and then no CSV is "
+      "written.");
   struct Args {
     std::string log, calibration, fleet, out, format, channel, bus;
     bool open_loop = false, use_actor = false, force = false, quiet = false;
+    int threads = 0;
   };
   auto args = std::make_shared<Args>();
-  cmd->add_option("--log", args->log, "CAN log: candump -L, Vector ASC or BLF (e.g. from lptn convert or a drive's recorder)")
+  cmd->add_option("--log", args->log,
+                  "CAN log: candump -L, Vector ASC or BLF (e.g. from lptn convert or a drive's recorder); or a "
+                  "directory: every *.log, *.asc and *.blf in it into --out/NAME.csv, the logs shared over the cores")
       ->required();
   cmd->add_option("--format", args->format, "The log's format: candump, asc or blf (default: detected)")
       ->check(CLI::IsMember({"candump", "asc", "blf"}));
@@ -83,14 +183,21 @@ void add_replay(CLI::App& app) {
   cmd->add_option("--bus", args->bus,
                   "Bus map (bus.toml) naming the converter DBC's messages and signals that carry each input "
                   "(default: our own TC_* frames, can-dbc/bus.toml)");
-  cmd->add_option("--out", args->out, "CSV of estimates and status to write")->required();
+  cmd->add_option("--out", args->out, "CSV of estimates and status to write; a directory if --log is one")->required();
+  cmd->add_option("--threads", args->threads, "--log DIR: how many logs at once (default: one per core)")
+      ->check(CLI::Range(1, 256));
   cmd->add_flag("--open-loop", args->open_loop, "Do not fuse the stator winding sensor (the model alone)");
   cmd->add_flag("--use-actor", args->use_actor, "Let the calibration's TD3 actor schedule the parameters");
   cmd->add_flag("--force", args->force, "Replace --out if it exists");
   cmd->add_flag("--quiet", args->quiet, "No progress line");
   cmd->callback([args] {
+    stop_blas_threads();
     // Inputs, then the output, before any work (a missing input is the first thing to hear of).
-    check_input_path(args->log, "--log", InputPath::file);
+    check_input_path(args->log, "--log", InputPath::file_or_directory);
+    const bool directory = fs::is_directory(args->log);
+    if (directory && fs::exists(args->out) && fs::equivalent(args->log, args->out))
+      throw BadInput("--out " + args->out + ": is the --log directory");
+    if (!directory && args->threads != 0) throw BadInput("--threads applies to a directory of logs (--log DIR)");
     if (!args->calibration.empty()) check_input_path(args->calibration, "--calibration", InputPath::file);
     if (!args->fleet.empty()) check_input_path(args->fleet, "--fleet", InputPath::file);
     if (!args->bus.empty()) check_input_path(args->bus, "--bus", InputPath::file);
@@ -109,10 +216,20 @@ void add_replay(CLI::App& app) {
     if (!args->fleet.empty()) cal->config.observer.cooling_initial_std = fw::ObserverSettings<double>{}.cooling_initial_std;
     cal->config.fuse_stator_sensor = !args->open_loop;
     cal->config.use_actor = args->use_actor;
+    const canfile::LogSelection select{args->format.empty() ? std::nullopt : canfile::format_from_name(args->format),
+                                       args->channel};
+    if (directory) {
+      try {
+        replay_directory(args->log, args->out, args->force, cal->config, select, calibrated, source,
+                         args->threads ? args->threads : worker_threads());
+      } catch (const std::invalid_argument& e) {
+        throw BadInput(e.what());
+      }
+      return;
+    }
     ReplaySummary r;
     try {
-      r = replay_to_csv(args->log, cal->config, args->out, args->quiet,
-                        {args->format.empty() ? std::nullopt : canfile::format_from_name(args->format), args->channel});
+      r = replay_to_csv(args->log, cal->config, args->out, args->quiet, select);
     } catch (const std::invalid_argument& e) {
       throw BadInput(e.what());
     }
@@ -144,7 +261,7 @@ void add_replay(CLI::App& app) {
                   r.cooling_factor_std, r.cooling_state == fw::CoolingState::tracking ? "tracking" : "frozen: open loop",
                   r.cooling_alarm_from_s < 0 ? "never raised"
                                              : ("raised from " + ProgressLine::clock(r.cooling_alarm_from_s)).c_str());
-    for (const std::string& w : log_against_motor(args->log, args->out, s.rows, calibrated, source))
+    for (const std::string& w : log_against_motor(args->log, args->out, r, calibrated, source))
       std::fprintf(stderr, "lptn: warning: %s\n", w.c_str());
   });
 }

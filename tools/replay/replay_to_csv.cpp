@@ -6,6 +6,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string_view>
+#include <vector>
 
 #include "hostio/atomic_file.hpp"
 #include "firmware/linux/estimate_csv.hpp"
@@ -23,6 +24,13 @@ struct Track {
     reading.push_back(y);
   }
 };
+
+// The length of a row's (or the header's) first ten columns: up to its tenth comma.
+std::size_t inputs_length(const char* row) {
+  const char* p = row;
+  for (int commas = 0;; ++p)
+    if (*p == ',' && ++commas == 10) return static_cast<std::size_t>(p - row);
+}
 
 constexpr std::size_t kNoiseLagTicks = 20;  // 2 s at the 0.1 s step (BandCoverage says why)
 
@@ -65,12 +73,25 @@ ReplaySummary replay_to_csv(const std::string& log_path, const fw::EstimatorConf
   if (!csv.open(csv_path)) throw std::invalid_argument(csv_path + ": cannot be written");
   auto estimator = std::make_unique<fw::Estimator<double>>(config);
   fw::write_estimate_header(csv.get());
+  summary.inputs_csv.append(fw::kEstimateHeader, inputs_length(fw::kEstimateHeader));
+  summary.inputs_csv += '\n';
+  // Rows are formatted into a buffer of 1 MiB and written a buffer at a time.
+  std::vector<char> out(std::size_t{1} << 20);
+  std::size_t used = 0;
+  auto flush = [&] {
+    std::fwrite(out.data(), 1, used, csv.get());
+    used = 0;
+  };
   ProgressLine progress(quiet);
   fw::ReplaySinks sinks;
   double sum_stator = 0, sum_rotor = 0;
   Track stator, rotor;
   sinks.row = [&](const fw::EstimatorOutput<double>& o, fw::TimeUs start) {
-    fw::write_estimate_row(csv.get(), o, start);
+    if (out.size() - used < fw::kMaxEstimateRow) flush();
+    const char* row = out.data() + used;
+    used += fw::format_estimate_row(out.data() + used, o, start);
+    summary.inputs_csv.append(row, inputs_length(row));
+    summary.inputs_csv += '\n';
     summary.cooling_factor = o.cooling_factor;
     summary.cooling_factor_std = o.cooling_factor_std;
     summary.cooling_state = o.cooling_state;
@@ -102,6 +123,7 @@ ReplaySummary replay_to_csv(const std::string& log_path, const fw::EstimatorConf
   };
   const auto start = std::chrono::steady_clock::now();
   summary.stats = fw::replay_frames(*log, *estimator, sinks);
+  flush();
   summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   progress.finish();
   if (bad > canfile::kRecordMessagesShown)

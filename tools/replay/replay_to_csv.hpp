@@ -39,6 +39,11 @@ struct ReplaySummary {
   fw::CoolingState cooling_state = fw::CoolingState::off;
   double cooling_alarm_from_s = -1;
   double seconds = 0;  // wall time of the replay (reading, estimating, writing)
+  // The CSV's first ten columns, header and rows: time_s and the fleet-dump inputs and readings,
+  // the very text written. What the check of the log against the motor's nameplate loads (the
+  // loader ignores the other columns, so loading these alone gives the same cycle, without
+  // parsing four times the text).
+  std::string inputs_csv;
   canfile::LogFormat format = canfile::LogFormat::candump;  // what the log was read as
 };
 
