@@ -71,9 +71,6 @@ std::optional<LmReport> coarse_stage(const MotorFile& with_effect, const ParamVe
   return fit_lm(with_effect, start, coarse, train, settings, progress);
 }
 
-namespace {
-
-// Whether the data can tell the effect apart in `fit`.
 Refit judged(LmReport fit, const MotorFile& with_effect, int effect) {
   Refit out;
   out.fit = std::move(fit);
@@ -87,8 +84,6 @@ Refit judged(LmReport fit, const MotorFile& with_effect, int effect) {
   }
   return out;
 }
-
-}  // namespace
 
 Refit polish(const MotorFile& with_effect, int effect, const LmReport& on_coarse, const data::Dataset& dataset,
              const std::vector<std::size_t>& train, const LmSettings& settings, const LmProgress& progress) {

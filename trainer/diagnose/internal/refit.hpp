@@ -49,4 +49,7 @@ Refit polish(const MotorFile& with_effect, int effect, const LmReport& on_coarse
 
 constexpr int kCrawlPolishIterations = 3;
 
+// `fit` (of `with_effect`, on any grid) with what the data can tell of the effect in it.
+Refit judged(LmReport fit, const MotorFile& with_effect, int effect);
+
 }  // namespace lptn::diagnose::internal
