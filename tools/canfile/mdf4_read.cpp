@@ -1,5 +1,5 @@
 // ASAM MDF4 bus logging files (internal/mdf4_blocks.hpp): the CAN frames of every data group, in
-// time order across data groups (within one, in the order they were recorded).
+// time order (a frame written more than 10 s after later ones keeps its place in the file).
 //
 // Read: sorted and unsorted data groups (record ids of 1, 2, 4 or 8 bytes); data in DT blocks,
 // DZ blocks (deflate, transposition then deflate), DL lists and HL headers; data bytes of fixed
@@ -18,6 +18,8 @@
 #include <cmath>
 #include <deque>
 #include <map>
+#include <set>
+#include <unordered_map>
 #include <string>
 #include <vector>
 
@@ -38,7 +40,14 @@ constexpr std::uint64_t kMaxLinks = 1u << 16;
 constexpr int kMaxChain = 1 << 16;
 constexpr std::uint32_t kMaxRecordBytes = 1u << 20;
 constexpr std::size_t kMaxWaiting = 4096;  // frames waiting for their VLSD bytes
-constexpr std::uint64_t kNoOffset = ~0ull;
+constexpr std::size_t kMaxDataBlocks = 1u << 20;
+// Deflate packs at most about 1032 bytes into one; a zipped block that claims more is damaged.
+constexpr std::uint64_t kMaxInflateRatio = 1040;
+// Loggers write a data group's frames out of time order (a CANedge: each bus's frames in chunks,
+// up to a second behind the other bus's); frames are given in time order within this window, and
+// at most this many are held.
+constexpr TimeUs kReorderUs = 10 * fw::kUsPerS;
+constexpr std::size_t kMaxReorder = 1u << 18;
 
 std::string at_text(std::uint64_t at) { return "byte " + std::to_string(at); }
 
@@ -60,7 +69,7 @@ struct Conversion {
       case 4:
       case 5: {  // pairs (key, value), keys ascending
         const std::size_t n = v.size() / 2;
-        if (x <= v[0]) return v[1];
+        if (n == 1 || std::isnan(x) || x <= v[0]) return v[1];
         if (x >= v[2 * (n - 1)]) return v[2 * n - 1];
         std::size_t i = 1;
         while (v[2 * i] < x) ++i;
@@ -108,7 +117,7 @@ struct Event {
 };
 
 struct DataRef {
-  std::uint64_t at, logical;  // file offset; offset in the stream (kNoOffset: unknown)
+  std::uint64_t at, logical;  // file offset; offset in the data group's stream of bytes
 };
 
 class Mdf4Source;
@@ -119,13 +128,18 @@ struct DataGroupReader {
   std::uint64_t at = 0;
   std::uint8_t id_size = 0;
   std::vector<Group> groups;
+  std::unordered_map<std::uint64_t, int> by_record_id;
   std::vector<DataRef> blocks;
   std::size_t next_block = 0;
   std::vector<std::uint8_t> buf;
   std::size_t pos = 0;
   std::uint64_t block_at = 0, logical = 0;
-  bool resync = false, ended = false;
-  std::deque<Event> out;
+  bool resync = false, ended = false, cut = false, drained = false;
+  std::deque<Event> out;  // in file order; frames may wait for their VLSD bytes
+  std::deque<Event> bads;  // reported at once
+  std::map<std::pair<TimeUs, std::uint64_t>, Event> sorted;  // frames by time, then file order
+  std::uint64_t sequence = 0;
+  TimeUs newest = 0;
   std::map<std::pair<int, std::uint64_t>, std::vector<std::uint8_t>> orphans;  // VLSD records before their frame
 };
 
@@ -160,17 +174,24 @@ class Mdf4Source final : public FrameSource {
       return Status::bad;
     }
     DataGroupReader* best = nullptr;
+    Event* best_event = nullptr;
     for (DataGroupReader& g : dgs_) {
-      if (!peek(g)) continue;
-      if (g.out.front().bad) {
+      Event* e = front(g);
+      if (!e) continue;
+      if (e->bad) {
         best = &g;
+        best_event = e;
         break;
       }
-      if (!best || g.out.front().t < best->out.front().t) best = &g;
+      if (!best || e->t < best_event->t) {
+        best = &g;
+        best_event = e;
+      }
     }
     if (!best) return Status::end;
-    Event e = std::move(best->out.front());
-    best->out.pop_front();
+    Event e = std::move(*best_event);
+    if (e.bad) best->bads.pop_front();
+    else best->sorted.erase(best->sorted.begin());
     ++records_;
     if (e.bad) {
       why_ = std::move(e.why);
@@ -219,6 +240,13 @@ class Mdf4Source final : public FrameSource {
     for (std::uint64_t i = 0; i < links; ++i) b.links[i] = get<std::uint64_t>(body.data() + 8 * i);
     b.data.assign(body.begin() + static_cast<std::ptrdiff_t>(8 * links), body.end());
     return nullptr;
+  }
+
+  // false (and reported) where a chain of links comes back to a block it passed: a damaged link.
+  bool first_visit(std::uint64_t at, const char* block) {
+    if (visited_.insert(at).second) return true;
+    report(at, block, "the links lead back to a block already read (a loop)");
+    return false;
   }
 
   void report(std::uint64_t at, const char* block, const std::string& what) {
@@ -276,6 +304,7 @@ class Mdf4Source final : public FrameSource {
     for (int n = 0; dg_at != 0; ++n) {
       if (n == kMaxChain) return report(dg_at, "data group (##DG)", "more data groups than lptn reads");
       Block dg;
+      if (!first_visit(dg_at, "data group (##DG)")) return;
       if (const char* why = read_block(dg_at, "DG", 4, 1, dg)) return report(dg_at, "data group (##DG)", why);
       DataGroupReader r;
       r.at = dg_at;
@@ -320,6 +349,7 @@ class Mdf4Source final : public FrameSource {
         report(at, "data list (##DL)", "more lists than lptn reads");
         return !out.empty();
       }
+      if (!first_visit(at, "data list (##DL)")) return !out.empty();
       if (const char* why = read_block(at, "DL", 1, 8, b)) {
         report(at, "data list (##DL)", why);
         return !out.empty();
@@ -332,6 +362,10 @@ class Mdf4Source final : public FrameSource {
         return !out.empty();
       }
       const std::uint64_t equal_length = equal ? get<std::uint64_t>(b.data.data() + 8) : 0;
+      if (out.size() + count > kMaxDataBlocks) {
+        report(at, "data list (##DL)", "more data blocks than lptn reads");
+        return !out.empty();
+      }
       for (std::uint32_t i = 0; i < count; ++i, ++index)
         if (b.links[1 + i] != 0)
           out.push_back({b.links[1 + i], equal ? index * equal_length : get<std::uint64_t>(b.data.data() + 8 + 8 * i)});
@@ -347,6 +381,7 @@ class Mdf4Source final : public FrameSource {
         break;
       }
       Block cg;
+      if (!first_visit(cg_at, "channel group (##CG)")) break;
       if (const char* why = read_block(cg_at, "CG", 6, 32, cg)) {
         report(cg_at, "channel group (##CG)", why);
         break;
@@ -364,6 +399,11 @@ class Mdf4Source final : public FrameSource {
       r.groups.push_back(std::move(g));
       cg_at = cg.links[0];
     }
+    for (std::size_t i = 0; i < r.groups.size(); ++i)
+      if (!r.by_record_id.emplace(r.groups[i].record_id, static_cast<int>(i)).second && r.id_size != 0) {
+        report(r.groups[i].at, "channel group (##CG)", "a record id another channel group of its data group has");
+        return false;
+      }
     if (r.id_size == 0 && r.groups.size() != 1) {
       report(r.at, "data group (##DG)", "sorted (no record ids) but not of exactly one channel group");
       return false;
@@ -392,6 +432,7 @@ class Mdf4Source final : public FrameSource {
     Field* event_fields[] = {&g.id, &g.ide, &g.dlc, &g.length, &g.bytes, &g.bus, &g.edl};
     for (int n = 0; cn_at != 0 && n < kMaxChain; ++n) {
       Block cn;
+      if (!visited_.insert(cn_at).second) return fail(cn_at, "the links lead back to a channel already read (a loop)");
       if (const char* why = read_block(cn_at, "CN", 8, 72, cn)) return fail(cn_at, why);
       const std::string name = text(cn.links[2]);
       const std::uint8_t type = cn.data[0], sync = cn.data[1];
@@ -403,6 +444,8 @@ class Mdf4Source final : public FrameSource {
         std::uint64_t member_at = cn.links[1];
         for (int m = 0; member_at != 0 && m < kMaxChain; ++m) {
           Block member;
+          if (!visited_.insert(member_at).second)
+            return fail(member_at, "the links lead back to a channel already read (a loop)");
           if (const char* why = read_block(member_at, "CNCA", 8, 0, member)) return fail(member_at, why);
           if (member.id[1] != 'N' || member.data.size() < 72)
             return fail(member_at, "a composition other than of channels");
@@ -423,16 +466,11 @@ class Mdf4Source final : public FrameSource {
     if (g.kind == Kind::data && !g.bytes.present) return fail(g.at, "CAN data frames without their .DataBytes");
     if (g.kind == Kind::data && !g.dlc.present && !g.length.present)
       return fail(g.at, "CAN data frames without .DLC or .DataLength");
-    for (const Field* f : {&g.time, &g.id, &g.ide, &g.dlc, &g.length, &g.bytes, &g.bus, &g.edl}) {
-      if (!f->present || f->is_virtual()) continue;
-      const std::uint64_t bytes = f->cn_type == kCnVlsd && f->data_type == kByteArray
-                                      ? 8  // the offset, at most 64 bits
-                                      : (f->bit_offset + std::uint64_t{f->bit_count} + 7) / 8;
-      if (f->byte_offset + bytes > g.size && !(f->cn_type == kCnVlsd && f->byte_offset + (f->bit_count + 7) / 8 <= g.size))
-        return fail(g.at, "a channel beyond the record's bytes");
-    }
     if (g.bytes.present && g.bytes.cn_type == kCnVlsd && g.bytes.bit_count > 64)
       return fail(g.at, "a VLSD offset wider than 64 bits");
+    for (const Field* f : {&g.time, &g.id, &g.ide, &g.dlc, &g.length, &g.bytes, &g.bus, &g.edl})
+      if (f->present && !f->is_virtual() && f->byte_offset + (f->bit_offset + std::uint64_t{f->bit_count} + 7) / 8 > g.size)
+        return fail(g.at, "a channel beyond the record's bytes");
   }
 
   // A data block's bytes (DT, SD, or DZ inflated): nullptr, or what is wrong.
@@ -452,6 +490,7 @@ class Mdf4Source final : public FrameSource {
     if (zip != kDeflate && zip != kTransposeDeflate) return "zipped by a method other than deflate or transposition";
     if (original > kMaxDataBlock) return "zipped block larger than lptn reads unzipped";
     if (zipped > b.data.size() - 24) return "zipped block shorter than its zipped length";
+    if (original > zipped * kMaxInflateRatio + 64) return "zipped block claims more bytes than deflate packs";
     std::vector<std::uint8_t> inflated(original);
     uLongf length = static_cast<uLongf>(original);
     if (uncompress(inflated.data(), &length, d + 24, static_cast<uLong>(zipped)) != Z_OK || length != original)
@@ -475,6 +514,14 @@ class Mdf4Source final : public FrameSource {
       std::vector<std::uint8_t> bytes;
       if (const char* why = load(ref.at, bytes)) {
         why_ = at_text(ref.at) + ": data block: " + why + "; its records are not read";
+        // A file cut short: the blocks after its end go with this one's message.
+        const auto beyond = std::remove_if(r.blocks.begin() + static_cast<std::ptrdiff_t>(r.next_block), r.blocks.end(),
+                                           [this](const DataRef& b) { return b.at >= size_; });
+        if (const auto lost = r.blocks.end() - beyond; lost > 0) {
+          why_ += ", nor those of the " + std::to_string(lost) + " data block" + (lost > 1 ? "s" : "") +
+                  " after the file's end";
+          r.blocks.erase(beyond, r.blocks.end());
+        }
         r.buf.clear();
         r.pos = 0;
         r.resync = true;
@@ -510,6 +557,7 @@ class Mdf4Source final : public FrameSource {
     if (got == Got::bad) return push_bad(r, why_), true;
     if (got == Got::end) {
       if (have > 0) {
+        r.cut = true;
         push_bad(r, at_text(r.block_at) + ": data block: the file ends inside a record (cut short)");
         r.buf.clear();
         r.pos = 0;
@@ -519,8 +567,8 @@ class Mdf4Source final : public FrameSource {
     std::uint64_t record_id = 0;
     for (std::size_t i = 0; i < r.id_size; ++i) record_id |= std::uint64_t{r.buf[r.pos + i]} << (8 * i);
     int gi = r.id_size == 0 ? 0 : -1;
-    for (std::size_t i = 0; gi < 0 && i < r.groups.size(); ++i)
-      if (r.groups[i].record_id == record_id) gi = static_cast<int>(i);
+    if (gi < 0)
+      if (const auto it = r.by_record_id.find(record_id); it != r.by_record_id.end()) gi = it->second;
     if (gi < 0) {
       push_bad(r, at_text(r.block_at) + ": data block: record id " + std::to_string(record_id) +
                       " of no channel group; the rest of the block is not read");
@@ -563,6 +611,7 @@ class Mdf4Source final : public FrameSource {
   }
 
   bool truncated(DataGroupReader& r) {
+    r.cut = true;
     push_bad(r, at_text(r.block_at) + ": data block: the file ends inside a record (cut short)");
     r.buf.clear();
     r.pos = 0;
@@ -732,19 +781,48 @@ class Mdf4Source final : public FrameSource {
     return sd.ok ? &sd.bytes : nullptr;
   }
 
-  // Reads r's records until its first event is ready. false: nothing more in r.
-  bool peek(DataGroupReader& r) {
-    while (!r.ended && (r.out.empty() || r.out.front().waiting)) {
-      if (r.out.size() > kMaxWaiting) break;
-      if (!read_record(r)) r.ended = true;
-    }
-    if (!r.out.empty() && r.out.front().waiting) {  // its VLSD bytes never came
+  // Reads r's records until the first event in file order is ready (its VLSD bytes found) and
+  // moves it on: to r.bads or r.sorted. false: nothing more in r.
+  bool pull(DataGroupReader& r) {
+    for (;;) {
+      while (!r.ended && (r.out.empty() || r.out.front().waiting)) {
+        if (r.out.size() > kMaxWaiting) break;
+        if (!read_record(r)) r.ended = true;
+      }
+      if (r.out.empty()) return false;
       Event& e = r.out.front();
-      e.waiting = false;
-      e.bad = true;
-      e.why = at_text(r.block_at) + ": data block: a frame whose VLSD data bytes are missing";
+      if (e.waiting) {  // its VLSD bytes never came
+        if (r.cut && r.ended) {  // the file was cut before them: the one message says so
+          r.out.pop_front();
+          continue;
+        }
+        e.waiting = false;
+        e.bad = true;
+        e.why = at_text(r.block_at) + ": data block: a frame whose VLSD data bytes are missing";
+      }
+      if (e.bad) {
+        r.bads.push_back(std::move(e));
+      } else {
+        r.newest = std::max(r.newest, e.t);
+        const std::pair<TimeUs, std::uint64_t> key{e.t, r.sequence++};
+        r.sorted.emplace(key, std::move(e));
+      }
+      r.out.pop_front();
+      return true;
     }
-    return !r.out.empty();
+  }
+
+  // r's next event: a bad one at once; else its earliest frame once no frame still to come can
+  // be earlier (within the reordering window). nullptr: nothing more in r.
+  Event* front(DataGroupReader& r) {
+    for (;;) {
+      if (!r.bads.empty()) return &r.bads.front();
+      if (!r.sorted.empty() && (r.drained || r.newest - r.sorted.begin()->first.first > kReorderUs ||
+                                r.sorted.size() > kMaxReorder))
+        return &r.sorted.begin()->second;
+      if (r.drained) return nullptr;
+      if (!pull(r)) r.drained = true;
+    }
   }
 
   struct SignalData {
@@ -760,6 +838,7 @@ class Mdf4Source final : public FrameSource {
   std::vector<DataGroupReader> dgs_;
   std::vector<SignalData> sd_;
   std::deque<std::string> early_;
+  std::set<std::uint64_t> visited_;  // data groups, channel groups, channels and data lists read
   std::string why_, channel_;
   std::size_t records_ = 0;
 };

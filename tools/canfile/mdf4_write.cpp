@@ -11,7 +11,7 @@
 //   16 DataBytes   64 bytes, fixed length (CAN_DataFrame only)
 //
 // The records go into DZ blocks (transposition by the record's 81 bytes, then deflate) of at most
-// 12945 records each, listed by a DL list under an HL header.
+// 4096 records each, listed by a DL list under an HL header, the two written before the blocks.
 #include <zlib.h>
 
 #include <cstdint>
@@ -30,7 +30,7 @@ using fw::TimeUs;
 
 constexpr std::uint32_t kDataBytes = 80;
 constexpr std::size_t kRecord = 1 + kDataBytes;
-constexpr std::size_t kRecordsPerBlock = 12945;  // about 1 MiB unzipped
+constexpr std::size_t kRecordsPerBlock = 4096;  // 324 KiB unzipped: a damaged block loses no more
 
 // A file being laid out: blocks appended at 8-byte boundaries, links patched once known.
 class Layout {
@@ -193,9 +193,10 @@ class Mdf4Writer final : public LogWriter {
     return cg_at;
   }
 
-  // The records as DZ blocks under a DL list and an HL header; returns the HL's offset.
+  // The records as DZ blocks under a DL list and an HL header, the two before the blocks (so that
+  // a file cut short keeps the blocks before the cut); returns the HL's offset.
   std::uint64_t data(Layout& file) {
-    std::vector<std::uint64_t> zipped;
+    std::vector<std::string> zipped;
     const std::size_t chunk = kRecord * kRecordsPerBlock;
     for (std::size_t at = 0; at < records_.size(); at += chunk) {
       const std::size_t n = std::min(chunk, records_.size() - at);
@@ -214,21 +215,22 @@ class Mdf4Writer final : public LogWriter {
       put<std::uint64_t>(dz, n);
       put<std::uint64_t>(dz, packed.size());
       dz += packed;
-      zipped.push_back(file.block("DZ", {}, dz));
+      zipped.push_back(std::move(dz));
     }
-    std::vector<std::uint64_t> links = {0};
-    links.insert(links.end(), zipped.begin(), zipped.end());
+    std::string hl;
+    put<std::uint16_t>(hl, 1);  // equal length
+    hl.push_back(static_cast<char>(kTransposeDeflate));
+    hl.append(5, '\0');
+    const std::uint64_t hl_at = file.block("HL", {0}, hl);
     std::string dl;
     dl.push_back('\x01');  // equal length
     dl.append(3, '\0');
     put<std::uint32_t>(dl, static_cast<std::uint32_t>(zipped.size()));
     put<std::uint64_t>(dl, chunk);
-    const std::uint64_t dl_at = file.block("DL", links, dl);
-    std::string hl;
-    put<std::uint16_t>(hl, 1);  // equal length
-    hl.push_back(static_cast<char>(kTransposeDeflate));
-    hl.append(5, '\0');
-    return file.block("HL", {dl_at}, hl);
+    const std::uint64_t dl_at = file.block("DL", std::vector<std::uint64_t>(1 + zipped.size(), 0), dl);
+    file.link(hl_at, 0, dl_at);
+    for (std::size_t i = 0; i < zipped.size(); ++i) file.link(dl_at, 1 + i, file.block("DZ", {}, zipped[i]));
+    return hl_at;
   }
 
   TimeUs start_us_ = 0;

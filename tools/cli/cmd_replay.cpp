@@ -49,7 +49,7 @@ std::vector<std::string> log_against_motor(const std::string& log, const std::st
 }  // namespace
 
 void add_replay(CLI::App& app) {
-  auto* cmd = app.add_subcommand("replay", "Replay a CAN log (candump, Vector ASC or BLF) through the firmware's estimator, "
+  auto* cmd = app.add_subcommand("replay", "Replay a CAN log (candump, Vector ASC, BLF or MDF4) through the firmware's estimator, "
                                            "as fast as possible");
   cmd->footer(
       "The same estimator as the daemon (firmware/), configured from calibration.json instead of a compiled-in "
@@ -58,21 +58,21 @@ void add_replay(CLI::App& app) {
       "columns, so the CSV loads as a cycle), the four node estimates (est_*_c) and their standard deviations "
       "(std_*_k), the limiting node's margin, mode, stator sensor state, innovation and test ratio, input masks, the "
       "cooling factor with its spread, state and alarm (LPTN_Cooling). "
-      "The log's format is --format, else its content's (BLF's \"LOGG\", a candump line, an ASC header), else its "
-      "extension's (.log candump, .asc, .blf); a file in none is one error line. --channel picks one bus of a "
-      "log that holds several; without it every channel's frames are read as one bus, with a warning. Malformed lines (BLF: objects) are reported with their number and skipped, the first ten "
+      "The log's format is --format, else its content's (BLF's \"LOGG\", MDF4's identification block, a candump "
+      "line, an ASC header), else its extension's (.log candump, .asc, .blf, .mf4); a file in none is one error line. --channel picks one bus of a "
+      "log that holds several; without it every channel's frames are read as one bus, with a warning. Malformed lines (BLF: objects; MDF4: records and blocks, by byte offset) are reported with their number and skipped, the first ten "
       "of them one by one, then as a count.");
   struct Args {
     std::string log, calibration, fleet, out, format, channel, bus;
     bool open_loop = false, use_actor = false, force = false, quiet = false;
   };
   auto args = std::make_shared<Args>();
-  cmd->add_option("--log", args->log, "CAN log: candump -L, Vector ASC or BLF (e.g. from lptn convert or a drive's recorder)")
+  cmd->add_option("--log", args->log, "CAN log: candump -L, Vector ASC, BLF or MDF4 (e.g. from lptn convert or a drive's recorder)")
       ->required();
-  cmd->add_option("--format", args->format, "The log's format: candump, asc or blf (default: detected)")
-      ->check(CLI::IsMember({"candump", "asc", "blf"}));
+  cmd->add_option("--format", args->format, "The log's format: candump, asc, blf or mdf4 (default: detected)")
+      ->check(CLI::IsMember({"candump", "asc", "blf", "mdf4"}));
   cmd->add_option("--channel", args->channel,
-                  "Only the frames of this channel (candump: an interface name; ASC, BLF: a number); default all");
+                  "Only the frames of this channel (candump: an interface name; ASC, BLF, MDF4: a number); default all");
   auto* calibration = cmd->add_option("--calibration", args->calibration, "calibration.json (from lptn calibrate)");
   auto* fleet = cmd->add_option("--fleet", args->fleet,
                                 "fleet.json (from lptn calibrate --fleet): the motor type's pooled calibration, as "
