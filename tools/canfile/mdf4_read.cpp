@@ -408,6 +408,10 @@ class Mdf4Source final : public FrameSource {
       report(r.at, "data group (##DG)", "sorted (no record ids) but not of exactly one channel group");
       return false;
     }
+    if (r.id_size == 0 && r.groups[0].size == 0) {
+      report(r.at, "data group (##DG)", "sorted, and its records are of no bytes");
+      return false;
+    }
     // VLSD data bytes: a channel group of this data group, or signal data blocks.
     for (Group& g : r.groups) {
       Field& f = g.bytes;
