@@ -543,5 +543,22 @@ TEST(Mdf4Reader, ALostDtBlockOfASortedGroupIsOneBadRecordAndTheNextBlockIsReadFr
   EXPECT_EQ(lines(r.frames), lines(expected));
 }
 
+// What the fuzzer found (tests/fuzz/corpus/fuzz_mdf4/sorted_records_of_no_bytes.mf4): a sorted data
+// group whose records are 0 bytes long was read forever. Now it is a damaged data group.
+TEST(Mdf4Reader, ASortedGroupOfZeroByteRecordsIsOneBadRecordNotAnEndlessRead) {
+  TempDir t;
+  Builder b;
+  const std::uint64_t dg = b.data_group(0);
+  b.link(64, 0, dg);
+  b.link(dg, 1, b.group(0, 0, 2));
+  b.link(dg, 2, b.block("DT", {}, std::string(64, '\1')));
+  write_bytes(t.path() / "zero.mf4", b.bytes());
+  const Read r = read_log(t.path() / "zero.mf4");
+  ASSERT_EQ(r.bad.size(), 1u);
+  EXPECT_EQ(r.bad[0], (t.path() / "zero.mf4").string() + ": byte " + std::to_string(dg) +
+                          ": data group (##DG): sorted, and its records are of no bytes; its frames are not read");
+  EXPECT_TRUE(r.frames.empty());
+}
+
 }  // namespace
 }  // namespace lptn::canfile
