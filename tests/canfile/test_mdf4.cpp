@@ -407,8 +407,9 @@ std::string deflated(const std::string& in) {
 }
 
 // Data group 1, sorted: Timestamp u32 in units of 10 us (a linear conversion); ID u32 with IDE at
-// bit 31; DLC; data bytes VLSD in SD blocks (offset u64). 17-byte records in two DT blocks split
-// inside a record, listed by a DL with offsets; the signal data in a DL of two SD blocks.
+// bit 31; DLC; data bytes VLSD in SD blocks (offset u64). 17-byte records in `dt_blocks` DT blocks split
+// inside a record, listed by a DL with offsets (one DT block: linked directly); the signal data in a
+// DL of two SD blocks.
 // Data group 2, unsorted with 2-byte record ids: one CAN_DataFrame group with a float time stamp,
 // 8 fixed data bytes, a BusChannel; its records in one DZ block, plain deflate.
 // The two groups' frames interleave in time.
@@ -418,7 +419,7 @@ struct Built {
   std::uint64_t dt[3] = {0, 0, 0};
 };
 
-Built build(int sorted_records, int dt_blocks) {
+Built build(int sorted_records, int dt_blocks, bool second_group = true) {
   Builder b;
   Built out;
   const std::uint64_t dg1 = b.data_group(0);
@@ -467,7 +468,12 @@ Built build(int sorted_records, int dt_blocks) {
     dl_links.push_back(out.dt[i]);
     put<std::uint64_t>(dl, from);
   }
-  b.link(dg1, 2, b.block("DL", dl_links, dl));
+  // One block: linked from the data group itself.
+  b.link(dg1, 2, dt_blocks == 1 ? out.dt[0] : b.block("DL", dl_links, dl));
+  if (!second_group) {
+    out.bytes = b.bytes();
+    return out;
+  }
 
   const std::uint64_t dg2 = b.data_group(2);
   b.link(dg1, 0, dg2);
@@ -541,6 +547,22 @@ TEST(Mdf4Reader, ALostDtBlockOfASortedGroupIsOneBadRecordAndTheNextBlockIsReadFr
     if (k < 100 || k >= 201) expected.push_back(s);
   }
   EXPECT_EQ(lines(r.frames), lines(expected));
+}
+
+// A finalized file whose one DT block the file ends inside: the records before the cut, then one
+// bad record naming the block.
+TEST(Mdf4Reader, ADtBlockCutShortIsReadUpToTheCutAndReportedOnce) {
+  TempDir t;
+  const Built built = build(100, 1, false);
+  const fs::path p = t.path() / "cut.mf4";
+  for (const std::size_t records : {40u, 41u}) {  // inside a record; at a record's end
+    write_bytes(p, built.bytes.substr(0, built.dt[0] + 24 + 17 * records + (records == 40 ? 5 : 0)));
+    const Read r = read_log(p);
+    ASSERT_EQ(r.bad.size(), 1u) << r.bad[1];
+    EXPECT_EQ(r.bad[0], p.string() + ": byte " + std::to_string(built.dt[0]) + ": data block: the file ends inside " +
+                            (records == 40 ? "a record" : "the block") + " (cut short)");
+    EXPECT_EQ(lines(r.frames), lines({built.frames.begin(), built.frames.begin() + records}));
+  }
 }
 
 // What the fuzzer found (tests/fuzz/corpus/fuzz_mdf4/sorted_records_of_no_bytes.mf4): a sorted data

@@ -48,9 +48,9 @@ std::optional<LogFormat> format_from_extension(const fs::path& file) {
 
 std::string record_message(const fs::path& file, const fw::FrameSource& source, std::size_t record,
                            std::string_view reason) {
-  const bool line = std::string_view(source.record_name()) == "line";
-  if (std::string_view(source.record_name()) == "record") return file.string() + ": " + std::string(reason);  // MDF4
-  return file.string() + (line ? ":" : ": object ") + std::to_string(record) + ": " + std::string(reason);
+  const std::string_view name = source.record_name();
+  if (name == "record") return file.string() + ": " + std::string(reason);  // MDF4: the reason names the byte offset
+  return file.string() + (name == "line" ? ":" : ": object ") + std::to_string(record) + ": " + std::string(reason);
 }
 
 namespace {

@@ -120,8 +120,6 @@ struct DataRef {
   std::uint64_t at, logical;  // file offset; offset in the data group's stream of bytes
 };
 
-class Mdf4Source;
-
 // One data group: its channel groups, its data blocks read one at a time, and the events read
 // from them and not yet returned.
 struct DataGroupReader {
@@ -133,8 +131,10 @@ struct DataGroupReader {
   std::size_t next_block = 0;
   std::vector<std::uint8_t> buf;
   std::size_t pos = 0;
-  std::uint64_t block_at = 0, logical = 0;
+  std::uint64_t block_at = 0;  // the data block last loaded, for messages
   bool resync = false, ended = false, cut = false, drained = false;
+  bool cut_inside = false;  // a DT or SD block the file ends inside was read up to the end
+  std::string cut_note;
   std::deque<Event> out;  // in file order; frames may wait for their VLSD bytes
   std::deque<Event> bads;  // reported at once
   std::map<std::pair<TimeUs, std::uint64_t>, Event> sorted;  // frames by time, then file order
@@ -151,12 +151,12 @@ class Mdf4Source final : public FrameSource {
     size_ = end > 0 ? static_cast<std::uint64_t>(end) : 0;
     std::uint8_t id[kIdBlockSize];
     if (!read_at(0, id, sizeof id) ||
-        (std::memcmp(id, kFinished, 8) != 0 && std::memcmp(id, kUnfinished, 8) != 0))
+        (std::memcmp(id, kMdfMagic, 8) != 0 && std::memcmp(id, kMdfUnfinishedMagic, 8) != 0))
       throw LogError(path.string() + ": not an MDF4 file (it does not start with an MDF identification block)");
     if (id[8] != '4' || id[9] != '.')
       throw LogError(path.string() + ": MDF version " + std::string(reinterpret_cast<const char*>(id + 8), 4) +
                      ", not 4.x (lptn reads MDF4 bus logging files)");
-    unfinished_ = std::memcmp(id, kUnfinished, 8) == 0;
+    unfinished_ = std::memcmp(id, kMdfUnfinishedMagic, 8) == 0;
     unfin_flags_ = get<std::uint16_t>(id + 60);
     Block hd;
     if (const char* why = read_block(kIdBlockSize, "HD", 6, 32, hd))
@@ -215,9 +215,11 @@ class Mdf4Source final : public FrameSource {
   }
 
   // The block at `at`: "##" and one of the ids in `ids` ("DT", "DZDL": pairs), at least
-  // `min_links` links and `min_data` data bytes. nullptr, or what is wrong.
+  // `min_links` links and `min_data` data bytes. nullptr, or what is wrong. `to_end`: the block runs
+  // to the end of the file whatever its length says. `cut`: a DT or SD block the file ends inside
+  // is read up to the end, and *cut says so.
   const char* read_block(std::uint64_t at, const char* ids, std::size_t min_links, std::size_t min_data, Block& b,
-                         std::uint64_t max_length = kMaxMetaBlock, bool to_end = false) {
+                         std::uint64_t max_length = kMaxMetaBlock, bool to_end = false, bool* cut = nullptr) {
     std::uint8_t h[kHeaderSize];
     if (at == 0 || !read_at(at, h, sizeof h)) return "the link leads outside the file";
     if (h[0] != '#' || h[1] != '#') return "no block starts there (no \"##\")";
@@ -231,6 +233,10 @@ class Mdf4Source final : public FrameSource {
     const std::uint64_t links = get<std::uint64_t>(h + 16);
     if (links > kMaxLinks || b.length < kHeaderSize + 8 * links) return "block length or link count out of range";
     if (to_end && b.length < size_ - at) b.length = size_ - at;
+    if (cut && b.length > size_ - at && !(b.id[0] == 'D' && b.id[1] == 'Z')) {
+      b.length = size_ - at;
+      *cut = true;
+    }
     if (b.length > max_length) return "block larger than lptn reads";
     if (b.length - kHeaderSize - 8 * links < min_data || links < min_links) return "block shorter than its type's";
     if (b.length > size_ - at) return "the file ends inside the block (cut short)";
@@ -478,9 +484,10 @@ class Mdf4Source final : public FrameSource {
   }
 
   // A data block's bytes (DT, SD, or DZ inflated): nullptr, or what is wrong.
-  const char* load(std::uint64_t at, std::vector<std::uint8_t>& out) {
+  // A DT or SD block the file ends inside: its bytes up to the end, and *cut says so.
+  const char* load(std::uint64_t at, std::vector<std::uint8_t>& out, bool* cut = nullptr) {
     Block b;
-    if (const char* why = read_block(at, "DTSDDZ", 0, 0, b, kMaxDataBlock + 64, at == last_dt_ && last_dt_ != 0))
+    if (const char* why = read_block(at, "DTSDDZ", 0, 0, b, kMaxDataBlock + 64, at == last_dt_ && last_dt_ != 0, cut))
       return why;
     if (b.id[0] != 'D' || b.id[1] != 'Z') {
       out = std::move(b.data);
@@ -516,16 +523,9 @@ class Mdf4Source final : public FrameSource {
       if (r.next_block == r.blocks.size()) return Got::end;
       const DataRef ref = r.blocks[r.next_block++];
       std::vector<std::uint8_t> bytes;
-      if (const char* why = load(ref.at, bytes)) {
-        why_ = at_text(ref.at) + ": data block: " + why + "; its records are not read";
-        // A file cut short: the blocks after its end go with this one's message.
-        const auto beyond = std::remove_if(r.blocks.begin() + static_cast<std::ptrdiff_t>(r.next_block), r.blocks.end(),
-                                           [this](const DataRef& b) { return b.at >= size_; });
-        if (const auto lost = r.blocks.end() - beyond; lost > 0) {
-          why_ += ", nor those of the " + std::to_string(lost) + " data block" + (lost > 1 ? "s" : "") +
-                  " after the file's end";
-          r.blocks.erase(beyond, r.blocks.end());
-        }
+      bool cut = false;
+      if (const char* why = load(ref.at, bytes, &cut)) {
+        why_ = at_text(ref.at) + ": data block: " + why + "; its records are not read" + blocks_after_end(r);
         r.buf.clear();
         r.pos = 0;
         r.resync = true;
@@ -536,15 +536,27 @@ class Mdf4Source final : public FrameSource {
       if (r.resync) {  // after a lost block: the stream goes on where this block's offset says
         r.resync = false;
         r.buf.clear();
-        r.logical = ref.logical;
         const std::uint64_t size = r.id_size == 0 && !r.groups.empty() ? r.groups[0].size : 0;
         if (size > 0 && ref.logical % size != 0) r.pos = static_cast<std::size_t>(size - ref.logical % size);
         if (r.pos > bytes.size()) r.pos = bytes.size();
       }
       r.block_at = ref.at;
       r.buf.insert(r.buf.end(), bytes.begin(), bytes.end());
+      if (cut) r.cut_note = blocks_after_end(r);
+      r.cut_inside = r.cut_inside || cut;
     }
     return Got::ok;
+  }
+
+  // A file cut short: the data blocks listed after its end are dropped, and go with the message
+  // of the block it ends in (", nor those of the 3 data blocks after the file's end").
+  std::string blocks_after_end(DataGroupReader& r) {
+    const auto beyond = std::remove_if(r.blocks.begin() + static_cast<std::ptrdiff_t>(r.next_block), r.blocks.end(),
+                                       [this](const DataRef& b) { return b.at >= size_; });
+    const auto lost = r.blocks.end() - beyond;
+    r.blocks.erase(beyond, r.blocks.end());
+    if (lost == 0) return "";
+    return ", nor those of the " + std::to_string(lost) + " data block" + (lost > 1 ? "s" : "") + " after the file's end";
   }
 
   void push_bad(DataGroupReader& r, std::string why) {
@@ -560,9 +572,10 @@ class Mdf4Source final : public FrameSource {
     Got got = need(r, std::max<std::size_t>(r.id_size, 1));
     if (got == Got::bad) return push_bad(r, why_), true;
     if (got == Got::end) {
-      if (have > 0) {
+      if (have > 0 || r.cut_inside) {
         r.cut = true;
-        push_bad(r, at_text(r.block_at) + ": data block: the file ends inside a record (cut short)");
+        push_bad(r, at_text(r.block_at) + ": data block: the file ends inside " + (have > 0 ? "a record" : "the block") +
+                        " (cut short)" + r.cut_note);
         r.buf.clear();
         r.pos = 0;
       }
@@ -616,7 +629,7 @@ class Mdf4Source final : public FrameSource {
 
   bool truncated(DataGroupReader& r) {
     r.cut = true;
-    push_bad(r, at_text(r.block_at) + ": data block: the file ends inside a record (cut short)");
+    push_bad(r, at_text(r.block_at) + ": data block: the file ends inside a record (cut short)" + r.cut_note);
     r.buf.clear();
     r.pos = 0;
     return false;
@@ -723,7 +736,7 @@ class Mdf4Source final : public FrameSource {
     }
     const std::uint64_t offset = raw_bits(rec, b);
     if (b.sd >= 0) {
-      const std::vector<std::uint8_t>* sd = signal_data(r, g, b);
+      const std::vector<std::uint8_t>* sd = signal_data(b);
       if (!sd) return bad("its VLSD data bytes are in signal data that cannot be read");
       if (offset > sd->size() || sd->size() - offset < 4) return bad("VLSD offset beyond the signal data");
       const std::uint32_t n = get<std::uint32_t>(sd->data() + offset);
@@ -766,7 +779,7 @@ class Mdf4Source final : public FrameSource {
     r.orphans[{gi, offset}] = std::move(bytes);
   }
 
-  const std::vector<std::uint8_t>* signal_data(DataGroupReader&, const Group&, const Field& b) {
+  const std::vector<std::uint8_t>* signal_data(const Field& b) {
     auto& sd = sd_[static_cast<std::size_t>(b.sd)];
     if (!sd.loaded) {
       sd.loaded = true;

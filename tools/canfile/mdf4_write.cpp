@@ -114,7 +114,7 @@ class Mdf4Writer final : public LogWriter {
 
   std::string finish() override {
     Layout file;
-    std::string id = std::string(kFinished) + "4.10    " + "lptn    ";
+    std::string id = std::string(kMdfMagic) + "4.10    " + "lptn    ";
     id.resize(kIdBlockSize, '\0');
     id[28] = static_cast<char>(410 & 0xFF);
     id[29] = static_cast<char>(410 >> 8);

@@ -4,7 +4,8 @@
 // length (u64, header included, padding to 8 bytes not) and its link count (u64); then that many
 // links (u64 file offsets, 0 for none); then the block's data. The file starts with the 64-byte
 // identification block (not a "##" block): "MDF     " ("UnFinMF " while a logger still writes
-// it), the version "4.10    ", the program, and at byte 60 the unfinalized flags.
+// it; kMdfMagic, kMdfUnfinishedMagic in formats.hpp), the version "4.10    ", the program, and at
+// byte 60 the unfinalized flags.
 //
 //   ##HD at 64: links dg_first, fh_first, ch_first, at_first, ev_first, md_comment;
 //                data start time (u64 ns since 1970 UTC), tz and dst offsets (i16 minutes), flags.
@@ -46,8 +47,6 @@ namespace lptn::canfile::mdf4 {
 
 inline constexpr std::size_t kIdBlockSize = 64;
 inline constexpr std::size_t kHeaderSize = 24;
-inline constexpr char kFinished[] = "MDF     ";
-inline constexpr char kUnfinished[] = "UnFinMF ";
 // Unfinalized flags: the last DT block's length was not updated (it runs to the file's end).
 inline constexpr std::uint16_t kUnfinDtLength = 0x4;
 
