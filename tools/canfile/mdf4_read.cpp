@@ -236,6 +236,7 @@ class Mdf4Source final : public FrameSource {
     if (cut && b.length > size_ - at && !(b.id[0] == 'D' && b.id[1] == 'Z')) {
       b.length = size_ - at;
       *cut = true;
+      if (b.length < kHeaderSize + 8 * links) return "the file ends inside the block (cut short)";
     }
     if (b.length > max_length) return "block larger than lptn reads";
     if (b.length - kHeaderSize - 8 * links < min_data || links < min_links) return "block shorter than its type's";
