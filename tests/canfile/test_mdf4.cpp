@@ -138,6 +138,8 @@ std::vector<Stamped> sample_frames(int n = 30000) {
 // Files other tools wrote.
 
 class Corpus : public ::testing::TestWithParam<const char*> {};
+// The loggers' own (unfinalized) files, whose data block is the file's last block.
+class CorpusRaw : public Corpus {};
 
 TEST_P(Corpus, ReadsFrameForFrameAsTheReferenceReading) {
   const fs::path mf4 = kCorpus / (std::string(GetParam()) + ".MF4");
@@ -151,7 +153,7 @@ TEST_P(Corpus, ReadsFrameForFrameAsTheReferenceReading) {
 
 // Cut anywhere inside its data: the frames before the cut, then one bad record naming the file and
 // the data block's offset.
-TEST_P(Corpus, CutShortItReadsTheFramesBeforeTheCutAndReportsOneBadRecord) {
+TEST_P(CorpusRaw, CutShortItReadsTheFramesBeforeTheCutAndReportsOneBadRecord) {
   TempDir t;
   const std::string bytes = slurp_bytes(kCorpus / (std::string(GetParam()) + ".MF4"));
   const auto all = read_log(kCorpus / (std::string(GetParam()) + ".MF4")).frames;
@@ -167,9 +169,19 @@ TEST_P(Corpus, CutShortItReadsTheFramesBeforeTheCutAndReportsOneBadRecord) {
   EXPECT_EQ(lines(r.frames), lines({all.begin(), all.begin() + static_cast<std::ptrdiff_t>(r.frames.size())}));
 }
 
+// The logger's id in the file's name ("canedge-FCBF0606-00000001-..."): the test's name.
+std::string device_id(const ::testing::TestParamInfo<const char*>& p) {
+  const std::string name = p.param;
+  return name.substr(name.find("-0000000") - 8, 8);
+}
+
 INSTANTIATE_TEST_SUITE_P(CanEdge, Corpus,
+                         ::testing::Values("canedge-FCBF0606-00000001-60B621D9", "canedge-2F6913DB-00000002-63BEFDF9",
+                                           "canedge-finalized-3BA199E2-00000005-60FEB5A8"),
+                         device_id);
+INSTANTIATE_TEST_SUITE_P(CanEdge, CorpusRaw,
                          ::testing::Values("canedge-FCBF0606-00000001-60B621D9", "canedge-2F6913DB-00000002-63BEFDF9"),
-                         [](const auto& p) { return std::string(p.param).substr(8, 8); });
+                         device_id);
 
 TEST(Mdf4Corpus, ConvertedToCandumpItIsTheCandumpLogOfTheReferenceFrames) {
   const Read r = read_log(kCorpus / "canedge-FCBF0606-00000001-60B621D9.MF4");

@@ -5,8 +5,9 @@ channel of a group decoded by name into columns, then the columns combined into 
 the reference frames *.frames.txt that tests/canfile/test_mdf4.cpp compares lptn's reader with.
 
 It reads only what these files use: unsorted data groups in one DT block (unfinalized: to the
-end of the file), record ids of 1 byte, fixed and VLSD (channel group) data bytes, linear and
-value-to-value conversions, virtual channels. One line per frame:
+end of the file) with record ids of 1 byte, or sorted ones (one channel group, no record ids);
+fixed data bytes, or VLSD in a channel group or in one SD block; linear and value-to-value
+conversions; virtual channels. One line per frame, in time order (equal times: in file order):
 
     SECONDS.MICROS CHANNEL ID(hex) EXTENDED REMOTE ERROR FD LENGTH DATA(hex)
 
@@ -63,7 +64,8 @@ dg = hd_links[0]
 lines = []
 while dg:
     _, _, dg_links, dg_body = block(dg)
-    assert data[dg_body] == 1, "record ids of 1 byte"
+    id_size = data[dg_body]
+    assert id_size in (0, 1), "record ids of 0 or 1 byte"
     groups = {}
     cg = dg_links[1]
     while cg:
@@ -73,20 +75,27 @@ while dg:
         channels(cg_links[1], chans)
         groups[rid] = dict(at=cg, flags=flags, size=size + inval, chans=chans, rows=[], vlsd=[], vlsd_at={})
         cg = cg_links[0]
+    if not dg_links[2]:
+        dg = dg_links[0]
+        continue
     ident, length, _, body = block(dg_links[2])
     assert ident == b"##DT"
     end = len(data) if unfinished else dg_links[2] + length
     pos = body
     while pos < end:
-        g = groups[data[pos]]
-        pos += 1
+        if id_size:
+            g = groups[data[pos]]
+            pos += 1
+        else:
+            assert len(groups) == 1
+            g = next(iter(groups.values()))
         if g["flags"] & 1:  # VLSD group: length, bytes
             n = struct.unpack_from("<I", data, pos)[0]
             g["vlsd_at"][sum(4 + len(v) for v in g["vlsd"])] = len(g["vlsd"])
             g["vlsd"].append(data[pos + 4:pos + 4 + n])
             pos += 4 + n
         else:
-            g["rows"].append(data[pos:pos + g["size"]])
+            g["rows"].append((pos, data[pos:pos + g["size"]]))
             pos += g["size"]
     by_at = {g["at"]: g for g in groups.values()}
     for g in groups.values():
@@ -102,7 +111,7 @@ while dg:
             if c["ctype"] in (3, 6):
                 return [c["cc"](i) for i in range(len(g["rows"]))]
             values = []
-            for row in g["rows"]:
+            for _, row in g["rows"]:
                 raw = int.from_bytes(row[c["byte"]:c["byte"] + (c["bit"] + c["bits"] + 7) // 8], "little")
                 raw = (raw >> c["bit"]) & ((1 << c["bits"]) - 1)
                 values.append(c["cc"](raw) if c["dtype"] != 10 else None)
@@ -110,14 +119,14 @@ while dg:
 
         ts = names["Timestamp"]
         times = []
-        for row in g["rows"]:
+        for _, row in g["rows"]:
             raw = row[ts["byte"]:ts["byte"] + ts["bits"] // 8]
             x = struct.unpack("<d", raw)[0] if ts["dtype"] == 4 else int.from_bytes(raw, "little")
             times.append(ts["cc"](x))
         ids, ides, buses = column("ID", 0), column("IDE", 0), column("BusChannel", 1)
         edls, lengths, dlcs = column("EDL", 0), column("DataLength"), column("DLC")
         db = names.get(kind + ".DataBytes")
-        for i, row in enumerate(g["rows"]):
+        for i, (at, row) in enumerate(g["rows"]):
             fd = int(edls[i])
             length = lengths[i] if lengths[i] is not None else dlcs[i]
             length = int(length) if fd else min(int(length), 8)
@@ -125,12 +134,18 @@ while dg:
             if kind == "CAN_DataFrame":
                 if db["ctype"] == 1:
                     off = int.from_bytes(row[db["byte"]:db["byte"] + db["bits"] // 8], "little")
-                    v = by_at[db["data"]]
-                    payload = v["vlsd"][v["vlsd_at"][off]][:length]
+                    if db["data"] in by_at:  # a VLSD channel group
+                        v = by_at[db["data"]]
+                        payload = v["vlsd"][v["vlsd_at"][off]][:length]
+                    else:  # an SD block: length, bytes, ...
+                        ident, _, _, sd = block(db["data"])
+                        assert ident == b"##SD"
+                        n = struct.unpack_from("<I", data, sd + off)[0]
+                        payload = data[sd + off + 4:sd + off + 4 + n][:length]
                 else:
                     payload = row[db["byte"]:db["byte"] + length]
             us = start_ns // 1000 + round(times[i] * 1e6)
-            lines.append((us, len(lines), "%d.%06d %d %X %d %d %d %d %d %s" % (
+            lines.append((us, at, "%d.%06d %d %X %d %d %d %d %d %s" % (
                 us // 10**6, us % 10**6, int(buses[i]), int(ids[i]), int(ides[i]), kind == "CAN_RemoteFrame",
                 kind == "CAN_ErrorFrame", fd, 0 if kind == "CAN_ErrorFrame" else length, payload.hex().upper())))
     dg = dg_links[0]
