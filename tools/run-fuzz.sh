@@ -22,17 +22,19 @@ tools/setup.sh fuzz
 cmake --preset fuzz >/dev/null
 cmake --build --preset fuzz -j"$(nproc)"
 
-# Longest input per target: a CAN payload and a double; a log line; a short log file, CSV or motor file;
+# Longest input per target: a CAN payload and a double; a log line; a short log file (MDF4: its blocks
+# and a few data records), CSV or motor file;
 # 340 frames for the estimator.
 declare -A MAX_LEN=(
   [fuzz_can_codecs]=16
   [fuzz_candump_line]=256
   [fuzz_can_log]=8192
+  [fuzz_mdf4]=16384
   [fuzz_cycle_csv]=4096
   [fuzz_motor_toml]=4096
   [fuzz_estimator_frames]=4093
 )
-TARGETS=(fuzz_can_codecs fuzz_candump_line fuzz_can_log fuzz_cycle_csv fuzz_motor_toml fuzz_estimator_frames)
+TARGETS=(fuzz_can_codecs fuzz_candump_line fuzz_can_log fuzz_mdf4 fuzz_cycle_csv fuzz_motor_toml fuzz_estimator_frames)
 
 # UBSan aborts on the first report anyway (-fno-sanitize-recover); the stack says where.
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1

@@ -18,7 +18,7 @@ HOST=(
   libcli11-dev libtomlplusplus-dev nlohmann-json3-dev   # command line, motor files, JSON
   libjs-dygraphs                                        # lptn report's charts, embedded at build time
   time                                                  # GNU time: tools/bench-scale.sh's peak memory
-  zlib1g-dev                                            # Vector BLF logs' compressed containers
+  zlib1g-dev                                            # Vector BLF logs' containers, MDF4's DZ blocks
   python3-can                                           # tests: ASC and BLF logs written and read by another implementation
   libopenmpi-dev openmpi-bin                            # mpirun -np N lptn calibrate: one calibration over N processes
 )
@@ -38,7 +38,7 @@ FUZZ=(
   clang libclang-rt-14-dev                              # clang-14; libFuzzer, ASan and UBSan runtimes
   cmake ninja-build python3                             # the fuzz preset's build; python3 generates the CAN codecs
   libtomlplusplus-dev nlohmann-json3-dev                # the fuzzed trainer/ libraries (no libtorch, no Ceres)
-  zlib1g-dev                                            # the fuzzed CAN log readers (BLF's containers)
+  zlib1g-dev                                            # the fuzzed CAN log readers (BLF, MDF4)
 )
 
 PACKAGES=()

@@ -1,4 +1,4 @@
-// `lptn replay` and `lptn convert` on candump, ASC and BLF logs, lptn's own and python-can's: the
+// `lptn replay` and `lptn convert` on candump, ASC, BLF and MDF4 logs, lptn's own and python-can's: the
 // same frames give the same estimates and the same CSV whatever the format; a file in no format is
 // one error line; a flood of malformed lines is ten messages and a count.
 #include <gtest/gtest.h>
@@ -24,7 +24,7 @@ std::size_t count_lines(const std::string& s) { return static_cast<std::size_t>(
 
 class FormatsCli : public ::testing::Test {
  protected:
-  // Six minutes of one generated cycle, as a candump log and in lptn's own ASC and BLF.
+  // Six minutes of one generated cycle, as a candump log and in lptn's own ASC, BLF and MDF4.
   static void SetUpTestSuite() {
     dir_ = new TempDir;
     const fs::path d = dir_->path();
@@ -33,7 +33,7 @@ class FormatsCli : public ::testing::Test {
     for (const auto& e : fs::directory_iterator(d / "data"))
       if (e.path().extension() == ".csv") csv_ = e.path();
     ASSERT_FALSE(csv_.empty());
-    for (const char* name : {"lptn.log", "lptn.asc", "lptn.blf"}) {
+    for (const char* name : {"lptn.log", "lptn.asc", "lptn.blf", "lptn.mf4"}) {
       const auto c = run("convert --in " + csv_.string() + " --out " + (d / name).string() + " --start-time 1700000000", d);
       ASSERT_EQ(c.code, 0) << c.err;
     }
@@ -72,6 +72,7 @@ TEST_F(FormatsCli, TheSameFramesGiveTheSameEstimatesWhateverTheFormat) {
   for (const auto& [log, format] : std::vector<std::pair<fs::path, std::string>>{
            {path("lptn.asc"), "asc"},
            {path("lptn.blf"), "blf"},
+           {path("lptn.mf4"), "mdf4"},
            {python_log("python.asc"), "asc"},
            {python_log("python.blf"), "blf"}}) {
     const fs::path out = path("est-" + log.filename().string() + ".csv");
@@ -88,7 +89,7 @@ TEST_F(FormatsCli, EveryFormatConvertsBackToTheSameCsv) {
   ASSERT_EQ(ref.code, 0) << ref.err;
   const std::string expected = slurp(path("back-candump.csv"));
   ASSERT_GT(count_lines(expected), 3000u);
-  for (const fs::path& log : {path("lptn.asc"), path("lptn.blf"), python_log("py2.asc"), python_log("py2.blf")}) {
+  for (const fs::path& log : {path("lptn.asc"), path("lptn.blf"), path("lptn.mf4"), python_log("py2.asc"), python_log("py2.blf")}) {
     const fs::path out = path("back-" + log.filename().string() + ".csv");
     const auto r = run("convert --in " + log.string() + " --out " + out.string(), dir_->path());
     ASSERT_EQ(r.code, 0) << log << ": " << r.err;
@@ -161,6 +162,40 @@ TEST_F(FormatsCli, ALogOfTwoBusesIsReadOneChannelAtATime) {
   EXPECT_EQ(count_lines(absent.err), 1u) << absent.err;
   EXPECT_NE(absent.err.find("two.asc: no frame on channel 3 (the log's channels: 1, 2)"), std::string::npos) << absent.err;
   EXPECT_FALSE(fs::exists(path("two.csv")));
+}
+
+// An MDF4 file with a zipped block damaged: one message naming the file and the block's offset,
+// the other blocks' frames replayed; junk named *.mf4: one error line, nothing written.
+TEST_F(FormatsCli, ADamagedMdf4BlockIsOneMessageWithItsOffsetAndJunkNamedMf4IsRefused) {
+  std::string bytes = slurp(path("lptn.mf4"));
+  const std::size_t second = bytes.find("##DZ", bytes.find("##DZ") + 1);
+  ASSERT_NE(second, std::string::npos) << "lptn.mf4 has fewer than two DZ blocks";
+  for (std::size_t i = second + 60; i < second + 90; ++i) bytes[i] = static_cast<char>(~bytes[i]);
+  std::ofstream(path("damaged.mf4"), std::ios::binary) << bytes;
+  const auto r = replay(path("damaged.mf4"), path("est-damaged.csv"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  // Then the replay's own warning of inputs that do not fit (frames are missing for a while).
+  const std::string first_line = r.err.substr(0, r.err.find('\n') + 1);
+  EXPECT_EQ(first_line, path("damaged.mf4").string() + ": byte " + std::to_string(second) +
+                       ": data block: zipped data does not inflate to its stated length (corrupt); its records are not "
+                       "read (record skipped)\n");
+  EXPECT_EQ(r.err.find("damaged.mf4: byte", first_line.size()), std::string::npos) << r.err;
+  const auto whole = replay(path("lptn.mf4"), path("est-whole-mf4.csv"));
+  ASSERT_EQ(whole.code, 0) << whole.err;
+  EXPECT_GT(count_lines(slurp(path("est-damaged.csv"))), 3000u);
+  EXPECT_FALSE(slurp(path("est-damaged.csv")) == slurp(path("est-whole-mf4.csv")));
+
+  std::ofstream(path("junk.mf4"), std::ios::binary) << std::string(5000, 'j');
+  const auto j = replay(path("junk.mf4"), path("junk-mf4.csv"));
+  EXPECT_EQ(j.code, 2);
+  EXPECT_EQ(count_lines(j.err), 1u) << j.err;
+  EXPECT_NE(j.err.find("junk.mf4: not an MDF4 file"), std::string::npos) << j.err;
+  EXPECT_FALSE(fs::exists(path("junk-mf4.csv")));
+  const auto c = run("convert --in " + path("junk.mf4").string() + " --out " + path("junk-mf4-back.csv").string(),
+                     dir_->path());
+  EXPECT_EQ(c.code, 2);
+  EXPECT_EQ(count_lines(c.err), 1u) << c.err;
+  EXPECT_FALSE(fs::exists(path("junk-mf4-back.csv")));
 }
 
 }  // namespace

@@ -17,12 +17,13 @@ const char* format_name(LogFormat f) {
     case LogFormat::candump: return "candump";
     case LogFormat::asc: return "asc";
     case LogFormat::blf: return "blf";
+    case LogFormat::mdf4: return "mdf4";
   }
   return "?";
 }
 
 std::optional<LogFormat> format_from_name(std::string_view name) {
-  for (LogFormat f : {LogFormat::candump, LogFormat::asc, LogFormat::blf})
+  for (LogFormat f : {LogFormat::candump, LogFormat::asc, LogFormat::blf, LogFormat::mdf4})
     if (name == format_name(f)) return f;
   return std::nullopt;
 }
@@ -32,6 +33,7 @@ const char* format_extension(LogFormat f) {
     case LogFormat::candump: return ".log";
     case LogFormat::asc: return ".asc";
     case LogFormat::blf: return ".blf";
+    case LogFormat::mdf4: return ".mf4";
   }
   return "";
 }
@@ -39,15 +41,16 @@ const char* format_extension(LogFormat f) {
 std::optional<LogFormat> format_from_extension(const fs::path& file) {
   std::string ext = file.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  for (LogFormat f : {LogFormat::candump, LogFormat::asc, LogFormat::blf})
+  for (LogFormat f : {LogFormat::candump, LogFormat::asc, LogFormat::blf, LogFormat::mdf4})
     if (ext == format_extension(f)) return f;
   return std::nullopt;
 }
 
 std::string record_message(const fs::path& file, const fw::FrameSource& source, std::size_t record,
                            std::string_view reason) {
-  const bool line = std::string_view(source.record_name()) == "line";
-  return file.string() + (line ? ":" : ": object ") + std::to_string(record) + ": " + std::string(reason);
+  const std::string_view name = source.record_name();
+  if (name == "record") return file.string() + ": " + std::string(reason);  // MDF4: the reason names the byte offset
+  return file.string() + (name == "line" ? ":" : ": object ") + std::to_string(record) + ": " + std::string(reason);
 }
 
 namespace {
@@ -64,7 +67,12 @@ constexpr int kLinesToSniff = 10;
 std::optional<LogFormat> format_from_content(const fs::path& file) {
   File f = open_file(file);
   char magic[4] = {};
+  char mdf[8] = {};
   if (std::fread(magic, 1, 4, f.get()) == 4 && std::memcmp(magic, kBlfMagic, 4) == 0) return LogFormat::blf;
+  std::rewind(f.get());
+  if (std::fread(mdf, 1, 8, f.get()) == 8 &&
+      (std::memcmp(mdf, kMdfMagic, 8) == 0 || std::memcmp(mdf, kMdfUnfinishedMagic, 8) == 0))
+    return LogFormat::mdf4;
   std::rewind(f.get());
   LineReader reader(f.get());
   std::string_view line;
@@ -90,7 +98,7 @@ LogFormat detect_format(const fs::path& file) {
   if (const auto f = format_from_content(file)) return *f;
   if (const auto f = format_from_extension(file)) return *f;
   throw LogError(file.string() +
-                 ": not a CAN log lptn reads (candump -L, Vector ASC or Vector BLF; --format names one)");
+                 ": not a CAN log lptn reads (candump -L, Vector ASC, Vector BLF or MDF4; --format names one)");
 }
 
 std::unique_ptr<fw::FrameSource> open_log(const fs::path& file, LogFormat format) {
@@ -98,6 +106,7 @@ std::unique_ptr<fw::FrameSource> open_log(const fs::path& file, LogFormat format
     case LogFormat::candump: return make_candump_source(open_file(file));
     case LogFormat::asc: return make_asc_source(open_file(file));
     case LogFormat::blf: return make_blf_source(open_file(file), file);
+    case LogFormat::mdf4: return make_mdf4_source(open_file(file), file);
   }
   throw LogError(file.string() + ": unknown log format");
 }
@@ -108,6 +117,7 @@ std::unique_ptr<fw::FrameSource> open_log(std::FILE* stream, LogFormat format, c
     case LogFormat::candump: return make_candump_source(std::move(file));
     case LogFormat::asc: return make_asc_source(std::move(file));
     case LogFormat::blf: return make_blf_source(std::move(file), name);
+    case LogFormat::mdf4: return make_mdf4_source(std::move(file), name);
   }
   throw LogError(name + ": unknown log format");
 }
@@ -151,6 +161,7 @@ std::unique_ptr<LogWriter> make_log_writer(LogFormat format, const std::string& 
     case LogFormat::candump: return make_candump_writer(interface);
     case LogFormat::asc: return make_asc_writer();
     case LogFormat::blf: return make_blf_writer();
+    case LogFormat::mdf4: return make_mdf4_writer();
   }
   throw LogError("unknown log format");
 }

@@ -1,6 +1,6 @@
-// CAN log files as engineers bring them: candump -L (can-utils), Vector ASC and Vector BLF, read
-// frame by frame and written whole. Readers are replay's frame sources (firmware/linux), so
-// `lptn replay` and `lptn convert` take any of the three through the same code.
+// CAN log files as engineers bring them: candump -L (can-utils), Vector ASC, Vector BLF and ASAM MDF4
+// bus logging files, read frame by frame and written whole. Readers are replay's frame sources
+// (firmware/linux), so `lptn replay` and `lptn convert` take any of them through the same code.
 #pragma once
 
 #include <cstdio>
@@ -18,20 +18,21 @@
 
 namespace lptn::canfile {
 
-enum class LogFormat { candump, asc, blf };
+enum class LogFormat { candump, asc, blf, mdf4 };
 
-// "candump", "asc", "blf".
+// "candump", "asc", "blf", "mdf4".
 const char* format_name(LogFormat f);
 std::optional<LogFormat> format_from_name(std::string_view name);
-// The format a file of this name is written in: *.log candump, *.asc, *.blf; else none.
+// The format a file of this name is written in: *.log candump, *.asc, *.blf, *.mf4; else none.
 std::optional<LogFormat> format_from_extension(const std::filesystem::path& file);
-// ".log", ".asc", ".blf".
+// ".log", ".asc", ".blf", ".mf4".
 const char* format_extension(LogFormat f);
 
 // Readers report a log's malformed records one by one up to this many, then as a count.
 inline constexpr std::size_t kRecordMessagesShown = 10;
 
-// "FILE:LINE: reason" for a text log's line, "FILE: object N: reason" for a BLF's object.
+// "FILE:LINE: reason" for a text log's line, "FILE: object N: reason" for a BLF's object, "FILE: reason"
+// for an MDF4 file (whose reasons name the block's byte offset).
 std::string record_message(const std::filesystem::path& file, const fw::FrameSource& source, std::size_t record,
                            std::string_view reason);
 
@@ -41,15 +42,15 @@ class LogError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// What the file holds, by its content first (BLF's "LOGG"; a candump line; ASC's header or event
+// What the file holds, by its content first (BLF's "LOGG"; MDF4's identification block; a candump line; ASC's header or event
 // lines among the first non-empty lines), else by its extension (a damaged log may start with
 // garbage). Throws LogError where neither says.
 LogFormat detect_format(const std::filesystem::path& file);
 
 // A reader of `file` in `format`. Throws LogError if it cannot be opened, or a BLF's file header
-// is not one.
+// or an MDF4's identification and header blocks are not one.
 std::unique_ptr<fw::FrameSource> open_log(const std::filesystem::path& file, LogFormat format);
-// The same for an open stream (which the reader closes; BLF's must be seekable), `name` for messages.
+// The same for an open stream (which the reader closes; BLF's and MDF4's must be seekable), `name` for messages.
 std::unique_ptr<fw::FrameSource> open_log(std::FILE* stream, LogFormat format, const std::string& name);
 
 // The frames of one channel of a log ("" for all of them), and which channels the log holds: a
@@ -106,7 +107,8 @@ class LogWriter {
 // candump: `interface` names the bus on every line (at most 15 characters). ASC and BLF: channel 1,
 // the frames received (Rx); ASC's and BLF's time stamps count from the first frame, whose time is
 // the file's start (ASC's date line to the millisecond, BLF's header to the millisecond and the
-// objects' offsets to the nanosecond).
+// objects' offsets to the nanosecond). MDF4: CAN_DataFrame, CAN_RemoteFrame and CAN_ErrorFrame on
+// bus channel 1 (tools/canfile/mdf4_write.cpp), the header's start time the first frame's.
 std::unique_ptr<LogWriter> make_log_writer(LogFormat format, const std::string& interface = "can0");
 
 }  // namespace lptn::canfile

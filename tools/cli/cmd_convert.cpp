@@ -53,14 +53,14 @@ std::string messages_help() {
 
 std::string footer() {
   return "Direction: an input *.csv becomes a log; a log (*.log candump -L, *.asc Vector ASC, *.blf\n"
-         "Vector BLF) becomes a CSV; a file named otherwise is a log with --format or if its content is one\n"
-         "(BLF's \"LOGG\", a candump line, an ASC header among its first lines), else a CSV. A\n"
-         "directory converts every *.csv in it into OUT/NAME.log (.asc, .blf with --format), or every\n"
+         "Vector BLF, *.mf4 MDF4 bus logging) becomes a CSV; a file named otherwise is a log with --format or if its content is one\n"
+         "(BLF's \"LOGG\", MDF4's identification block, a candump line, an ASC header among its first lines), else a CSV. A\n"
+         "directory converts every *.csv in it into OUT/NAME.log (.asc, .blf, .mf4 with --format), or every\n"
          "log into OUT/NAME.csv (not both kinds at once).\n"
          "\n"
          "Formats: --format, else the extension of --out (CSV -> log) or the log's content (log -> CSV).\n"
-         "candump lines carry --interface; ASC and BLF carry channel 1, every frame received (Rx), time\n"
-         "stamps counted from the first frame, whose time starts the file (ASC's date, BLF's header).\n"
+         "candump lines carry --interface; ASC, BLF and MDF4 carry channel 1, every frame received (Rx), time\n"
+         "stamps counted from the first frame, whose time starts the file (ASC's date, BLF's and MDF4's header).\n"
          "\n"
          "CSV -> log: the CSV is loaded as every lptn command loads it (0.1 s grid, the loader's gap\n"
          "rules). Each input message of can-dbc/lptn.dbc goes out every cycle time, shortly after its\n"
@@ -75,7 +75,7 @@ std::string footer() {
          "log -> CSV: one row per frame time, time_s counted from the first input frame, each frame\n"
          "filling the columns it carries; --channel takes one bus of a log that holds several (without\n"
          "it they are read as one, with a warning). Malformed lines (BLF:\n"
-         "objects) and frames going back in time are reported (FILE:LINE, the first ten, then a count)\n"
+         "objects; MDF4: records and blocks, by byte offset) and frames going back in time are reported (FILE:LINE, the first ten, then a count)\n"
          "and dropped; unknown ids, LPTN_* outputs, error, remote, CAN FD and wrong-length\n"
          "frames are skipped and counted. Columns whose message never appears are left out; the ones the\n"
          "contract requires must appear.\n"
@@ -171,7 +171,7 @@ void convert_file(const CLI::App& cmd, const Args& args) {
   std::printf("wrote %s (%zu frames, %.2f h)\n", args.out.c_str(), c.frames, c.duration_s / 3600);
 }
 
-// The *.csv and the log files (*.log, *.asc, *.blf) directly in `dir`, each sorted by name.
+// The *.csv and the log files (*.log, *.asc, *.blf, *.mf4) directly in `dir`, each sorted by name.
 void list_inputs(const fs::path& dir, std::vector<fs::path>& csvs, std::vector<fs::path>& logs) {
   for (const fs::directory_entry& e : fs::directory_iterator(dir)) {
     if (!e.is_regular_file()) continue;
@@ -188,7 +188,7 @@ void convert_directory(const CLI::App& cmd, const Args& args) {
   list_inputs(in, csvs, logs);
   if (!csvs.empty() && !logs.empty())
     throw BadInput(args.in + ": holds both *.csv and log files; convert one kind at a time");
-  if (csvs.empty() && logs.empty()) throw BadInput(args.in + ": no *.csv, *.log, *.asc or *.blf files in this directory");
+  if (csvs.empty() && logs.empty()) throw BadInput(args.in + ": no *.csv, *.log, *.asc, *.blf or *.mf4 files in this directory");
   if (fs::exists(args.out) && fs::equivalent(in, args.out)) throw BadInput(args.out + ": is the input directory");
   check_output_path(args.out, args.force);
   const bool from_log = !logs.empty();
@@ -258,17 +258,17 @@ std::string check_interface(const std::string& name) {
 }  // namespace
 
 void add_convert(CLI::App& app) {
-  auto* cmd = app.add_subcommand("convert", "Convert a fleet-dump CSV into a CAN log (candump, Vector ASC or BLF; "
+  auto* cmd = app.add_subcommand("convert", "Convert a fleet-dump CSV into a CAN log (candump, Vector ASC, BLF or MDF4; "
                                             "through the DBC's encoders), or such a log into a fleet-dump CSV");
   auto args = std::make_shared<Args>();
-  cmd->add_option("--in", args->in, "A cycle CSV, a CAN log (candump -L, Vector ASC or BLF), or a directory of either")
+  cmd->add_option("--in", args->in, "A cycle CSV, a CAN log (candump -L, Vector ASC, BLF or MDF4), or a directory of either")
       ->required()
       ->check(CLI::ExistingPath);
   cmd->add_option("--out", args->out, "The log or CSV to write; a directory if --in is one")->required();
-  cmd->add_option("--format", args->format, "The log's format: candump, asc or blf (default: by extension or content)")
-      ->check(CLI::IsMember({"candump", "asc", "blf"}));
+  cmd->add_option("--format", args->format, "The log's format: candump, asc, blf or mdf4 (default: by extension or content)")
+      ->check(CLI::IsMember({"candump", "asc", "blf", "mdf4"}));
   cmd->add_option("--channel", args->channel,
-                  "log -> CSV: only the frames of this channel (candump: an interface name; ASC, BLF: a number)");
+                  "log -> CSV: only the frames of this channel (candump: an interface name; ASC, BLF, MDF4: a number)");
   cmd->add_option("--interface", args->interface, "CSV -> candump log: interface name on every line")
       ->capture_default_str()
       ->check(CLI::Validator(check_interface, "NAME"));

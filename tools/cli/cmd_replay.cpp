@@ -60,7 +60,7 @@ std::vector<std::string> log_against_motor(const std::string& log, const std::st
 
 namespace fs = std::filesystem;
 
-// The logs directly in `dir` (*.log, *.asc, *.blf), sorted by name; two that would write the same
+// The logs directly in `dir` (*.log, *.asc, *.blf, *.mf4), sorted by name; two that would write the same
 // CSV (a.log and a.asc) are bad input.
 std::vector<fs::path> logs_in(const fs::path& dir) {
   std::vector<fs::path> logs;
@@ -74,7 +74,7 @@ std::vector<fs::path> logs_in(const fs::path& dir) {
       throw BadInput(dir.string() + ": " + it->second.filename().string() + " and " + log.filename().string() +
                      " would both be replayed into " + log.stem().string() + ".csv; replay them apart");
   }
-  if (logs.empty()) throw BadInput("--log " + dir.string() + ": no *.log, *.asc or *.blf files in this directory");
+  if (logs.empty()) throw BadInput("--log " + dir.string() + ": no *.log, *.asc, *.blf or *.mf4 files in this directory");
   return logs;
 }
 
@@ -142,7 +142,7 @@ void replay_directory(const fs::path& dir, const std::string& out_dir, bool forc
 }  // namespace
 
 void add_replay(CLI::App& app) {
-  auto* cmd = app.add_subcommand("replay", "Replay a CAN log (candump, Vector ASC or BLF) through the firmware's estimator, "
+  auto* cmd = app.add_subcommand("replay", "Replay a CAN log (candump, Vector ASC, BLF or MDF4) through the firmware's estimator, "
                                            "as fast as possible");
   cmd->footer(
       "The same estimator as the daemon (firmware/), configured from calibration.json instead of a compiled-in "
@@ -151,11 +151,11 @@ void add_replay(CLI::App& app) {
       "columns, so the CSV loads as a cycle), the four node estimates (est_*_c) and their standard deviations "
       "(std_*_k), the limiting node's margin, mode, stator sensor state, innovation and test ratio, input masks, the "
       "cooling factor with its spread, state and alarm (LPTN_Cooling). "
-      "The log's format is --format, else its content's (BLF's \"LOGG\", a candump line, an ASC header), else its "
-      "extension's (.log candump, .asc, .blf); a file in none is one error line. --channel picks one bus of a "
-      "log that holds several; without it every channel's frames are read as one bus, with a warning. Malformed lines (BLF: objects) are reported with their number and skipped, the first ten "
+      "The log's format is --format, else its content's (BLF's \"LOGG\", MDF4's identification block, a candump "
+      "line, an ASC header), else its extension's (.log candump, .asc, .blf, .mf4); a file in none is one error line. --channel picks one bus of a "
+      "log that holds several; without it every channel's frames are read as one bus, with a warning. Malformed lines (BLF: objects; MDF4: records and blocks, by byte offset) are reported with their number and skipped, the first ten "
       "of them one by one, then as a count. "
-      "--log DIR replays every *.log, *.asc and *.blf in DIR into --out DIR/NAME.csv, several logs at once "
+      "--log DIR replays every *.log, *.asc, *.blf and *.mf4 in DIR into --out DIR/NAME.csv, several logs at once "
       "(--threads, default one per core), each CSV the bytes a replay of that log alone writes; a line per log in the "
       "order of the names, then the total. A bad log is reported as for one log (the first by name) and then no CSV is "
       "written.");
@@ -166,13 +166,13 @@ void add_replay(CLI::App& app) {
   };
   auto args = std::make_shared<Args>();
   cmd->add_option("--log", args->log,
-                  "CAN log: candump -L, Vector ASC or BLF (e.g. from lptn convert or a drive's recorder); or a "
-                  "directory: every *.log, *.asc and *.blf in it into --out/NAME.csv, the logs shared over the cores")
+                  "CAN log: candump -L, Vector ASC, BLF or MDF4 (e.g. from lptn convert or a drive's recorder); or a "
+                  "directory: every *.log, *.asc, *.blf and *.mf4 in it into --out/NAME.csv, the logs shared over the cores")
       ->required();
-  cmd->add_option("--format", args->format, "The log's format: candump, asc or blf (default: detected)")
-      ->check(CLI::IsMember({"candump", "asc", "blf"}));
+  cmd->add_option("--format", args->format, "The log's format: candump, asc, blf or mdf4 (default: detected)")
+      ->check(CLI::IsMember({"candump", "asc", "blf", "mdf4"}));
   cmd->add_option("--channel", args->channel,
-                  "Only the frames of this channel (candump: an interface name; ASC, BLF: a number); default all");
+                  "Only the frames of this channel (candump: an interface name; ASC, BLF, MDF4: a number); default all");
   auto* calibration = cmd->add_option("--calibration", args->calibration, "calibration.json (from lptn calibrate)");
   auto* fleet = cmd->add_option("--fleet", args->fleet,
                                 "fleet.json (from lptn calibrate --fleet): the motor type's pooled calibration, as "
