@@ -460,8 +460,8 @@ Diagnosis diagnose(const MotorFile& motor, const ParamVector<double>& calibrated
   // The best-scoring form of each node's heat, and each other term: the forms of one node's heat
   // (I^2 f^k, psi^2 f^k, speed^k, power^k) point nearly the same way at their neutral value and
   // score alike (a missing thermal mass behind the stator core: four stator-core heat forms at 29..32
-  // between the winding's mass at 33 and the core's at 28), so a second form of it would spend a
-  // refit on what the first already asked.
+  // between the winding's mass at 33 and the core's at 28, in the score tests of before they were
+  // exact), so a second form of it would spend a refit on what the first already asked.
   std::vector<std::string_view> groups;
   int refits = 0;
   for (const Scored& t : terms) {
