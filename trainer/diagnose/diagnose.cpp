@@ -32,6 +32,13 @@ LmSettings lm_settings(const Settings& s) {
   return lm;
 }
 
+// A refit's settings: at most Settings::refit_iterations (the candidates' and the coarse baseline's).
+LmSettings refit_settings(const Settings& s) {
+  LmSettings lm = lm_settings(s);
+  lm.max_iterations = s.refit_iterations;
+  return lm;
+}
+
 // LM's per-iteration report as a progress line of the stage it belongs to.
 LmProgress lm_progress(const Progress& progress, const std::string& stage) {
   if (!progress) return {};
@@ -197,8 +204,7 @@ Candidate examine(const MotorFile& motor, const Scored& scored, const Diagnosis&
   // neutral value (the baseline's own fit). The second is skipped where the step did not move.
   // Both run on the coarse grid, and the one that ends lower there is polished on the data's own
   // (the polish is most of a refit's cost); without readings on the coarse grid, both on the data's.
-  LmSettings lm = lm_settings(settings);
-  lm.max_iterations = settings.refit_iterations;
+  const LmSettings lm = refit_settings(settings);
   const std::pair<const char*, ParamVector<double>> starts[] = {
       {"the score test's step", score.predicted}, {"the neutral value", neutral_start(with, effect, before.baseline.values)}};
   std::optional<internal::Refit> kept;
@@ -428,8 +434,7 @@ Diagnosis diagnose(const MotorFile& motor, const ParamVector<double>& calibrated
   // Each refit takes its steps on the 1 s grid and polishes on the data's (refit.hpp).
   CoarseGrid coarse{internal::coarse_dataset(dataset, kRefitCoarseFactor), std::nullopt};
   {
-    LmSettings lm = lm_settings(settings);
-    lm.max_iterations = settings.refit_iterations;
+    LmSettings lm = refit_settings(settings);
     lm.start_offsets = d.baseline.offsets;
     coarse.baseline =
         internal::coarse_stage(motor, d.baseline.values, coarse.dataset, split.train, lm,
