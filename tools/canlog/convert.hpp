@@ -12,6 +12,7 @@
 #include "lptn/firmware/input.hpp"
 #include "tools/bus/bus_map.hpp"
 #include "tools/canfile/can_log.hpp"
+#include "trainer/data/dataset.hpp"
 
 namespace lptn::canlog {
 
@@ -35,6 +36,8 @@ struct LogOptions {
   // The converter's frames (bus.toml, read at run time); none: our own TC_* frames, through the
   // codecs generated from lptn.dbc.
   const lptn::bus::BusMap* bus = nullptr;
+  // How the CSV is read (its data map); by default as every command reads it.
+  data::LoadOptions load;
 };
 
 // CSV -> log. The CSV is loaded as every command loads it (resampled onto the 0.1 s grid, gaps

@@ -24,7 +24,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-static_assert(data::LoadOptions{}.dt_s * 1e6 == kGridStepUs, "the frames' schedule assumes the loader's grid");
+static_assert(data::kDefaultDtS * 1e6 == kGridStepUs, "the frames' schedule assumes the loader's grid");
 
 // PulsesEnabled is no column of the contract: the converter's pulses are on while current flows.
 constexpr double kPulsesOnAboveA = 0.5;
@@ -188,7 +188,7 @@ void schedule_cycles(const data::Dataset& dataset, Schedule& writer) {
 }  // namespace
 
 Converted log_from_csv(const fs::path& csv, const LogOptions& options) {
-  const data::Dataset dataset = data::load_cycle_file(csv);
+  const data::Dataset dataset = data::load_cycle_file(csv, options.load);
   Converted out;
   for (const data::Finding& f : dataset.reports.front().findings)
     if (f.severity == data::Finding::Severity::warning) out.warnings.push_back(f.message);

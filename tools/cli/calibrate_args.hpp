@@ -14,7 +14,7 @@ namespace lptn::cli {
 
 struct CalibrateArgs {
   std::vector<std::string> data;
-  std::string motor, method = "lm", out, config, checkpoint_dir, fleet, warm_start;
+  std::string motor, method = "lm", out, config, checkpoint_dir, fleet, warm_start, map;
   std::vector<std::string> test_cycles, effects;
   std::vector<std::string> sensor_faults;  // SENSOR:SHAPE:SIZE:FIRST, taken out of the readings
   double test_fraction = 1.0 / 3.0;

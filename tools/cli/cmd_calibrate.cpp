@@ -19,6 +19,7 @@
 #include "trainer/calibrate/lm.hpp"
 #include "trainer/calibrate/lm_result.hpp"
 #include "trainer/calibrate/shared_dataset.hpp"
+#include "tools/cli/data_map_option.hpp"
 #include "trainer/data/inspection.hpp"
 #include "trainer/fleet/fleet_file.hpp"
 #include "trainer/model/motor_effects.hpp"
@@ -128,7 +129,7 @@ BadInput not_simulable(const std::string& path, const MotorFile& motor, const Mo
 
 // --fleet: the motor type over every motor, each motor's cooling factor, the outliers (fleet.json).
 void run_fleet(const CalibrateArgs& a, const MotorFile& motor, const ProcessGroup& group) {
-  const FleetDump fleet = load_shared_fleet(a.fleet, group);
+  const FleetDump fleet = load_shared_fleet(a.fleet, group, with_map(a.map));
   const Split split = split_cycles(fleet.dataset, a.test_cycles, a.test_fraction, a.seed);
   CalibrationResult r = new_calibration(motor, a.motor, fleet.dataset, split);
   if (!a.quiet)
@@ -216,7 +217,7 @@ void run(const CalibrateArgs& given, Td3Calibrator td3) {
     return run_fleet(a, motor, group);
   }
   std::vector<std::filesystem::path> paths(a.data.begin(), a.data.end());
-  data::Dataset dataset = load_shared_dump(paths, group);
+  data::Dataset dataset = load_shared_dump(paths, group, with_map(a.map));
   try {
     data::correct_readings(dataset, a.sensor_faults);
   } catch (const std::invalid_argument& e) {
@@ -297,6 +298,7 @@ void add_calibrate(CLI::App& app, Td3Calibrator td3) {
   auto* data = cmd->add_option("--data", a->data, "Directories of cycle CSVs, or CSV files")->expected(1, -1);
   auto* fleet = cmd->add_option("--fleet", a->fleet,
                                 "A fleet: FLEET/<motor_id>/*.csv, one motor type; writes fleet.json (docs/fleet.md), --method lm");
+  add_map_option(cmd, a->map);
   data->excludes(fleet);
   fleet->excludes(data);
   cmd->add_option("--motor", a->motor, "Motor file: constants, effects, which parameters to calibrate and their bounds")->required();

@@ -13,6 +13,7 @@
 #include "hostio/progress_line.hpp"
 #include "hostio/worker_threads.hpp"
 #include "tools/cli/commands.hpp"
+#include "tools/cli/data_map_option.hpp"
 #include "tools/cli/exit_code.hpp"
 #include "trainer/calibrate/calibration_file.hpp"
 #include "trainer/check/check.hpp"
@@ -26,7 +27,7 @@ namespace {
 
 struct Args {
   std::vector<std::string> data;
-  std::string fleet, calibration, json_out;
+  std::string fleet, calibration, json_out, map;
   bool json = false, force = false, quiet = false;
 };
 
@@ -50,7 +51,7 @@ bool check_data(const Args& a) {
                                    "its own cooling factor");
   const CalibrationResult calibration = load_calibration(a.calibration);
   const std::vector<std::filesystem::path> paths(a.data.begin(), a.data.end());
-  data::Dataset dataset = data::load_fleet_dump(paths);
+  data::Dataset dataset = data::load_fleet_dump(paths, with_map(a.map));
   const std::vector<std::string> corrections = check::correct_as_calibrated(dataset, calibration);
   if (!a.json)
     for (const std::string& note : corrections) std::printf("%s\n", note.c_str());
@@ -111,7 +112,7 @@ bool check_fleet(const Args& given) {
   CalibrationResult single;
   if (is_fleet_file(a.calibration)) fleet_file = load_fleet_file(a.calibration);
   else single = load_calibration(a.calibration);
-  const FleetDump fleet = load_shared_fleet(a.fleet, group);
+  const FleetDump fleet = load_shared_fleet(a.fleet, group, with_map(a.map));
   const std::optional<MotorFile> data_motor = check::motor_beside({a.fleet});
   nlohmann::json mine = nlohmann::json::object();  // motor index -> its verdict, for this rank's motors
   {
@@ -191,6 +192,7 @@ void add_check(CLI::App& app) {
   cmd->add_option("--fleet", a->fleet,
                   "A fleet dump (FLEET/<motor_id>/): every motor checked, against its own cooling factor with a fleet.json");
   cmd->add_option("--calibration", a->calibration, "calibration.json (lptn calibrate), or fleet.json with --fleet")->required();
+  add_map_option(cmd, a->map);
   cmd->add_flag("--json", a->json, "Print the verdict as JSON: {\"holds\", \"reasons\", \"sensors\", \"cycles\": [...]}");
   cmd->add_option("--json-out", a->json_out, "Also write that JSON to this file");
   cmd->add_flag("--force", a->force, "Replace --json-out if it exists");

@@ -18,6 +18,7 @@
 #include "tools/canlog/bus_channels.hpp"
 #include "tools/canlog/convert.hpp"
 #include "tools/cli/bus_option.hpp"
+#include "tools/cli/data_map_option.hpp"
 #include "tools/cli/blas_threads.hpp"
 #include "tools/cli/commands.hpp"
 #include "hostio/atomic_file.hpp"
@@ -29,10 +30,11 @@ namespace {
 namespace fs = std::filesystem;
 
 struct Args {
-  std::string in, out, interface = "can0", format, channel, bus;
+  std::string in, out, interface = "can0", format, channel, bus, data_map_path;
   double start_time_s = 0;
   bool force = false;
   std::shared_ptr<const bus::BusMap> map;  // --bus, read once for every file of a directory
+  data::LoadOptions load;  // --map, read once likewise
 };
 
 // The message table as the help shows it, so that the help cannot disagree with the code.
@@ -123,6 +125,7 @@ canlog::Converted convert(const fs::path& in, const fs::path& out, bool from_log
     options.interface = args.interface;
     options.start_us = std::llround(args.start_time_s * 1e6);
     options.bus = args.map.get();
+    options.load = args.load;
     return canlog::log_from_csv(in, options);
   } catch (const canlog::ConvertError& e) {
     throw BadInput(e.what());
@@ -278,12 +281,14 @@ void add_convert(CLI::App& app) {
   cmd->add_option("--bus", args->bus,
                   "Bus map (bus.toml): the converter DBC's messages and signals for each column (default: our own "
                   "TC_* frames of lptn.dbc)");
+  add_map_option(cmd, args->data_map_path);
   cmd->add_flag("--force", args->force, "Replace --out if it exists");
   cmd->footer(footer());
   cmd->callback([cmd, args] {
     stop_blas_threads();
     if (!args->bus.empty()) check_input_path(args->bus, "--bus", InputPath::file);
     if (!args->bus.empty()) args->map = read_bus_map(args->bus);
+    args->load = with_map(args->data_map_path);
     if (fs::is_directory(args->in)) {
       convert_directory(*cmd, *args);
     } else {

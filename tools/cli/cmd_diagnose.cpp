@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "tools/cli/commands.hpp"
+#include "tools/cli/data_map_option.hpp"
 #include "trainer/model/motor_plausibility.hpp"
 #include "hostio/process_group.hpp"
 #include "hostio/progress_line.hpp"
@@ -27,7 +28,7 @@ namespace {
 
 struct Args {
   std::vector<std::string> data;
-  std::string calibration, out, json_out;
+  std::string calibration, out, json_out, map;
   std::vector<std::string> test_cycles;
   double level = 0.001;
   bool json = false, automatic = false, force = false, quiet = false;
@@ -219,7 +220,7 @@ void run(const Args& given) {
   }
   const MotorFile motor = motor_of(calibration);
   std::vector<std::filesystem::path> paths(a.data.begin(), a.data.end());
-  data::Dataset dataset = data::load_fleet_dump(paths);
+  data::Dataset dataset = data::load_fleet_dump(paths, with_map(a.map));
   const std::vector<std::string> corrections = check::correct_as_calibrated(dataset, calibration);
   // What `lptn inspect --motor` would say of this data and the calibration's motor, repeated once.
   if (group.leads()) print_input_warnings(input_warnings(dataset, motor));
@@ -308,6 +309,7 @@ void add_diagnose(CLI::App& app) {
       ->required()
       ->expected(1, -1);
   cmd->add_option("--calibration", a->calibration, "calibration.json (from lptn calibrate)")->required();
+  add_map_option(cmd, a->map);
   cmd->add_option("--test-cycles", a->test_cycles, "Cycles held out for testing, by name (default: the calibration's split)")
       ->delimiter(',');
   cmd->add_option("--level", a->level, "False-alarm probability of the likelihood-ratio test per effect (default 0.001)");

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "tools/cli/commands.hpp"
+#include "tools/cli/data_map_option.hpp"
 #include "trainer/data/dataset.hpp"
 #include "trainer/data/inspection.hpp"
 #include "trainer/model/motor_file.hpp"
@@ -17,7 +18,7 @@ void add_inspect(CLI::App& app) {
   auto* cmd = app.add_subcommand("inspect", "Load and check a fleet dump: rates, coverage, gaps, warnings per cycle");
   struct Args {
     std::vector<std::string> data;
-    std::string motor;
+    std::string motor, map;
     bool json = false, strict = false;
     double dt = 0.1;
   };
@@ -26,6 +27,7 @@ void add_inspect(CLI::App& app) {
   cmd->add_option("--motor", args->motor,
                   "Motor file: also check the data against its nameplate, and its values against the same nameplate");
   cmd->add_option("--dt", args->dt, "Model step to resample to, s")->capture_default_str()->check(CLI::Range(0.001, 10.0));
+  add_map_option(cmd, args->map);
   cmd->add_flag("--json", args->json, "Print the report as JSON");
   cmd->add_flag("--strict", args->strict, "Exit non-zero (1) if there is any warning");
   cmd->callback([args] {
@@ -36,6 +38,7 @@ void add_inspect(CLI::App& app) {
     std::vector<std::filesystem::path> paths(args->data.begin(), args->data.end());
     data::LoadOptions options;
     options.dt_s = args->dt;
+    options = with_map(args->map, options);
     const data::Dataset dataset = data::load_fleet_dump(paths, options);
     std::vector<data::Finding> nameplate_findings;
     std::vector<MotorFinding> motor_findings;

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "tools/cli/commands.hpp"
+#include "tools/cli/data_map_option.hpp"
 #include "hostio/progress_line.hpp"
 #include "tools/report/report.hpp"
 #include "hostio/atomic_file.hpp"
@@ -16,12 +17,13 @@ void add_report(CLI::App& app) {
   auto* cmd = app.add_subcommand("report", "Write an HTML report: model against measurements, where it fails, "
                                            "what lptn diagnose says is missing, the calibration history");
   struct Args {
-    std::string data, calibration, out, diagnosis, history, fleet;
+    std::string data, calibration, out, diagnosis, history, fleet, map;
     bool force = false;
   };
   auto a = std::make_shared<Args>();
   auto* data_option = cmd->add_option("--data", a->data, "Fleet dump: a directory of cycle CSVs, or one CSV");
   auto* calibration_option = cmd->add_option("--calibration", a->calibration, "calibration.json (lptn calibrate)");
+  add_map_option(cmd, a->map);
   data_option->needs(calibration_option);
   calibration_option->needs(data_option);
   cmd->add_option("--fleet", a->fleet,
@@ -39,6 +41,7 @@ void add_report(CLI::App& app) {
     if (!a->calibration.empty()) check_input_path(a->calibration, "--calibration", InputPath::file);
     if (!a->fleet.empty()) check_input_path(a->fleet, "--fleet", InputPath::file);
     if (!a->diagnosis.empty()) check_input_path(a->diagnosis, "--diagnosis", InputPath::file);
+    if (!a->map.empty()) check_input_path(a->map, "--map", InputPath::file);
     check_output_path(a->out, a->force);
     if (!a->calibration.empty() && !std::filesystem::exists(a->calibration)) throw BadInput(a->calibration + ": no such file");
     if (!a->fleet.empty() && !std::filesystem::exists(a->fleet)) throw BadInput(a->fleet + ": no such file");
@@ -48,7 +51,7 @@ void add_report(CLI::App& app) {
     std::string html;
     {
       ProgressLine progress;
-      const nlohmann::json data = report::report_data({a->data, a->calibration, a->diagnosis, a->history, a->fleet},
+      const nlohmann::json data = report::report_data({a->data, a->calibration, a->diagnosis, a->history, a->fleet, a->map},
                                                       [&](const std::string& s) { progress.update("report: " + s); });
       html = report::render_html(data);
     }

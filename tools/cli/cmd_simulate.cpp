@@ -10,6 +10,7 @@
 
 #include "hostio/atomic_file.hpp"
 #include "tools/cli/commands.hpp"
+#include "tools/cli/data_map_option.hpp"
 #include "trainer/data/dataset.hpp"
 #include "trainer/model/motor_file.hpp"
 #include "trainer/model/motor_plausibility.hpp"
@@ -62,7 +63,7 @@ void add_simulate(CLI::App& app) {
   auto* cmd = app.add_subcommand("simulate", "Run the model over a fleet dump and compare it with the measurements");
   struct Args {
     std::vector<std::string> data;
-    std::string motor, out;
+    std::string motor, out, map;
     std::vector<std::string> set;
     bool json = false, force = false;
   };
@@ -71,6 +72,7 @@ void add_simulate(CLI::App& app) {
   cmd->add_option("--motor", args->motor, "Motor file (constants, parameters, effects)")->required();
   cmd->add_option("--set", args->set, "Override a parameter: NAME=VALUE (repeatable)");
   cmd->add_option("--out", args->out, "Directory for per-cycle traces (CSV) and metrics.json");
+  add_map_option(cmd, args->map);
   cmd->add_flag("--json", args->json, "Print the metrics as JSON");
   cmd->add_flag("--force", args->force, "Replace --out if it exists");
   cmd->callback([args] {
@@ -91,7 +93,7 @@ void add_simulate(CLI::App& app) {
       params[index] = value;
     }
     std::vector<std::filesystem::path> paths(args->data.begin(), args->data.end());
-    const data::Dataset dataset = data::load_fleet_dump(paths);
+    const data::Dataset dataset = data::load_fleet_dump(paths, with_map(args->map));
     const Model<double> model = motor.model();
     // What lptn inspect --motor would warn of, repeated before the results (one line each, stderr).
     const std::vector<std::string> warnings = input_warnings(dataset, motor);

@@ -11,6 +11,7 @@
 #include "hostio/worker_threads.hpp"
 #include "lptn/model.hpp"
 #include "tools/report/fleet_section.hpp"
+#include "trainer/data/data_map.hpp"
 #include "tools/report/signatures.hpp"
 #include "tools/report/stats.hpp"
 #include "trainer/calibrate/calibration_file.hpp"
@@ -480,7 +481,9 @@ nlohmann::json report_data(const ReportOptions& o, const std::function<void(cons
   std::optional<SavedDiagnosis> diagnosis;
   if (!o.diagnosis.empty()) diagnosis = diagnose::load_diagnosis(o.diagnosis);  // before the long part: bad input fails fast
   const CalibratedModel cm = calibrated_model(cal);
-  data::Dataset ds = data::load_fleet_dump({o.data});
+  data::LoadOptions load;
+  if (!o.data_map.empty()) load.map = std::make_shared<const data::DataMap>(data::load_data_map(o.data_map));
+  data::Dataset ds = data::load_fleet_dump({o.data}, load);
   const std::vector<std::string> corrections = check::correct_as_calibrated(ds, cal);
   for (const std::string& c : corrections) progress(c);
   const std::optional<MotorFile> data_motor = check::motor_beside({o.data.string()});

@@ -30,6 +30,7 @@ struct ReportOptions {
   std::filesystem::path history;      // directory of calibration JSONs; empty = the calibration's own
   std::filesystem::path fleet;        // fleet.json for the Fleet section; empty = none. With data and
                                       // calibration empty, the page holds the Fleet section alone
+  std::filesystem::path data_map;     // --map; empty = data.toml beside the CSVs, if any
 };
 
 // The diagnosis the page shows: diagnose::load_diagnosis (trainer/diagnose/diagnosis_file.hpp).

@@ -17,6 +17,7 @@
 #include <system_error>
 
 #include "hostio/worker_threads.hpp"
+#include "trainer/data/data_map.hpp"
 #include "trainer/data/internal/raw_cycle.hpp"
 
 namespace lptn::data {
@@ -138,15 +139,44 @@ void append(Dataset& into, Dataset&& from) {
 
 }  // namespace
 
+std::shared_ptr<const DataMap> data_map_for(const fs::path& file, const LoadOptions& options) {
+  if (options.map) return options.map;
+  if (!options.map_beside) return nullptr;
+  const fs::path beside = file.parent_path() / kDataMapFileName;
+  std::error_code ec;
+  if (!fs::is_regular_file(beside, ec)) return nullptr;
+  return std::make_shared<const DataMap>(load_data_map(beside));
+}
+
+namespace {
+
+Dataset parse_and_assemble(std::string_view text, const fs::path& file, const LoadOptions& options,
+                           const DataMap* map) {
+  Dataset out;
+  for (internal::RawCycle& raw : internal::parse_csv(text, file, map)) {
+    Dataset one = internal::assemble(std::move(raw), options);
+    if (map != nullptr && out.reports.empty())
+      one.reports.front().findings.insert(
+          one.reports.front().findings.begin(),
+          {Finding::Severity::info,
+           file.string() + ": read through the data map " + (map->file.empty() ? std::string("given") : map->file.string())});
+    append(out, std::move(one));
+  }
+  return out;
+}
+
+}  // namespace
+
 Dataset parse_cycle_csv(std::string_view text, const fs::path& file, const LoadOptions& options) {
   check(options);
-  return internal::assemble(internal::parse_csv(text, file), options);
+  return parse_and_assemble(text, file, options, options.map.get());
 }
 
 Dataset load_cycle_file(const fs::path& file, const LoadOptions& options) {
   check(options);
+  const std::shared_ptr<const DataMap> map = data_map_for(file, options);
   const std::string text = read_whole_file(file);
-  return internal::assemble(internal::parse_csv(text, file), options);
+  return parse_and_assemble(text, file, options, map.get());
 }
 
 std::vector<fs::path> cycle_files(const std::vector<fs::path>& paths) {

@@ -4,6 +4,7 @@
 #include <array>
 #include <cstddef>
 #include <filesystem>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -13,16 +14,30 @@
 
 namespace lptn::data {
 
+struct DataMap;
+
+// The grid step a dump is resampled to unless told otherwise, s.
+inline constexpr double kDefaultDtS = 0.1;
+
 struct LoadOptions {
-  double dt_s = 0.1;
+  double dt_s = kDefaultDtS;
   std::array<double, kNumChannels> max_gap_s = default_max_gaps();
   // Only pieces cut out by a split are held to this; an unsplit file is kept however short.
   double min_segment_s = 60.0;
+  // How to read the files (trainer/data/data_map.hpp). Null: each file through the data.toml
+  // beside it if there is one (unless map_beside is false), else as lptn's own CSV.
+  std::shared_ptr<const DataMap> map;
+  bool map_beside = true;
 };
+
+// The data map a file is read through under `options`, or null.
+std::shared_ptr<const DataMap> data_map_for(const std::filesystem::path& file, const LoadOptions& options);
 
 // One resampled driving cycle, or one segment of it after a split.
 struct Cycle {
-  std::string name;  // file stem; "stem#2", "stem#3"... for the segments after the first
+  // The file's stem (or the drive's name, "stem-<trip>" or "stem-2", after a data map's [split]);
+  // "name-2", "name-3"... for the segments after the first when a gap splits it.
+  std::string name;
   std::filesystem::path file;
   double t0_s = 0, dt_s = 0.1;  // grid: t0 + k*dt, k < steps; t0 is on the file's grid
   std::size_t steps = 0;

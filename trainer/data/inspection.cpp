@@ -35,7 +35,13 @@ double total_hours(const Dataset& d) {
 std::vector<const Cycle*> segments_of(const Dataset& d, const CycleReport& r) {
   std::vector<const Cycle*> out;
   for (const Cycle& c : d.cycles) {
-    if (c.file == r.file) out.push_back(&c);
+    // A file a data map cut into drives has a report per drive: its own name, or that name with a
+    // gap's segment number ("-2") after it.
+    const bool segment = c.name.size() > r.name.size() + 1 && c.name.compare(0, r.name.size(), r.name) == 0 &&
+                         c.name[r.name.size()] == '-' &&
+                         std::all_of(c.name.begin() + static_cast<std::ptrdiff_t>(r.name.size()) + 1, c.name.end(),
+                                     [](char ch) { return ch >= '0' && ch <= '9'; });
+    if (c.file == r.file && (c.name == r.name || segment)) out.push_back(&c);
   }
   return out;
 }

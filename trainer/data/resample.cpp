@@ -113,7 +113,7 @@ Dataset assemble(RawCycle&& raw, const LoadOptions& options) {
   const double tol = time_tolerance(dt, std::max(std::fabs(t0), std::fabs(t_end)));
 
   CycleReport rep;
-  rep.name = raw.file.stem().string();
+  rep.name = raw.name.empty() ? raw.file.stem().string() : raw.name;
   rep.file = raw.file;
   rep.duration_s = t_end - t0;
   rep.rows = raw.time.size();
@@ -131,6 +131,12 @@ Dataset assemble(RawCycle&& raw, const LoadOptions& options) {
   const auto steps = static_cast<std::size_t>(grid_points);
 
   std::array<std::vector<float>, kNumChannels> grid;
+  struct LongGap {
+    Channel channel;
+    Gap gap;
+    double limit_s;
+  };
+  std::vector<LongGap> long_gaps;  // longer than the channel's bridging limit, warned about below
   // First and last sample time of each split channel, to explain a trimmed cycle.
   std::array<std::pair<double, std::uint32_t>, kNumChannels> first_sample{}, last_sample{};
 
@@ -184,20 +190,50 @@ Dataset assemble(RawCycle&& raw, const LoadOptions& options) {
       if (!too_long && !(d > 3.0 * typical)) continue;
       const Gap::Action action = !too_long ? Gap::Action::bridged : split ? Gap::Action::split : Gap::Action::masked;
       cr.gaps.push_back({s.t[j], s.t[j + 1], s.last_line[j], s.first_line[j + 1], action});
-      if (too_long) {
-        warn(strf("%s: column '%s': no sample for %s s, from t=%s s (line %u) to t=%s s (line %u), longer than "
-                  "the %s s bridging limit; %s",
-                  where.c_str(), cname(c).c_str(), num(d).c_str(), num(s.t[j]).c_str(),
-                  static_cast<unsigned>(s.last_line[j]), num(s.t[j + 1]).c_str(),
-                  static_cast<unsigned>(s.first_line[j + 1]), num(max_gap).c_str(),
-                  split ? "cycle split there" : "masked there"));
-      }
+      if (too_long) long_gaps.push_back({c, cr.gaps.back(), max_gap});
     }
 
     grid[i].resize(steps);
     resample(s, t0, dt, steps, max_gap, grid[i].data());
     const auto valid = std::count_if(grid[i].begin(), grid[i].end(), [](float v) { return !std::isnan(v); });
     cr.coverage = static_cast<double>(valid) / static_cast<double>(steps);
+  }
+
+  // One warning per dropout, naming every column it hit: an export's dropout hits them all at once.
+  std::sort(long_gaps.begin(), long_gaps.end(),
+            [](const LongGap& a, const LongGap& b) { return a.gap.start_s < b.gap.start_s; });
+  std::vector<bool> told(long_gaps.size(), false);
+  for (std::size_t a = 0; a < long_gaps.size(); ++a) {
+    if (told[a]) continue;
+    const Gap& g = long_gaps[a].gap;
+    std::vector<std::size_t> group{a};
+    for (std::size_t b = a + 1; b < long_gaps.size(); ++b) {
+      const Gap& h = long_gaps[b].gap;
+      if (!told[b] && h.start_s < g.end_s && h.end_s > g.start_s) group.push_back(b);
+    }
+    std::sort(group.begin(), group.end(), [&](std::size_t x, std::size_t y) {
+      return index_of(long_gaps[x].channel) < index_of(long_gaps[y].channel);
+    });
+    bool any_split = false;
+    std::string columns;
+    for (std::size_t i : group) {
+      told[i] = true;
+      any_split = any_split || long_gaps[i].gap.action == Gap::Action::split;
+      columns += (columns.empty() ? "'" : ", '") + cname(long_gaps[i].channel) + "'";
+    }
+    if (group.size() == 1) {
+      warn(strf("%s: column %s: no sample for %s s, from t=%s s (line %u) to t=%s s (line %u), longer than "
+                "the %s s bridging limit; %s",
+                where.c_str(), columns.c_str(), num(g.end_s - g.start_s).c_str(), num(g.start_s).c_str(),
+                static_cast<unsigned>(g.line_before), num(g.end_s).c_str(), static_cast<unsigned>(g.line_after),
+                num(long_gaps[a].limit_s).c_str(), any_split ? "cycle split there" : "masked there"));
+    } else {
+      warn(strf("%s: columns %s: no sample for %s s, from t=%s s (line %u) to t=%s s (line %u), longer than "
+                "their bridging limits; %s",
+                where.c_str(), columns.c_str(), num(g.end_s - g.start_s).c_str(), num(g.start_s).c_str(),
+                static_cast<unsigned>(g.line_before), num(g.end_s).c_str(), static_cast<unsigned>(g.line_after),
+                any_split ? "cycle split there" : "masked there"));
+    }
   }
 
   // The simulation needs every split channel at every step, so segments are the runs where all
@@ -257,7 +293,7 @@ Dataset assemble(RawCycle&& raw, const LoadOptions& options) {
   for (std::size_t n = 0; n < kept.size(); ++n) {
     const auto [begin, end] = kept[n];
     Cycle cycle;
-    cycle.name = n == 0 ? rep.name : rep.name + "#" + std::to_string(n + 1);
+    cycle.name = n == 0 ? rep.name : rep.name + "-" + std::to_string(n + 1);  // shell-safe, unlike "#"
     cycle.file = raw.file;
     cycle.t0_s = t0 + static_cast<double>(begin) * dt;
     cycle.dt_s = dt;

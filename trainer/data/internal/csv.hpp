@@ -50,18 +50,18 @@ class LineSplitter {
   std::size_t number_ = 0;
 };
 
-inline std::size_t count_cells(std::string_view line) {
-  return 1 + static_cast<std::size_t>(std::count(line.begin(), line.end(), ','));
+inline std::size_t count_cells(std::string_view line, char separator = ',') {
+  return 1 + static_cast<std::size_t>(std::count(line.begin(), line.end(), separator));
 }
 
-// Yields the comma-separated cells of one line, untrimmed.
+// Yields the cells of one line (comma-separated, or as a data map says), untrimmed.
 class CellSplitter {
  public:
-  explicit CellSplitter(std::string_view line) : line_(line) {}
+  explicit CellSplitter(std::string_view line, char separator = ',') : line_(line), separator_(separator) {}
 
   bool next(std::string_view& cell) {
     if (done_) return false;
-    const std::size_t comma = line_.find(',', pos_);
+    const std::size_t comma = line_.find(separator_, pos_);
     if (comma == std::string_view::npos) {
       cell = line_.substr(pos_);
       done_ = true;
@@ -74,6 +74,7 @@ class CellSplitter {
 
  private:
   std::string_view line_;
+  char separator_;
   std::size_t pos_ = 0;
   bool done_ = false;
 };
@@ -96,6 +97,19 @@ inline NumberStatus parse_number(std::string_view cell, double& out) {
   if (!std::isfinite(value)) return NumberStatus::non_finite;
   out = value;
   return NumberStatus::ok;
+}
+
+// The same with a decimal comma (a data map's decimal = ","): the cell is read with '.' for ','.
+inline NumberStatus parse_number(std::string_view cell, char decimal, double& out) {
+  if (decimal == '.') return parse_number(cell, out);
+  cell = trim(cell);
+  char buf[96];
+  if (cell.size() > sizeof buf) return NumberStatus::not_a_number;
+  for (std::size_t i = 0; i < cell.size(); ++i) {
+    if (cell[i] == '.') return NumberStatus::not_a_number;  // a point is no decimal mark here
+    buf[i] = cell[i] == decimal ? '.' : cell[i];
+  }
+  return parse_number(std::string_view(buf, cell.size()), out);
 }
 
 }  // namespace lptn::data::internal

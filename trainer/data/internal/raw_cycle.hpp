@@ -5,10 +5,12 @@
 #include <array>
 #include <cstdint>
 #include <filesystem>
+#include <string>
 #include <string_view>
 #include <vector>
 
 #include "trainer/data/channels.hpp"
+#include "trainer/data/data_map.hpp"
 #include "trainer/data/dataset.hpp"
 
 namespace lptn::data::internal {
@@ -22,14 +24,16 @@ struct RawChannel {
 
 struct RawCycle {
   std::filesystem::path file;
+  std::string name;  // the file's stem, or the drive's name after a data map's [split]
   std::vector<double> time;  // per data row, non-decreasing
   std::vector<std::uint32_t> line;  // per data row, its 1-based line in the file
   std::array<RawChannel, kNumChannels> channels;
   std::vector<Finding> findings;  // what parsing noticed but tolerated
 };
 
-// Throws DataError for everything the data contract calls an error.
-RawCycle parse_csv(std::string_view text, const std::filesystem::path& file);
+// Throws DataError for everything the data contract calls an error. Read as `map` says (null: lptn's
+// own columns, comma-separated, seconds); one RawCycle per drive its [split] cuts the file into.
+std::vector<RawCycle> parse_csv(std::string_view text, const std::filesystem::path& file, const DataMap* map);
 
 // One channel's samples with equal timestamps merged (values averaged).
 struct Series {
