@@ -100,12 +100,12 @@ TEST(Report, SplitCycleListsItsSegments) {
                      }});
   const Dataset d = load_fleet_dump({dir.write("s.csv", build_csv(regular_times(3001, 0.1), cols))});
   const std::string text = format_report(d);
-  EXPECT_TRUE(contains(text, "  cycles: s (t=0..100 s) s#2 (t=110..300 s)\n")) << text;
+  EXPECT_TRUE(contains(text, "  cycles: s (t=0..100 s) s-2 (t=110..300 s)\n")) << text;
   EXPECT_TRUE(contains(text, "frequency_hz       at 100 s for 10 s (lines 1002..1102): split")) << text;
   EXPECT_TRUE(text.ends_with("\n2 cycles, 0.08 h of data, 1 warnings\n")) << text;
   const nlohmann::json j = report_json(d);
   EXPECT_EQ(j.at("cycle_count"), 2);
-  EXPECT_EQ(j.at("cycles").at(0).at("segments").at(1).at("name"), "s#2");
+  EXPECT_EQ(j.at("cycles").at(0).at("segments").at(1).at("name"), "s-2");
 }
 
 TEST(Nameplate, ConsistentDataRaisesNothing) {

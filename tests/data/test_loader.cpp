@@ -273,7 +273,7 @@ TEST(Loader, LongGapInSpeedSplitsTheCycle) {
   const Dataset d = load_fleet_dump({file});
   ASSERT_EQ(d.cycles.size(), 2u);
   EXPECT_EQ(d.cycles[0].name, "run7");
-  EXPECT_EQ(d.cycles[1].name, "run7#2");
+  EXPECT_EQ(d.cycles[1].name, "run7-2");  // shell-safe: no quoting needed on a command line
   EXPECT_DOUBLE_EQ(d.cycles[0].t0_s, 0.0);
   EXPECT_EQ(d.cycles[0].steps, 1001u);  // 0 .. 100 s
   EXPECT_NEAR(d.cycles[1].t0_s, 110.0, 1e-9);

@@ -1,4 +1,5 @@
 // lptn inspect: load and check a fleet dump; the first thing to run on new data.
+#include <algorithm>
 #include <cstdio>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -9,6 +10,7 @@
 #include "tools/cli/data_map_option.hpp"
 #include "trainer/data/dataset.hpp"
 #include "trainer/data/inspection.hpp"
+#include "trainer/data/suggest_map.hpp"
 #include "trainer/model/motor_file.hpp"
 #include "trainer/model/motor_plausibility.hpp"
 
@@ -19,7 +21,7 @@ void add_inspect(CLI::App& app) {
   struct Args {
     std::vector<std::string> data;
     std::string motor, map;
-    bool json = false, strict = false;
+    bool json = false, strict = false, suggest_map = false;
     double dt = 0.1;
   };
   auto args = std::make_shared<Args>();
@@ -30,12 +32,33 @@ void add_inspect(CLI::App& app) {
   add_map_option(cmd, args->map);
   cmd->add_flag("--json", args->json, "Print the report as JSON");
   cmd->add_flag("--strict", args->strict, "Exit non-zero (1) if there is any warning");
+  cmd->add_flag("--suggest-map", args->suggest_map,
+                "Print a proposed data map (data.toml) for an export lptn cannot read as it is: columns matched by name "
+                "and by their values, separator, decimal mark and time column detected; only the map on standard "
+                "output, what to check on standard error; exit 1 when a required column was not found");
   cmd->callback([args] {
     for (const std::string& d : args->data) check_input_path(d, "--data");
     if (!args->motor.empty()) check_input_path(args->motor, "--motor", InputPath::file);
     std::optional<MotorFile> motor;
     if (!args->motor.empty()) motor = load_motor_file(args->motor);
     std::vector<std::filesystem::path> paths(args->data.begin(), args->data.end());
+    if (args->suggest_map) {
+      data::SuggestHints hints;
+      if (motor) {
+        hints.pole_pairs = motor->constants.pole_pairs;
+        hints.rated_current_a = motor->constants.rated_current_a;
+        hints.rated_voltage_v = motor->constants.rated_voltage_v;
+        hints.nominal_airflow_m3s = motor->constants.nominal_airflow_m3s;
+      }
+      const data::MapSuggestion s = data::suggest_data_map(paths, hints);
+      std::printf("%s", s.text().c_str());
+      for (const std::string& p : s.problems) std::fprintf(stderr, "lptn: check the map: %s\n", p.c_str());
+      const bool incomplete = std::any_of(s.problems.begin(), s.problems.end(), [](const std::string& p) {
+        return p.find("(required)") != std::string::npos || p.find("no time column") != std::string::npos;
+      });
+      if (incomplete) throw std::runtime_error("the proposed map lacks a required column; edit it before use");
+      return;
+    }
     data::LoadOptions options;
     options.dt_s = args->dt;
     options = with_map(args->map, options);

@@ -420,6 +420,12 @@ bool parse_iso8601(std::string_view s, long long& whole_s, std::string_view& fra
 }
 
 bool seconds_with_fraction(long long whole_s, std::string_view fraction, double& seconds) {
+  if (whole_s < 0 && !fraction.empty()) {  // -2 and .5 is -1.5, not "-2.5"
+    double f = 0;
+    if (!seconds_with_fraction(0, fraction, f)) return false;
+    seconds = static_cast<double>(whole_s) + f;
+    return true;
+  }
   char buf[48];
   const int n = std::snprintf(buf, sizeof buf, "%lld.%.*s0", whole_s, static_cast<int>(fraction.size()), fraction.data());
   if (n <= 0 || static_cast<std::size_t>(n) >= sizeof buf) return false;

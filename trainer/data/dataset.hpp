@@ -28,6 +28,9 @@ struct LoadOptions {
   // beside it if there is one (unless map_beside is false), else as lptn's own CSV.
   std::shared_ptr<const DataMap> map;
   bool map_beside = true;
+  // The longest time grid one file may span before its time column is taken for broken (a typo,
+  // or milliseconds read as seconds): 50 million points, weeks at 10 Hz.
+  std::size_t max_grid_points = 50'000'000;
 };
 
 // The data map a file is read through under `options`, or null.

@@ -235,9 +235,9 @@ std::vector<RawCycle> parse_csv(std::string_view text, const std::filesystem::pa
         {Finding::Severity::warning,
          unknown.size() == 1 && names.size() > 1
              ? strf("%s:%zu: column %s: unknown column; ignored%s", where.c_str(), header_line, list.c_str(), via.c_str())
-             : strf("%s:%zu: %zu columns lptn does not read, ignored: %s%s (a data map's ignore = [...] leaves them "
-                    "out without a word)",
-                    where.c_str(), header_line, unknown.size(), list.c_str(), via.c_str())});
+             : strf("%s:%zu: columns %s: unknown columns; ignored%s (a data map's ignore = [...] leaves them out "
+                    "without a word)",
+                    where.c_str(), header_line, list.c_str(), via.c_str())});
   }
 
   // Every missing column at once, each by the name the header should have had.

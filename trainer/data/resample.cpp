@@ -122,11 +122,11 @@ Dataset assemble(RawCycle&& raw, const LoadOptions& options) {
   const auto note = [&](std::string msg) { rep.findings.push_back({Finding::Severity::info, std::move(msg)}); };
 
   const double grid_points = std::floor((t_end - t0 + tol) / dt) + 1.0;
-  if (!(grid_points <= static_cast<double>(kMaxGridPoints))) {
+  if (!(grid_points <= static_cast<double>(options.max_grid_points))) {
     throw DataError(strf("%s:%u: column 'time_s': %s s after the first row at dt %s s makes %.0f grid points "
                          "(limit %zu); is the time column in seconds?",
                          where.c_str(), static_cast<unsigned>(raw.line.back()), num(t_end - t0).c_str(),
-                         num(dt).c_str(), grid_points, kMaxGridPoints));
+                         num(dt).c_str(), grid_points, options.max_grid_points));
   }
   const auto steps = static_cast<std::size_t>(grid_points);
 

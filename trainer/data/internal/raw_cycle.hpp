@@ -54,7 +54,5 @@ void resample(const Series& s, double t0, double dt, std::size_t steps, double m
 // Throws DataError when the grid would be unreasonably large (a typo in time_s).
 Dataset assemble(RawCycle&& raw, const LoadOptions& options);
 
-// The longest time grid a single file may span before it is taken for a broken time column.
-inline constexpr std::size_t kMaxGridPoints = 50'000'000;
 
 }  // namespace lptn::data::internal
