@@ -195,7 +195,7 @@ std::vector<RawCycle> parse_csv(std::string_view text, const std::filesystem::pa
   // Column index -> time, channel (with its unit's conversion), the split column, or ignored.
   std::vector<Slot> slots;
   std::vector<std::string_view> names;
-  std::vector<std::string> unknown;  // named in one finding
+  std::vector<std::string> unknown, unknown_hint;  // named in one finding; "did you mean" for each
   {
     CellSplitter cells(line, sep);
     std::string_view cell;
@@ -222,19 +222,20 @@ std::vector<RawCycle> parse_csv(std::string_view text, const std::filesystem::pa
           slot.convert = src->scale != 1.0 || src->offset != 0.0;
         }
       } else if (std::find(map.ignore.begin(), map.ignore.end(), name) == map.ignore.end()) {
-        unknown.push_back(name.empty() ? strf("column %zu has no name", column)
-                                       : "'" + std::string(name) + "'" + (mapped ? "" : column_suggestion(name)));
+        unknown.push_back(name.empty() ? strf("column %zu has no name", column) : "'" + std::string(name) + "'");
+        unknown_hint.push_back(name.empty() || mapped ? std::string() : column_suggestion(name));
       }
       slots.push_back(slot);
     }
   }
   if (!unknown.empty()) {
     std::string list;
-    for (const std::string& u : unknown) list += (list.empty() ? "" : ", ") + u;
+    for (std::size_t i = 0; i < unknown.size(); ++i) list += (i ? ", " : "") + unknown[i] + unknown_hint[i];
     raw.findings.push_back(
         {Finding::Severity::warning,
          unknown.size() == 1 && names.size() > 1
-             ? strf("%s:%zu: column %s: unknown column; ignored%s", where.c_str(), header_line, list.c_str(), via.c_str())
+             ? strf("%s:%zu: column %s: unknown column; ignored%s%s", where.c_str(), header_line, unknown[0].c_str(),
+                    unknown_hint[0].c_str(), via.c_str())
              : strf("%s:%zu: columns %s: unknown columns; ignored%s (a data map's ignore = [...] leaves them out "
                     "without a word)",
                     where.c_str(), header_line, list.c_str(), via.c_str())});
