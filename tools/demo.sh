@@ -12,7 +12,17 @@
 # motor whose filter clogged since the fleet was calibrated).
 set -euo pipefail
 cd "$(dirname "$0")/.."
+# The time each step takes, printed at the end: where a fresh machine's minutes go.
+step_names=() step_seconds=()
+step_name="set up: packages (tools/setup.sh)" step_started=$SECONDS
+step() {  # step "N. what": prints "== N. what" and starts timing it (the step before ends here)
+  step_names+=("$step_name")
+  step_seconds+=($((SECONDS - step_started)))
+  step_name=${1%%:*} step_started=$SECONDS
+  [ "$1" = end ] || echo "== $1"
+}
 tools/setup.sh
+step "0. build: configure and build lptn and lptn-daemon (preset host)"
 cmake --preset host >/dev/null
 cmake --build --preset host -j"$(nproc)" --target lptn lptn-daemon
 lptn=build/host/tools/cli/lptn
@@ -26,23 +36,23 @@ calibrate() {
   if [ "$status" -eq 3 ]; then echo "   (written with warnings: exit code 3)"; elif [ "$status" -ne 0 ]; then exit "$status"; fi
 }
 
-echo "== 1. generate: 9 driving cycles from the synthetic plant (seed 1)"
+step "1. generate: 9 driving cycles from the synthetic plant (seed 1)"
 "$lptn" generate --out "$out/fleet" --cycles 9 --seed 1 --force
-echo "== 2. inspect: rates, coverage, gaps and warnings per cycle"
+step "2. inspect: rates, coverage, gaps and warnings per cycle"
 "$lptn" inspect --data "$out/fleet" --motor "$out/fleet/motor.toml" > "$out/inspect.txt"
 tail -n 3 "$out/inspect.txt"
-echo "== 3. simulate and compare: the paper's model with the motor file's initial guesses"
+step "3. simulate and compare: the paper's model with the motor file's initial guesses"
 "$lptn" simulate --data "$out/fleet" --motor "$out/fleet/motor.toml" --out "$out/simulation" --force
-echo "== 4. calibrate with Levenberg-Marquardt (Ceres): 6 cycles train, 3 test"
+step "4. calibrate with Levenberg-Marquardt (Ceres): 6 cycles train, 3 test"
 calibrate --data "$out/fleet" --motor "$out/fleet/motor.toml" --method lm --seed 1 --out "$out/calibration-lm.json" --force
-echo "== 5. calibrate with TD3 (libtorch), an agent stepping through parameter sets, demo budget of ${TD3_ROUNDS:=400} rounds"
+step "5. calibrate with TD3 (libtorch), an agent stepping through parameter sets, demo budget of ${TD3_ROUNDS:=400} rounds"
 echo "      (its default, 1200 rounds, about 6 minutes here: see README.md, Benchmark)"
 calibrate --data "$out/fleet" --motor "$out/fleet/motor.toml" --method td3 --seed 1 --episodes "$TD3_ROUNDS" \
   --out "$out/calibration-td3.json" --checkpoint-dir "$out/td3-checkpoints" --force
-echo "== 6. export: the LM and the TD3 calibrations as the firmware's headers"
+step "6. export: the LM and the TD3 calibrations as the firmware's headers"
 "$lptn" export --calibration "$out/calibration-lm.json" --out "$out/thermal_calibration.hpp" --force
 "$lptn" export --calibration "$out/calibration-td3.json" --out "$out/thermal_calibration_td3.hpp" --force
-echo "== 7. on board: a test cycle as the converter would send it on CAN (lptn convert through the DBC), replayed"
+step "7. on board: a test cycle as the converter would send it on CAN (lptn convert through the DBC), replayed"
 echo "      through the firmware's estimator with the LM calibration (lptn replay, what the daemon runs)"
 mkdir -p "$out/onboard"
 "$lptn" convert --in "$out/fleet/cycle_09_hilly.csv" --out "$out/onboard/cycle_09_hilly.log" --force
@@ -50,7 +60,7 @@ mkdir -p "$out/onboard"
   --out "$out/onboard/estimates.csv" --force
 loop="$out/loop"
 mkdir -p "$loop/calibrations"
-echo "== 8. the loop: a second fleet (8 cycles, seed 3) from a motor with an eddy-current loss in its stator winding,"
+step "8. the loop: a second fleet (8 cycles, seed 3) from a motor with an eddy-current loss in its stator winding,"
 echo "      physics that no effect of the library describes; only $loop/fleet/truth.json says so"
 "$lptn" generate --out "$loop/fleet" --cycles 8 --seed 3 --plant eddy_loss --minutes-min 20 --minutes-max 25 --force
 echo "-- 8a. calibrate the paper's model (LM)"
@@ -74,12 +84,12 @@ echo "-- 8d. diagnose again, and the report after"
   --json-out "$loop/diagnosis-2.json" --force --quiet | tee "$loop/diagnosis-2.txt" | grep -E "^  (stator|rotor):|^no drift|^drift|^best|^No"
 "$lptn" report --data "$loop/fleet" --calibration "$loop/calibrations/2-$effect.json" \
   --diagnosis "$loop/diagnosis-2.json" --history "$loop/calibrations" --out "$loop/report.html" --force
-echo "== 9. a fleet: six motors of this type (seed 5), two cycles each; one cools 30 % worse (a clogged filter), and"
+step "9. a fleet: six motors of this type (seed 5), two cycles each; one cools 30 % worse (a clogged filter), and"
 echo "      only $out/motors/truth.json says which"
 "$lptn" generate --fleet --motors 6 --cycles 2 --seed 5 --minutes-min 40 --minutes-max 50 --out "$out/motors" --force
 calibrate --fleet "$out/motors" --motor "$out/motors/motor.toml" --method lm --out "$out/fleet.json" --force
 "$lptn" report --fleet "$out/fleet.json" --out "$out/fleet.html" --force
-echo "== 10. on board: each motor's first drive through the firmware's estimator, flashed with the type's calibration;"
+step "10. on board: each motor's first drive through the firmware's estimator, flashed with the type's calibration;"
 echo "       the observer's cooling factor (LPTN_Cooling) and its alarm"
 mkdir -p "$out/motors-onboard"
 for dir in "$out"/motors/motor_*/; do
@@ -89,7 +99,7 @@ for dir in "$out"/motors/motor_*/; do
   "$lptn" replay --fleet "$out/fleet.json" --log "$out/motors-onboard/$id.log" --out "$out/motors-onboard/$id.csv" \
     --quiet --force | sed -n "s/^  cooling factor/$id: cooling factor/p"
 done
-echo "== 11. lptn check: does a calibration still hold on new data? (exit 0 it holds, 1 it does not: a pipeline scripts on it)"
+step "11. lptn check: does a calibration still hold on new data? (exit 0 it holds, 1 it does not: a pipeline scripts on it)"
 echo "-- 11a. the LM calibration of step 4 on the same motor's drives a month later (seed 2: files it never saw)"
 "$lptn" generate --out "$out/month-later" --cycles 3 --seed 2 --minutes-min 40 --minutes-max 50 --force >/dev/null
 "$lptn" check --data "$out/month-later" --calibration "$out/calibration-lm.json" --quiet \
@@ -105,6 +115,10 @@ echo "        calibrated ones): each motor against the type and its own cooling 
 grep -E "does NOT hold|^  cooling|no longer holds|every motor" "$out/check-fleet.txt" || true
 echo "   (exit code $status; every motor in $out/check-fleet.txt)"
 
+step end
+echo
+echo "time per step (s), $SECONDS s in all:"
+for i in "${!step_names[@]}"; do printf '  %5d  %s\n' "${step_seconds[$i]}" "${step_names[$i]}"; done
 echo
 echo "demo output in $out/: fleet/ (cycle CSVs, motor.toml, truth.json, truth/), inspect.txt, simulation/ (traces,"
 echo "metrics.json), calibration-lm.json, calibration-td3.json, td3-checkpoints/, thermal_calibration.hpp, thermal_calibration_td3.hpp,"

@@ -2,6 +2,8 @@
 // hand-written cycle, the log's schedule and alive counters, and what a damaged log gives.
 #include <gtest/gtest.h>
 
+#include <nlohmann/json.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -131,6 +133,32 @@ TEST_F(GeneratedCycle, RoundTripGivesTheGridBackWithinResolution) {
     }
     EXPECT_GT(compared, g.steps / s.stride - 20) << data::channel_name(s.channel);
   }
+}
+
+// lptn inspect --log: an MDF4 log decoded and checked as the CSV converted back from it is
+// (the same report but for the file's name), the decoding's frame count said first.
+TEST_F(GeneratedCycle, InspectReadsALogAsTheCsvConvertedFromIt) {
+  const fs::path mf4 = scratch() / "inspect_me.mf4", back = scratch() / "inspect_me.csv";
+  ASSERT_EQ(run("convert --in " + log().string() + " --out " + mf4.string(), scratch()).code, 0);
+  ASSERT_EQ(run("convert --in " + mf4.string() + " --out " + back.string(), scratch()).code, 0);
+  // The log as MDF4 and back as candump: the very frames (log -> log, nothing decoded).
+  const fs::path again = scratch() / "inspect_me_again.log";
+  ASSERT_EQ(run("convert --in " + mf4.string() + " --out " + again.string(), scratch()).code, 0);
+  EXPECT_EQ(testing::slurp(again), testing::slurp(log()));
+  const Result from_log = run("inspect --log " + mf4.string() + " --json", scratch());
+  ASSERT_EQ(from_log.code, 0) << from_log.err;
+  const Result from_csv = run("inspect --data " + back.string() + " --json", scratch());
+  ASSERT_EQ(from_csv.code, 0) << from_csv.err;
+  const nlohmann::json a = nlohmann::json::parse(from_log.out), b = nlohmann::json::parse(from_csv.out);
+  ASSERT_EQ(a.at("cycles").size(), 1u);
+  EXPECT_EQ(a.at("cycles")[0].at("channels"), b.at("cycles")[0].at("channels"));
+  EXPECT_EQ(a.at("cycles")[0].at("segments").size(), b.at("cycles")[0].at("segments").size());
+  EXPECT_NE(a.at("cycles")[0].at("findings")[0].at("message").get<std::string>().find(" frames decoded over "),
+            std::string::npos);
+  // Not a log: bad input, one line.
+  const Result bad = run("inspect --log " + csv().string() + " --format mdf4", scratch());
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_EQ(std::count(bad.err.begin(), bad.err.end(), '\n'), 1) << bad.err;
 }
 
 TEST_F(GeneratedCycle, EveryMessageAtItsCycleTimeWithAnUnbrokenAliveCounter) {

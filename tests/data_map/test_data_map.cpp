@@ -14,8 +14,8 @@
 #include <string>
 #include <vector>
 
-#include "run_lptn.hpp"
-#include "temp_dir.hpp"
+#include "../cli/run_lptn.hpp"
+#include "../cli/temp_dir.hpp"
 #include "tools/generate/generate.hpp"
 #include "trainer/data/data_map.hpp"
 #include "trainer/data/dataset.hpp"
@@ -533,6 +533,36 @@ TEST(DataMapFile, ATripColumnCutsTheFileIntoShellSafeDrives) {
   EXPECT_NEAR(d.cycles[1].at(data::Channel::stator_winding_c, 0), 26.85, 1e-4);
   EXPECT_NEAR(d.cycles[0].at(data::Channel::frequency_hz, 0), 50.5, 1e-6);
   EXPECT_NEAR(d.cycles[1].duration_s(), 89.9, 1e-9);
+}
+
+}  // namespace
+}  // namespace lptn
+
+namespace lptn {
+namespace {
+
+// `text`, as Markdown code. Appended piecewise: GCC 12 warns falsely (-Wrestrict) on "`" + std::string(...) at -O3.
+std::string backquoted(std::string_view text) {
+  std::string out(1, '`');
+  out.append(text);
+  out += '`';
+  return out;
+}
+
+// docs/data-map.md's table of units is the reader's: every unit the reader takes is in its channel's row.
+TEST(DataMapFile, TheDocumentedUnitsAreTheReadersUnits) {
+  const std::string doc = testing::slurp(std::filesystem::path(LPTN_TEST_DATA_DIR) / "../../docs/data-map.md");
+  ASSERT_FALSE(doc.empty());
+  for (data::Channel c : data::kAllChannels) {
+    const std::size_t table = doc.find("| channel | units |");
+    ASSERT_NE(table, std::string::npos);
+    const std::size_t name = doc.find(backquoted(data::channel_name(c)), table);
+    ASSERT_NE(name, std::string::npos) << data::channel_name(c);
+    const std::size_t row = doc.rfind('\n', name) + 1;
+    const std::string line = doc.substr(row, doc.find('\n', row) - row);
+    for (const data::UnitConversion& u : data::units_of(c))
+      EXPECT_NE(line.find(backquoted(u.unit)), std::string::npos) << u.unit << " in " << line;
+  }
 }
 
 }  // namespace

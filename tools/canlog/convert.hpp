@@ -62,4 +62,11 @@ Converted log_from_csv(const std::filesystem::path& csv, const LogOptions& optio
 Converted csv_from_log(const std::filesystem::path& log, const canfile::LogSelection& select,
                        const lptn::bus::BusMap* bus = nullptr);
 
+// log -> log in format `to`: every frame as it was (id, flags, data, time stamp), nothing decoded.
+// Records that are no frame and frames stamped before the frame before them are dropped, each
+// kind counted in one warning. Throws ConvertError if the log cannot be opened or holds no frame.
+// `interface`: candump's interface name on every line.
+Converted log_from_log(const std::filesystem::path& log, const canfile::LogSelection& select, canfile::LogFormat to,
+                       const std::string& interface = "can0");
+
 }  // namespace lptn::canlog

@@ -55,7 +55,8 @@ std::string messages_help() {
 
 std::string footer() {
   return "Direction: an input *.csv becomes a log; a log (*.log candump -L, *.asc Vector ASC, *.blf\n"
-         "Vector BLF, *.mf4 MDF4 bus logging) becomes a CSV; a file named otherwise is a log with --format or if its content is one\n"
+         "Vector BLF, *.mf4 MDF4 bus logging) becomes a CSV, or, with --out named as a log (x.log, x.asc, x.blf, x.mf4), that\n"
+         "log in the other format, every frame as it was; a file named otherwise is a log with --format or if its content is one\n"
          "(BLF's \"LOGG\", MDF4's identification block, a candump line, an ASC header among its first lines), else a CSV. A\n"
          "directory converts every *.csv in it into OUT/NAME.log (.asc, .blf, .mf4 with --format), or every\n"
          "log into OUT/NAME.csv (not both kinds at once).\n"
@@ -119,6 +120,9 @@ canfile::LogFormat output_format(const Args& args, const fs::path& out) {
 
 canlog::Converted convert(const fs::path& in, const fs::path& out, bool from_log, const Args& args) {
   try {
+    // A log to a log's name: the frames again in that format (never a CSV under a log's name).
+    if (from_log && canfile::format_from_extension(out))
+      return canlog::log_from_log(in, {std::nullopt, args.channel}, *canfile::format_from_extension(out), args.interface);
     if (from_log) return canlog::csv_from_log(in, {given_format(args), args.channel}, args.map.get());
     canlog::LogOptions options;
     options.format = output_format(args, out);
@@ -162,7 +166,12 @@ void convert_file(const CLI::App& cmd, const Args& args) {
   if (fs::is_directory(out)) throw BadInput(args.out + ": is a directory (one input file makes one output file)");
   check_output_path(args.out, args.force);
   const bool from_log = is_log(in, args);
-  if (from_log) {
+  const auto out_log = canfile::format_from_extension(out);
+  if (from_log && out_log) {
+    if (cmd.count("--start-time")) throw BadInput("--start-time applies to CSV -> log only; a log keeps its own time stamps");
+    if (cmd.count("--format")) throw BadInput("--format: log -> log takes the input's format from its content and the output's from " + args.out);
+    reject_interface(cmd, *out_log);
+  } else if (from_log) {
     reject_log_options(cmd, in);
   } else {
     reject_channel(cmd, in);

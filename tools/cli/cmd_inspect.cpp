@@ -1,11 +1,16 @@
 // lptn inspect: load and check a fleet dump; the first thing to run on new data.
 #include <algorithm>
+#include <cmath>
+#include <memory>
 #include <cstdio>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "tools/canfile/can_log.hpp"
+#include "tools/canlog/convert.hpp"
+#include "tools/cli/bus_option.hpp"
 #include "tools/cli/commands.hpp"
 #include "tools/cli/data_map_option.hpp"
 #include "trainer/data/dataset.hpp"
@@ -17,15 +22,23 @@
 namespace lptn::cli {
 
 void add_inspect(CLI::App& app) {
-  auto* cmd = app.add_subcommand("inspect", "Load and check a fleet dump: rates, coverage, gaps, warnings per cycle");
+  auto* cmd = app.add_subcommand(
+      "inspect", "Load and check a fleet dump (or CAN logs, decoded): rates, coverage, gaps, warnings per cycle");
   struct Args {
-    std::vector<std::string> data;
-    std::string motor, map;
+    std::vector<std::string> data, logs;
+    std::string motor, map, bus, format;
     bool json = false, strict = false, suggest_map = false;
     double dt = 0.1;
   };
   auto args = std::make_shared<Args>();
-  cmd->add_option("--data", args->data, "Directories of cycle CSVs, or CSV files")->required()->expected(1, -1);
+  auto* data = cmd->add_option("--data", args->data, "Directories of cycle CSVs, or CSV files")->expected(1, -1);
+  auto* logs = cmd->add_option("--log", args->logs,
+                               "CAN logs (candump -L, Vector ASC, BLF, MDF4): decoded through the DBC (or --bus) into "
+                               "the channels, as lptn convert would, then checked as a cycle CSV is")
+                   ->expected(1, -1);
+  cmd->add_option("--bus", args->bus, "With --log: the converter's frames (bus.toml) instead of lptn's own TC_* frames");
+  cmd->add_option("--format", args->format, "With --log: the logs' format, candump, asc, blf or mdf4 (default: by extension or content)")
+      ->check(CLI::IsMember({"candump", "asc", "blf", "mdf4"}));
   cmd->add_option("--motor", args->motor,
                   "Motor file: also check the data against its nameplate, and its values against the same nameplate");
   cmd->add_option("--dt", args->dt, "Model step to resample to, s")->capture_default_str()->check(CLI::Range(0.001, 10.0));
@@ -36,8 +49,11 @@ void add_inspect(CLI::App& app) {
                 "Print a proposed data map (data.toml) for an export lptn cannot read as it is: columns matched by name "
                 "and by their values, separator, decimal mark and time column detected; only the map on standard "
                 "output, what to check on standard error; exit 1 when a required column was not found");
-  cmd->callback([args] {
+  cmd->callback([args, data, logs] {
+    if (data->count() == 0 && logs->count() == 0) throw BadInput("inspect: give --data (cycle CSVs) or --log (CAN logs)");
+    if (args->suggest_map && data->count() == 0) throw BadInput("--suggest-map: give --data, the export's CSV files");
     for (const std::string& d : args->data) check_input_path(d, "--data");
+    for (const std::string& l : args->logs) check_input_path(l, "--log", InputPath::file);
     if (!args->motor.empty()) check_input_path(args->motor, "--motor", InputPath::file);
     std::optional<MotorFile> motor;
     if (!args->motor.empty()) motor = load_motor_file(args->motor);
@@ -62,7 +78,34 @@ void add_inspect(CLI::App& app) {
     data::LoadOptions options;
     options.dt_s = args->dt;
     options = with_map(args->map, options);
-    const data::Dataset dataset = data::load_fleet_dump(paths, options);
+    data::Dataset dataset = paths.empty() ? data::Dataset{} : data::load_fleet_dump(paths, options);
+    if (!args->logs.empty()) {
+      const std::unique_ptr<bus::BusMap> bus = args->bus.empty() ? nullptr : read_bus_map(args->bus);
+      std::optional<canfile::LogFormat> format;
+      if (!args->format.empty()) format = canfile::format_from_name(args->format);
+      for (const std::string& log : args->logs) {
+        canlog::Converted converted;
+        try {
+          converted = canlog::csv_from_log(log, {format, ""}, bus.get());
+        } catch (const canlog::ConvertError& e) {
+          throw BadInput(e.what());
+        } catch (const canfile::LogError& e) {
+          throw BadInput(e.what());
+        }
+        data::LoadOptions from_log = options;
+        from_log.map = nullptr;  // decoded into lptn's own columns
+        from_log.map_beside = false;
+        data::Dataset one = data::parse_cycle_csv(converted.text, log, from_log);
+        auto& findings = one.reports.front().findings;
+        findings.insert(findings.begin(), {data::Finding::Severity::info,
+                                           log + ": " + std::to_string(converted.frames) + " frames decoded over " +
+                                               std::to_string(static_cast<long long>(std::llround(converted.duration_s))) +
+                                               " s"});
+        for (const std::string& w : converted.warnings) findings.push_back({data::Finding::Severity::warning, w});
+        for (data::Cycle& c : one.cycles) dataset.cycles.push_back(std::move(c));
+        for (data::CycleReport& r : one.reports) dataset.reports.push_back(std::move(r));
+      }
+    }
     std::vector<data::Finding> nameplate_findings;
     std::vector<MotorFinding> motor_findings;
     if (motor) {
