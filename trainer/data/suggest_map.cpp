@@ -553,9 +553,10 @@ MapSuggestion suggest_data_map(const std::vector<std::filesystem::path>& paths, 
   if (auto& air = chosen[index_of(Channel::airflow_m3s)]) {
     const Column& c = cols[air->column];
     const std::string& k = c.key;
-    if (contains_any(k, {"l/s", "ls", "lps", "l_s", "liter"})) {
+    const auto ends = [&](std::string_view e) { return k.size() >= e.size() && k.compare(k.size() - e.size(), e.size(), e) == 0; };
+    if (contains_any(k, {"l/s", "liter", "litre"}) || ends("_ls") || ends("lps") || ends("_l_s")) {
       air->unit = "l/s";
-    } else if (contains_any(k, {"m3/h", "m3h", "m³/h", "cmh", "m3_h"})) {
+    } else if (contains_any(k, {"m3/h", "m³/h", "m3_h"}) || ends("m3h") || ends("cmh")) {
       air->unit = "m³/h";
     } else if (contains_any(k, {"cfm"})) {
       air->unit = "cfm";
