@@ -567,3 +567,33 @@ TEST(DataMapFile, TheDocumentedUnitsAreTheReadersUnits) {
 
 }  // namespace
 }  // namespace lptn
+
+namespace lptn {
+namespace {
+
+// A spreadsheet export on Windows writes its header in Windows-1252 ("°" the single byte 0xB0).
+// A data map is UTF-8 (TOML), so such a header is read as Latin-1: the map spells "°C", and the
+// proposed map reads back and reads the file.
+TEST(DataMapFile, AWindows1252HeaderIsNamedInUtf8) {
+  testing::TempDir dir;
+  std::vector<std::string> lines{"Zeit [s];n [1/min];I [A];f [Hz];Q [m\xB3/s];T_Luft [\xB0" "C];T_Wicklung [\xB0" "C]"};
+  for (int k = 0; k < 600; ++k)
+    lines.push_back(std::to_string(k) + ",0;" + std::to_string(1500 + k % 7) + ";" + std::to_string(80 + k % 5) +
+                    ";50,5;0,7;15,0;" + std::to_string(40 + k / 60) + ",5");
+  write_lines(dir.path() / "export.csv", lines);
+  const data::MapSuggestion s = data::suggest_data_map({dir.path()});
+  const std::string text = s.text();
+  EXPECT_NE(text.find("stator_winding_c = { column = \"T_Wicklung [\xC2\xB0" "C]\" }"), std::string::npos) << text;
+  EXPECT_NE(text.find("airflow_m3s = { column = \"Q [m\xC2\xB3/s]\" }"), std::string::npos) << text;
+  {
+    std::ofstream out(dir.path() / "data.toml");
+    out << text;
+  }
+  const data::Dataset d = data::load_fleet_dump({dir.path()});
+  ASSERT_EQ(d.cycles.size(), 1u);
+  EXPECT_NEAR(d.cycles[0].at(data::Channel::stator_winding_c, 0), 40.5, 1e-6);
+  EXPECT_NEAR(d.cycles[0].at(data::Channel::frequency_hz, 0), 50.5, 1e-6);
+}
+
+}  // namespace
+}  // namespace lptn

@@ -5,7 +5,9 @@
 // "FILE:LINE: ..." for the CSV); anything else escaping is a finding. A map that parses must
 // read back equal from the text format_data_map writes for it (what --suggest-map prints), and a
 // CSV that loads through it must be a consistent dataset within the channels' physical ranges.
+// What --suggest-map proposes for the CSV must be a map that reads back equal.
 #include <cmath>
+#include <cstdio>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -15,6 +17,7 @@
 #include "fuzz_check.hpp"
 #include "trainer/data/data_map.hpp"
 #include "trainer/data/dataset.hpp"
+#include "trainer/data/suggest_map.hpp"
 
 namespace {
 
@@ -56,6 +59,21 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     LPTN_FUZZ_CHECK(false, "the written map does not read back");
   }
   if (cut == std::string_view::npos) return 0;
+
+  // What --suggest-map proposes for the CSV is always a map that reads back (what it cannot decide
+  // is said in comments, never written as a broken key).
+  try {
+    const MapSuggestion proposed = suggest_data_map_text(input.substr(cut + 3), "fuzz.csv");
+    try {
+      LPTN_FUZZ_CHECK(same(proposed.map, parse_data_map(proposed.text(), "proposed.toml")),
+                      "the proposed map reads back different");
+    } catch (const DataError& e) {
+      std::fprintf(stderr, "%s\n", e.what());
+      LPTN_FUZZ_CHECK(false, "the proposed map does not read back");
+    }
+  } catch (const DataError& e) {
+    LPTN_FUZZ_CHECK(one_line(e.what()), "a suggestion's error of more than one line");
+  }
 
   LoadOptions options;
   options.map = std::make_shared<const DataMap>(map);

@@ -14,6 +14,7 @@
 
 #include "trainer/data/dataset.hpp"
 #include "trainer/data/did_you_mean.hpp"
+#include "trainer/data/internal/text.hpp"
 
 namespace lptn::data {
 namespace {
@@ -122,15 +123,24 @@ Quantity quantity_of(Channel c) {
   return Quantity::temperature;
 }
 
+// A TOML basic string: quotes and backslashes escaped, control characters as \uXXXX (TOML allows
+// none of them raw but the tab).
 std::string quote(std::string_view s) {
   std::string out = "\"";
   for (char c : s) {
-    if (c == '"' || c == '\\') out += '\\';
-    if (c == '\t') {
+    const auto u = static_cast<unsigned char>(c);
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += c;
+    } else if (c == '\t') {
       out += "\\t";
-      continue;
+    } else if (u < 0x20 || u == 0x7F) {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\u%04X", static_cast<unsigned>(u));
+      out += buf;
+    } else {
+      out += c;
     }
-    out += c;
   }
   return out + "\"";
 }
@@ -308,7 +318,13 @@ DataMap load_data_map(const std::filesystem::path& file) {
 std::string format_data_map(const DataMap& m, std::string_view header_comment) {
   std::ostringstream o;
   std::istringstream lines{std::string(header_comment)};
-  for (std::string line; std::getline(lines, line);) o << (line.empty() ? "#" : "# " + line) << '\n';
+  for (std::string line; std::getline(lines, line);) {
+    // A comment is UTF-8 without control characters too; it may quote an export's bytes.
+    line = internal::utf8_name(line);
+    for (char& c : line)
+      if ((static_cast<unsigned char>(c) < 0x20 && c != '\t') || c == 0x7F) c = '?';
+    o << (line.empty() ? "#" : "# " + line) << '\n';
+  }
   if (!header_comment.empty()) o << '\n';
   if (!m.ignore.empty()) {
     o << "# Columns lptn does not read, left out without a word.\nignore = [";

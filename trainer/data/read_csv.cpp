@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <iterator>
 #include <cstdint>
+#include <deque>
 #include <limits>
 #include <string>
 #include <string_view>
@@ -195,12 +196,13 @@ std::vector<RawCycle> parse_csv(std::string_view text, const std::filesystem::pa
   // Column index -> time, channel (with its unit's conversion), the split column, or ignored.
   std::vector<Slot> slots;
   std::vector<std::string_view> names;
+  std::deque<std::string> owned_names;  // as UTF-8 (utf8_name); a deque keeps the views valid
   std::vector<std::string> unknown, unknown_hint;  // named in one finding; "did you mean" for each
   {
     CellSplitter cells(line, sep);
     std::string_view cell;
     while (cells.next(cell)) {
-      const std::string_view name = header_name(cell);
+      const std::string_view name = owned_names.emplace_back(utf8_name(header_name(cell)));
       const std::size_t column = names.size() + 1;
       if (!name.empty() && std::find(names.begin(), names.end(), name) != names.end()) {
         fail(file, header_line, name, strf("duplicate column name (column %zu)", column));

@@ -145,6 +145,9 @@ struct Choice {
 int name_score(Channel c, const std::string& key) {
   if (key == channel_name(c)) return 3;
   const bool vehicle = contains_any(key, {"vehicle", "train", "wheel", "kmh", "km/h", "fahrzeug", "zug", "gps"});
+  // "T_Luft", "air temp [°C]": a temperature of the air, not its flow.
+  const bool temperature = starts_with_any(key, {"t_", "t ", "t[", "temp"}) ||
+                           contains_any(key, {"temp", "°c", "degc", "°f", "degf", "kelvin", "[k]", "(k)"});
   switch (c) {
     case Channel::speed_rpm:
       if (vehicle) return 0;
@@ -163,11 +166,12 @@ int name_score(Channel c, const std::string& key) {
       if (contains_any(key, {"volt", "spannung", "u_zk", "uzk", "udc", "u_dc", "vdc", "v_dc", "dclink", "dc_link"})) return 2;
       return starts_with_any(key, {"u_", "u ", "u[", "v_"}) ? 1 : 0;
     case Channel::airflow_m3s:
+      if (temperature) return 0;
       if (contains_any(key, {"airflow", "air_flow", "luft", "volumenstrom", "blower", "cooling_air", "flow"})) return 2;
       return starts_with_any(key, {"q_", "q ", "q["}) ? 1 : 0;
     case Channel::ambient_c:
       if (contains_any(key, {"ambient", "umgebung", "outside", "outdoor", "aussen", "außen", "inlet", "amb"})) return 2;
-      return 0;
+      return temperature && contains_any(key, {"luft", "air"}) ? 2 : 0;
     case Channel::stator_winding_c:
       if (contains_any(key, {"stator", "winding", "wicklung", "stw"})) return 2;
       return 0;
@@ -209,13 +213,7 @@ std::string MapSuggestion::text() const {
   return format_data_map(map, head);
 }
 
-MapSuggestion suggest_data_map(const std::vector<std::filesystem::path>& paths, const SuggestHints& hints) {
-  const std::vector<std::filesystem::path> files = cycle_files(paths);
-  if (files.empty()) throw DataError("no CSV file to propose a data map for");
-  const std::filesystem::path& first = files.front();
-  std::ifstream in(first, std::ios::binary);
-  if (!in) throw DataError(first.string() + ": cannot open for reading");
-  const std::string text((std::istreambuf_iterator<char>(in)), {});
+MapSuggestion suggest_data_map_text(std::string_view text, const std::filesystem::path& first, const SuggestHints& hints) {
 
   MapSuggestion out;
   DataMap& m = out.map;
@@ -253,7 +251,7 @@ MapSuggestion suggest_data_map(const std::vector<std::filesystem::path>& paths, 
     std::string_view cell;
     while (cells.next(cell)) {
       Column c;
-      c.name = std::string(unquote(cell));
+      c.name = internal::utf8_name(unquote(cell));
       c.key = lower(c.name);
       cols.push_back(std::move(c));
     }
@@ -301,6 +299,20 @@ MapSuggestion suggest_data_map(const std::vector<std::filesystem::path>& paths, 
   for (Column& c : cols) summarize(c);
   const auto note = [&](std::string s) { out.evidence.push_back(std::move(s)); };
   const auto problem = [&](std::string s) { out.problems.push_back(std::move(s)); };
+  // A column without a name, or with the name of one before it, cannot be named in a map (the
+  // loader refuses a repeated name): left out of it, and said.
+  for (std::size_t j = 0; j < cols.size(); ++j) {
+    if (cols[j].name.empty()) {
+      cols[j].taken = true;
+      problem(strf("column %zu has no name: the map cannot name it", j + 1));
+    }
+    for (std::size_t i = 0; i < j && !cols[j].taken; ++i) {
+      if (cols[i].name != cols[j].name) continue;
+      cols[j].taken = true;
+      problem(strf("columns %zu and %zu are both named '%s': rename one (lptn refuses a repeated name)", i + 1, j + 1,
+                   cols[j].name.c_str()));
+    }
+  }
   note(strf("Read %s: separator '%s', decimal mark '%c'%s; %zu columns, %zu rows (values of the first %zu).",
             first.filename().string().c_str(), m.separator == '\t' ? "\\t" : std::string(1, m.separator).c_str(),
             m.decimal, m.comment.empty() ? "" : strf(", comment lines start with '%s'", m.comment.c_str()).c_str(),
@@ -376,6 +388,11 @@ MapSuggestion suggest_data_map(const std::vector<std::filesystem::path>& paths, 
       default: return std::nullopt;
     }
   };
+  // A column under lptn's own name of a channel or of the time is that one's, or no one's: the map
+  // reads it there by default, and a second reader of one column is an error.
+  for (Column& c : cols) {
+    if (c.name == m.time_column) c.taken = true;
+  }
   for (int strength = 3; strength >= 1; --strength) {
     for (Channel ch : kAllChannels) {
       if (chosen[index_of(ch)]) continue;
@@ -391,6 +408,11 @@ MapSuggestion suggest_data_map(const std::vector<std::filesystem::path>& paths, 
         }
       }
     }
+  }
+
+  for (Column& c : cols) {
+    if (std::any_of(kAllChannels.begin(), kAllChannels.end(), [&](Channel ch) { return c.name == channel_name(ch); }))
+      c.taken = true;
   }
 
   // Speed and frequency by their ratio: 60/p rpm per Hz, less the slip.
@@ -680,8 +702,16 @@ MapSuggestion suggest_data_map(const std::vector<std::filesystem::path>& paths, 
     }
   }
 
+  // Every column the map does not read is ignored, but one the map reads by default (lptn's own
+  // name of a channel or of the time, which it could not confirm): a map may not ignore what it reads.
+  const auto read_by_default = [&](const std::string& name) {
+    if (name == m.time_column || name == m.split_column) return true;
+    return std::any_of(kAllChannels.begin(), kAllChannels.end(), [&](Channel ch) { return m.source_of(ch) == name; });
+  };
   for (const Column& c : cols) {
-    if (!c.taken) m.ignore.push_back(c.name);
+    if (!c.taken && !read_by_default(c.name) &&
+        std::find(m.ignore.begin(), m.ignore.end(), c.name) == m.ignore.end())
+      m.ignore.push_back(c.name);
   }
   if (!m.ignore.empty()) {
     std::string list;
@@ -689,19 +719,36 @@ MapSuggestion suggest_data_map(const std::vector<std::filesystem::path>& paths, 
     note("Not read (ignore): " + list + ".");
   }
 
+  return out;
+}
+
+MapSuggestion suggest_data_map(const std::vector<std::filesystem::path>& paths, const SuggestHints& hints) {
+  const std::vector<std::filesystem::path> files = cycle_files(paths);
+  if (files.empty()) throw DataError("no CSV file to propose a data map for");
+  // The first line that is neither blank nor a comment, without a byte-order mark.
+  const auto header_of = [](std::istream& in, const std::string& comment) {
+    std::string l;
+    while (std::getline(in, l)) {
+      if (!l.empty() && l.back() == '\r') l.pop_back();
+      if (l.substr(0, 3) == "\xEF\xBB\xBF") l.erase(0, 3);
+      if (trim(l).empty() || (!comment.empty() && trim(l).substr(0, comment.size()) == comment)) continue;
+      return l;
+    }
+    return std::string();
+  };
+  const std::filesystem::path& first = files.front();
+  std::ifstream in(first, std::ios::binary);
+  if (!in) throw DataError(first.string() + ": cannot open for reading");
+  const std::string text((std::istreambuf_iterator<char>(in)), {});
+  MapSuggestion out = suggest_data_map_text(text, first, hints);
   // Every file should have the first's header.
+  std::istringstream first_text(text);
+  const std::string header = header_of(first_text, out.map.comment);
   for (std::size_t f = 1; f < files.size(); ++f) {
     std::ifstream other(files[f], std::ios::binary);
-    std::string l;
-    while (std::getline(other, l)) {
-      if (!l.empty() && l.back() == '\r') l.pop_back();
-      if (trim(l).empty() || (!m.comment.empty() && trim(l).substr(0, m.comment.size()) == m.comment)) continue;
-      break;
-    }
-    if (l.substr(0, 3) == "\xEF\xBB\xBF") l.erase(0, 3);
-    std::string_view h = head.front();
-    if (h.substr(0, 3) == "\xEF\xBB\xBF") h.remove_prefix(3);
-    if (l != h) problem(files[f].string() + ": its header differs from " + first.filename().string() + "'s; one map reads both only if their columns are the same");
+    if (header_of(other, out.map.comment) != header)
+      out.problems.push_back(files[f].string() + ": its header differs from " + first.filename().string() +
+                             "'s; one map reads both only if their columns are the same");
   }
   return out;
 }

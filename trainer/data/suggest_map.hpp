@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "trainer/data/data_map.hpp"
@@ -31,5 +32,9 @@ struct MapSuggestion {
 // `paths` as lptn's commands take them (directories of *.csv, or files). Reads the first file's
 // first few megabytes for the values; every file's header. Throws DataError when there is no file.
 MapSuggestion suggest_data_map(const std::vector<std::filesystem::path>& paths, const SuggestHints& hints = {});
+
+// The same for one file's text already in memory; `file` is only used for names and messages.
+MapSuggestion suggest_data_map_text(std::string_view text, const std::filesystem::path& file,
+                                    const SuggestHints& hints = {});
 
 }  // namespace lptn::data
