@@ -597,3 +597,33 @@ TEST(DataMapFile, AWindows1252HeaderIsNamedInUtf8) {
 
 }  // namespace
 }  // namespace lptn
+
+namespace lptn {
+namespace {
+
+// pandas' DataFrame.to_csv: an unnamed index column first, date-times with a space and six decimals.
+TEST(DataMapFile, APandasExportWithItsIndexColumnIsReadWithoutAWarning) {
+  testing::TempDir dir;
+  std::vector<std::string> lines{",datetime,speed_rpm,current_a,frequency_hz,airflow_m3s,ambient_c,stator_winding_c"};
+  for (int k = 0; k < 900; ++k) {
+    char t[64];
+    std::snprintf(t, sizeof t, "2024-03-04 06:%02d:%02d.%06d", k / 600, (k / 10) % 60, (k % 10) * 100000);
+    lines.push_back(std::to_string(k) + "," + t + ",1500.0,80.0,50.5,0.7,15.0," + std::to_string(40 + k / 100) + ".5");
+  }
+  write_lines(dir.path() / "export.csv", lines);
+  const data::MapSuggestion s = data::suggest_data_map({dir.path()});
+  EXPECT_TRUE(s.problems.empty()) << s.text();
+  EXPECT_EQ(s.map.ignore, std::vector<std::string>{""});
+  EXPECT_EQ(s.map.time_format, data::TimeFormat::iso8601);
+  {
+    std::ofstream out(dir.path() / "data.toml");
+    out << s.text();
+  }
+  const data::Dataset d = data::load_fleet_dump({dir.path()});
+  ASSERT_EQ(d.cycles.size(), 1u);
+  EXPECT_EQ(d.warning_count(), 0u);
+  EXPECT_NEAR(d.cycles[0].duration_s(), 89.9, 1e-9);
+}
+
+}  // namespace
+}  // namespace lptn

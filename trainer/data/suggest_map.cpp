@@ -302,9 +302,10 @@ MapSuggestion suggest_data_map_text(std::string_view text, const std::filesystem
   // A column without a name, or with the name of one before it, cannot be named in a map (the
   // loader refuses a repeated name): left out of it, and said.
   for (std::size_t j = 0; j < cols.size(); ++j) {
-    if (cols[j].name.empty()) {
+    if (cols[j].name.empty()) {  // a data frame's index, written by pandas' to_csv: read by no one
       cols[j].taken = true;
-      problem(strf("column %zu has no name: the map cannot name it", j + 1));
+      if (std::find(m.ignore.begin(), m.ignore.end(), "") == m.ignore.end()) m.ignore.emplace_back();
+      note(strf("Column %zu has no name (a data frame's index?): ignored.", j + 1));
     }
     for (std::size_t i = 0; i < j && !cols[j].taken; ++i) {
       if (cols[i].name != cols[j].name) continue;
