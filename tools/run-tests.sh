@@ -22,7 +22,13 @@ step "sanitizer build (preset sanitize: ASan + UBSan, everything but libtorch) a
 # The preset neither builds nor runs the tests labelled diagnose, fleet and coverage
 # (LPTN_TEST_LABELS_LEFT_OUT): their suites run the LM, score-test, replay and estimator code that
 # the lm, calibrate, cli and replay tests run here too, but for hours of simulated data, which
-# under the sanitizers takes about ten times as long. -O1 -g1 (the preset): ASan's advice, and
+# under the sanitizers takes about ten times as long. Its test preset also leaves out three tests
+# by name, for the same reason (CI stays under an hour): Search.BothMethodsBeatTheGuessAndCmaEsComesCloseToLm
+# (161 s here, 26 s in the host build; the search methods' code runs here in CmaEs.* and in
+# CalibrateCli's search baselines), OutcomeCli.AnotherPoleCountIsNeverOk (128 s here, 3 s there; the
+# refits of unpinned parameters run here in OutcomeCli's no-rotor and rotor-readings cases), and
+# data_map's ExportShapes.* (an LM calibration each, 17-19 s here; the data map's code runs here in
+# DataMapFile.* and SuggestMap.*, and fuzz_data_map runs it under ASan and UBSan). -O1 -g1 (the preset): ASan's advice, and
 # on these 2 cores a clean build in 11.5 min; one of the heaviest files (search/internal/cma_es.cpp)
 # compiles in 19.9 s against 42.6 s at -O2 -g. -g1 keeps the file and line of every frame in a report.
 cmake --preset sanitize >/dev/null
