@@ -58,7 +58,7 @@ DEPENDS = {
     "tools/plant": ["common"],
     "tools/generate": ["tools/plant", "trainer/model"],
     "tools/export": ["trainer/calibrate"],
-    "tools/dbc": [],
+    "tools/dbc": ["hostio"],
     # A bus map read at run time: the firmware's decoder interface over a DBC read at run time.
     "tools/bus": ["firmware/include", "tools/dbc"],
     "tools/canfile": ["firmware/linux"],

@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "hostio/civil_time.hpp"
 #include "tools/canfile/internal/formats.hpp"
 
 namespace lptn::canfile {
@@ -62,16 +63,6 @@ void put(std::string& out, T v) {
 }
 
 bool is_signature(const std::uint8_t* p) { return std::memcmp(p, "LOBJ", 4) == 0; }
-
-// Days since 1970-01-01 of a civil date (Howard Hinnant's algorithm), for SYSTEMTIME in UTC.
-long long days_from_civil(long long y, unsigned m, unsigned d) {
-  y -= m <= 2;
-  const long long era = (y >= 0 ? y : y - 399) / 400;
-  const unsigned yoe = static_cast<unsigned>(y - era * 400);
-  const unsigned doy = (153 * (m + (m > 2 ? -3 : 9)) + 2) / 5 + d - 1;
-  const unsigned doe = yoe * 365 + yoe / 4 - yoe / 100 + doy;
-  return era * 146097 + static_cast<long long>(doe) - 719468;
-}
 
 // SYSTEMTIME (year, month, day of week, day, hour, minute, second, milliseconds) -> us since 1970;
 // 0 where it is no date (python-can writes zeros for time stamps before 1990).

@@ -14,6 +14,7 @@
 
 #include "tools/canlog/bus_channels.hpp"
 #include "tools/canlog/convert.hpp"
+#include "tools/canlog/internal/open_for_conversion.hpp"
 #include "tools/canfile/can_log.hpp"
 
 namespace lptn::canlog {
@@ -295,12 +296,7 @@ class CsvBuilder {
 }  // namespace
 
 Converted csv_from_log(const fs::path& log, const canfile::LogSelection& select, const lptn::bus::BusMap* map) {
-  canfile::OpenedLog opened;
-  try {
-    opened = canfile::open_log(log, select);
-  } catch (const canfile::LogError& e) {
-    throw ConvertError(e.what());
-  }
+  const canfile::OpenedLog opened = internal::open_for_conversion(log, select);
   canfile::ChannelFilter& source = *opened.frames;
   CsvBuilder builder(log, source, map);
   TimeUs t = 0;

@@ -6,17 +6,13 @@
 
 #include "tools/canfile/can_log.hpp"
 #include "tools/canlog/convert.hpp"
+#include "tools/canlog/internal/open_for_conversion.hpp"
 
 namespace lptn::canlog {
 
 Converted log_from_log(const std::filesystem::path& log, const canfile::LogSelection& select, canfile::LogFormat to,
                        const std::string& interface) {
-  canfile::OpenedLog opened;
-  try {
-    opened = canfile::open_log(log, select);
-  } catch (const canfile::LogError& e) {
-    throw ConvertError(e.what());
-  }
+  const canfile::OpenedLog opened = internal::open_for_conversion(log, select);
   canfile::ChannelFilter& source = *opened.frames;
   const auto writer = canfile::make_log_writer(to, interface);
   Converted out;

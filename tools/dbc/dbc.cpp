@@ -10,6 +10,7 @@
 #include <set>
 #include <sstream>
 
+#include "hostio/utf8.hpp"
 #include "tools/dbc/internal/parser.hpp"
 
 namespace lptn::dbc {
@@ -320,35 +321,6 @@ class Checker {
   std::vector<std::pair<int, std::string>> warnings_;
 };
 
-// UTF-8 if it is valid UTF-8, else Latin-1 (Windows tools write cp1252): kept as UTF-8.
-bool valid_utf8(const std::string& bytes) {
-  for (std::size_t i = 0; i < bytes.size();) {
-    const auto c = static_cast<unsigned char>(bytes[i]);
-    const std::size_t extra = c < 0x80 ? 0 : (c & 0xE0) == 0xC0 ? 1 : (c & 0xF0) == 0xE0 ? 2 : (c & 0xF8) == 0xF0 ? 3 : 9;
-    if (extra == 9 || i + extra >= bytes.size() + (extra == 0 ? 1 : 0)) return false;
-    for (std::size_t k = 1; k <= extra; ++k)
-      if ((static_cast<unsigned char>(bytes[i + k]) & 0xC0) != 0x80) return false;
-    i += extra + 1;
-  }
-  return true;
-}
-
-std::string as_utf8(const std::string& bytes) {
-  const bool valid = valid_utf8(bytes);
-  if (valid) return bytes;
-  std::string out;
-  for (const char ch : bytes) {
-    const auto c = static_cast<unsigned char>(ch);
-    if (c < 0x80) {
-      out += ch;
-    } else {
-      out += static_cast<char>(0xC0 | (c >> 6));
-      out += static_cast<char>(0x80 | (c & 0x3F));
-    }
-  }
-  return out;
-}
-
 }  // namespace
 
 const Signal* Message::find(std::string_view signal) const {
@@ -389,7 +361,7 @@ Database read(const fs::path& file) {
   if (!in) throw Error(file.string() + ":0: cannot read the file");
   std::ostringstream bytes;
   bytes << in.rdbuf();
-  return parse(as_utf8(bytes.str()), file.string());
+  return parse(as_utf8(bytes.str()), file.string());  // UTF-8, or Latin-1 (cp1252) as UTF-8
 }
 
 bool extract_raw(const Signal& s, const std::uint8_t* data, int len, std::int64_t& raw) {

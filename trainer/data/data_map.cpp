@@ -12,9 +12,10 @@
 #include <sstream>
 #include <toml++/toml.h>
 
+#include "hostio/civil_time.hpp"
+#include "hostio/utf8.hpp"
 #include "trainer/data/dataset.hpp"
 #include "trainer/data/did_you_mean.hpp"
-#include "trainer/data/internal/text.hpp"
 
 namespace lptn::data {
 namespace {
@@ -320,7 +321,7 @@ std::string format_data_map(const DataMap& m, std::string_view header_comment) {
   std::istringstream lines{std::string(header_comment)};
   for (std::string line; std::getline(lines, line);) {
     // A comment is UTF-8 without control characters too; it may quote an export's bytes.
-    line = internal::utf8_name(line);
+    line = as_utf8(line);
     for (char& c : line)
       if ((static_cast<unsigned char>(c) < 0x20 && c != '\t') || c == 0x7F) c = '?';
     o << (line.empty() ? "#" : "# " + line) << '\n';
@@ -364,16 +365,6 @@ std::string format_data_map(const DataMap& m, std::string_view header_comment) {
 }
 
 namespace {
-
-// Days from 1970-01-01 to y-m-d in the proleptic Gregorian calendar (H. Hinnant's days_from_civil).
-long long days_from_civil(long long y, unsigned m, unsigned d) {
-  y -= m <= 2;
-  const long long era = (y >= 0 ? y : y - 399) / 400;
-  const auto yoe = static_cast<unsigned>(y - era * 400);
-  const unsigned doy = (153 * (m + (m > 2 ? -3 : 9)) + 2) / 5 + d - 1;
-  const unsigned doe = yoe * 365 + yoe / 4 - yoe / 100 + doy;
-  return era * 146097 + static_cast<long long>(doe) - 719468;
-}
 
 bool digits(std::string_view s, std::size_t at, std::size_t n, unsigned& out) {
   if (at + n > s.size()) return false;

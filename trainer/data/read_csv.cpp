@@ -12,6 +12,7 @@
 #include <string_view>
 #include <vector>
 
+#include "hostio/utf8.hpp"
 #include "trainer/data/data_map.hpp"
 #include "trainer/data/dataset.hpp"
 #include "trainer/data/did_you_mean.hpp"
@@ -50,12 +51,6 @@ bool iequals(std::string_view a, std::string_view b) {
   return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(), [](char x, char y) {
            return std::tolower(static_cast<unsigned char>(x)) == std::tolower(static_cast<unsigned char>(y));
          });
-}
-
-std::string_view header_name(std::string_view cell) {
-  cell = trim(cell);
-  if (cell.size() >= 2 && cell.front() == '"' && cell.back() == '"') cell = trim(cell.substr(1, cell.size() - 2));
-  return cell;
 }
 
 constexpr int kTimeSlot = -2;
@@ -131,17 +126,6 @@ const DataMap& default_map() {
   return m;
 }
 
-// A data row's or the header's cell without the quotes some exports put around every cell.
-std::string_view unquoted(std::string_view cell) {
-  cell = trim(cell);
-  if (cell.size() >= 2 && cell.front() == '"' && cell.back() == '"') cell = trim(cell.substr(1, cell.size() - 2));
-  return cell;
-}
-
-bool is_comment(std::string_view line, const std::string& prefix) {
-  return !prefix.empty() && trim(line).substr(0, prefix.size()) == prefix;
-}
-
 // The pieces a map's [split] cuts one file's rows into: [begin, end) rows, each with its name.
 struct Piece {
   std::size_t begin, end;
@@ -196,13 +180,15 @@ std::vector<RawCycle> parse_csv(std::string_view text, const std::filesystem::pa
   // Column index -> time, channel (with its unit's conversion), the split column, or ignored.
   std::vector<Slot> slots;
   std::vector<std::string_view> names;
-  std::deque<std::string> owned_names;  // as UTF-8 (utf8_name); a deque keeps the views valid
+  // As UTF-8 (Windows-1252 headers read as Latin-1: a map, TOML, spells their "°C" in UTF-8); a
+  // deque keeps the views valid.
+  std::deque<std::string> owned_names;
   std::vector<std::string> unknown, unknown_hint;  // named in one finding; "did you mean" for each
   {
     CellSplitter cells(line, sep);
     std::string_view cell;
     while (cells.next(cell)) {
-      const std::string_view name = owned_names.emplace_back(utf8_name(header_name(cell)));
+      const std::string_view name = owned_names.emplace_back(as_utf8(unquoted(cell)));
       const std::size_t column = names.size() + 1;
       if (!name.empty() && std::find(names.begin(), names.end(), name) != names.end()) {
         fail(file, header_line, name, strf("duplicate column name (column %zu)", column));

@@ -12,6 +12,7 @@
 #include <optional>
 #include <sstream>
 
+#include "hostio/utf8.hpp"
 #include "trainer/data/dataset.hpp"
 #include "trainer/data/internal/csv.hpp"
 #include "trainer/data/internal/text.hpp"
@@ -23,7 +24,9 @@ using internal::CellSplitter;
 using internal::LineSplitter;
 using internal::NumberStatus;
 using internal::strf;
+using internal::is_comment;
 using internal::trim;
+using internal::unquoted;
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr std::size_t kSampleRows = 100'000;  // rows whose values are looked at (times: every row)
@@ -32,12 +35,6 @@ std::string lower(std::string_view s) {
   std::string out(s);
   std::transform(out.begin(), out.end(), out.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   return out;
-}
-
-std::string_view unquote(std::string_view cell) {
-  cell = trim(cell);
-  if (cell.size() >= 2 && cell.front() == '"' && cell.back() == '"') cell = trim(cell.substr(1, cell.size() - 2));
-  return cell;
 }
 
 bool contains_any(const std::string& name, std::initializer_list<std::string_view> words) {
@@ -123,7 +120,7 @@ char detect_decimal(const std::vector<std::string_view>& rows, char sep) {
     CellSplitter cells(row, sep);
     std::string_view cell;
     while (cells.next(cell)) {
-      cell = unquote(cell);
+      cell = unquoted(cell);
       const std::size_t c = cell.find(','), p = cell.find('.');
       if (c != std::string_view::npos && c > 0 && c + 1 < cell.size() && digit(cell[c - 1]) && digit(cell[c + 1])) ++comma;
       if (p != std::string_view::npos && p > 0 && p + 1 < cell.size() && digit(cell[p - 1]) && digit(cell[p + 1])) ++point;
@@ -235,7 +232,7 @@ MapSuggestion suggest_data_map_text(std::string_view text, const std::filesystem
         }
       }
       if (comment) continue;
-    } else if (!m.comment.empty() && t.substr(0, m.comment.size()) == m.comment) {
+    } else if (is_comment(line, m.comment)) {
       continue;
     }
     head.push_back(line);
@@ -251,7 +248,7 @@ MapSuggestion suggest_data_map_text(std::string_view text, const std::filesystem
     std::string_view cell;
     while (cells.next(cell)) {
       Column c;
-      c.name = internal::utf8_name(unquote(cell));
+      c.name = as_utf8(unquoted(cell));
       c.key = lower(c.name);
       cols.push_back(std::move(c));
     }
@@ -259,13 +256,12 @@ MapSuggestion suggest_data_map_text(std::string_view text, const std::filesystem
 
   // Every row of the first file: the values of the first kSampleRows, each row's cells as text for
   // the time column and a split column.
-  std::vector<std::vector<std::string_view>> raw_cells;  // per sampled row
   LineSplitter rows(text);
   bool header_seen = false;
   std::vector<std::string_view> all_rows;
   while (rows.next(line)) {
     const std::string_view t = trim(line);
-    if (t.empty() || (!m.comment.empty() && t.substr(0, m.comment.size()) == m.comment)) continue;
+    if (t.empty() || is_comment(line, m.comment)) continue;
     if (!header_seen) {
       header_seen = true;
       continue;
@@ -281,7 +277,7 @@ MapSuggestion suggest_data_map_text(std::string_view text, const std::filesystem
     std::string_view cell;
     for (std::size_t j = 0; cells.next(cell) && j < cols.size(); ++j) {
       Column& c = cols[j];
-      cell = unquote(cell);
+      cell = unquoted(cell);
       if (r > 0 && cell != previous[j]) ++c.changes;
       previous[j] = cell;
       if (cell.empty()) continue;
@@ -457,19 +453,21 @@ MapSuggestion suggest_data_map_text(std::string_view text, const std::filesystem
   // The rest by their values, each only where one column alone fits: a guess between two columns
   // is left to the user, named. Slowness: the 90th percentile of a column's change over 60 s
   // against its spread (temperatures and a blower's airflow well below 0.7, currents near 1).
-  std::vector<double> row_t(sampled, kNaN);
+  // Every row's time in seconds (NaN where none): the sampled rows' for slowness, all for pauses.
+  std::vector<double> row_t(all_rows.size(), kNaN);
   if (time) {
-    const Column& tc = cols[*time];
-    for (std::size_t r = 0; r < sampled; ++r) {
-      if (m.time_format == TimeFormat::iso8601) {
-        CellSplitter cells(all_rows[r], m.separator);
-        std::string_view cell;
-        for (std::size_t j = 0; cells.next(cell); ++j) {
-          double t = 0;
-          if (j == *time && parse_iso8601(unquote(cell), t)) row_t[r] = t;
+    for (std::size_t r = 0; r < all_rows.size(); ++r) {
+      CellSplitter cells(all_rows[r], m.separator);
+      std::string_view cell;
+      for (std::size_t j = 0; cells.next(cell) && j <= *time; ++j) {
+        if (j != *time) continue;
+        cell = unquoted(cell);
+        double t = 0;
+        if (m.time_format == TimeFormat::iso8601) {
+          if (parse_iso8601(cell, t)) row_t[r] = t;
+        } else if (internal::parse_number(cell, m.decimal, t) == NumberStatus::ok) {
+          row_t[r] = m.time_format == TimeFormat::milliseconds ? t / 1000.0 : t;
         }
-      } else {
-        row_t[r] = tc.values[r] / (m.time_format == TimeFormat::milliseconds ? 1000.0 : 1.0);
       }
     }
   }
@@ -653,21 +651,6 @@ MapSuggestion suggest_data_map_text(std::string_view text, const std::filesystem
     }
   }
   if (time && m.split_column.empty()) {
-    // Every row's time, for pauses: the whole file, not only the rows whose values were read.
-    const std::size_t tj = *time;
-    const auto time_of = [&](std::string_view row, double& t) {
-      CellSplitter cells(row, m.separator);
-      std::string_view cell;
-      for (std::size_t j = 0; cells.next(cell); ++j) {
-        if (j != tj) continue;
-        cell = unquote(cell);
-        if (m.time_format == TimeFormat::iso8601) return parse_iso8601(cell, t);
-        if (internal::parse_number(cell, m.decimal, t) != NumberStatus::ok) return false;
-        if (m.time_format == TimeFormat::milliseconds) t /= 1000.0;
-        return true;
-      }
-      return false;
-    };
     const auto& sp = chosen[index_of(Channel::speed_rpm)];
     const double still = sp ? 0.05 * std::max(std::fabs(cols[sp->column].max), std::fabs(cols[sp->column].min)) : 0.0;
     const auto standing = [&](std::size_t r) {
@@ -681,8 +664,8 @@ MapSuggestion suggest_data_map_text(std::string_view text, const std::filesystem
     std::size_t standstill_pauses = 0, long_pauses = 0;
     double prev = kNaN;
     for (std::size_t r = 0; r < all_rows.size(); ++r) {
-      double t = 0;
-      if (!time_of(all_rows[r], t)) continue;
+      const double t = row_t[r];  // the whole file's rows, not only those whose values were read
+      if (std::isnan(t)) continue;
       if (!std::isnan(prev)) {
         const double gap = t - prev;
         if (gap > kPauseS) {
@@ -732,7 +715,7 @@ MapSuggestion suggest_data_map(const std::vector<std::filesystem::path>& paths, 
     while (std::getline(in, l)) {
       if (!l.empty() && l.back() == '\r') l.pop_back();
       if (l.substr(0, 3) == "\xEF\xBB\xBF") l.erase(0, 3);
-      if (trim(l).empty() || (!comment.empty() && trim(l).substr(0, comment.size()) == comment)) continue;
+      if (trim(l).empty() || is_comment(l, comment)) continue;
       return l;
     }
     return std::string();

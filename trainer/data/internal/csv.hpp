@@ -20,6 +20,19 @@ inline std::string_view trim(std::string_view s) {
   return s.substr(b, e - b);
 }
 
+// A cell without blanks and the double quotes some exports put around every cell (a header name
+// always, a data cell where a data map reads the file).
+inline std::string_view unquoted(std::string_view cell) {
+  cell = trim(cell);
+  if (cell.size() >= 2 && cell.front() == '"' && cell.back() == '"') cell = trim(cell.substr(1, cell.size() - 2));
+  return cell;
+}
+
+// A line a data map's [csv] comment prefix marks as a comment (none when the prefix is empty).
+inline bool is_comment(std::string_view line, std::string_view prefix) {
+  return !prefix.empty() && trim(line).substr(0, prefix.size()) == prefix;
+}
+
 // Walks a buffer line by line; accepts LF and CRLF (one trailing '\r' is dropped).
 class LineSplitter {
  public:
