@@ -627,3 +627,24 @@ TEST(DataMapFile, APandasExportWithItsIndexColumnIsReadWithoutAWarning) {
 
 }  // namespace
 }  // namespace lptn
+
+namespace lptn {
+namespace {
+
+// The index pandas writes (0, 1, 2...) increases as a time column does: with no column named like a
+// time, the time is still the column that is one, never the unnamed index (fuzz_data_map found it).
+TEST(SuggestMap, APandasIndexIsNeverTakenForTheTime) {
+  testing::TempDir dir;
+  std::vector<std::string> lines{",elapsed,speed_rpm,current_a,frequency_hz,airflow_m3s,ambient_c,stator_winding_c"};
+  for (int k = 0; k < 900; ++k)
+    lines.push_back(std::to_string(k) + "," + std::to_string(k / 10) + "." + std::to_string(k % 10) +
+                    ",1500.0,80.0,50.5,0.7,15.0," + std::to_string(40 + k / 100) + ".5");
+  write_lines(dir.path() / "export.csv", lines);
+  const data::MapSuggestion s = data::suggest_data_map({dir.path()});
+  EXPECT_EQ(s.map.time_column, "elapsed") << s.text();
+  EXPECT_EQ(s.map.ignore, std::vector<std::string>{""});
+  EXPECT_NO_THROW(data::parse_data_map(s.text(), "proposed.toml"));
+}
+
+}  // namespace
+}  // namespace lptn

@@ -317,8 +317,9 @@ MapSuggestion suggest_data_map_text(std::string_view text, const std::filesystem
 
   // Time: a date-time column, else a named or strictly increasing numeric one.
   std::optional<std::size_t> time;
+  // Not a column left out above (no name, a repeated name): a pandas index 0, 1, 2... increases too.
   for (std::size_t j = 0; j < cols.size() && !time; ++j) {
-    if (cols[j].iso > 0 && cols[j].iso * 10 >= (cols[j].iso + cols[j].numbers) * 9) {
+    if (!cols[j].taken && cols[j].iso > 0 && cols[j].iso * 10 >= (cols[j].iso + cols[j].numbers) * 9) {
       time = j;
       m.time_format = TimeFormat::iso8601;
     }
@@ -339,7 +340,7 @@ MapSuggestion suggest_data_map_text(std::string_view text, const std::filesystem
   };
   for (std::size_t pass = 0; pass < 2 && !time; ++pass) {
     for (std::size_t j = 0; j < cols.size() && !time; ++j) {
-      if ((pass == 1 || time_name(cols[j].key)) && increasing(cols[j])) time = j;
+      if (!cols[j].taken && (pass == 1 || time_name(cols[j].key)) && increasing(cols[j])) time = j;
     }
   }
   if (time) {
