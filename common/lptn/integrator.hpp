@@ -46,6 +46,13 @@ struct Sdirk2 {
   template <class R>
   static bool transition(const HeatBalance<T>& sys, const R& h, T (&phi)[kMaxStates][kMaxStates]) {
     internal::SmallLu<T> lu;
+    return transition(sys, h, phi, lu);
+  }
+  // The same, leaving the stage matrix's factorisation in lu for step_factored(): a filter that
+  // moves its state and its covariance through one step factors it once.
+  template <class R>
+  static bool transition(const HeatBalance<T>& sys, const R& h, T (&phi)[kMaxStates][kMaxStates],
+                         internal::SmallLu<T>& lu) {
     if (!factor_stage_matrix(sys, h, lu)) return false;
     const int n = sys.n;
     for (int j = 0; j < n; ++j) {
@@ -55,6 +62,11 @@ struct Sdirk2 {
       for (int i = 0; i < n; ++i) phi[i][j] = column[i];
     }
     return true;
+  }
+  // step() with the factorisation transition() left for the same sys and h.
+  template <class R>
+  static void step_factored(const HeatBalance<T>& sys, const internal::SmallLu<T>& lu, T* x, const R& h) {
+    advance(sys, lu, x, h, true);
   }
 
  private:

@@ -76,16 +76,37 @@ class Model {
   const StateLayout& layout() const { return layout_; }
   int num_states() const { return layout_.n; }
 
+  // What one step's inputs give before any parameter enters: the losses (eq. 7-13) and eq. 14's
+  // airflow factor, three to four pow() calls. A caller that assembles one step with several
+  // parameter sets (the observer's sensitivity columns) prepares it once; assemble() from it gives
+  // the bits assemble() from the inputs gives.
+  struct PreparedInputs {
+    Inputs<R> in;
+    OperatingLosses<R> losses;
+    R speed_ratio;
+    R effective_airflow_m3s;
+    R airflow_factor;
+  };
+  PreparedInputs prepare(const Inputs<R>& in) const {
+    using std::abs;
+    return {in, operating_losses(motor_, in), abs(in.speed_rpm) / motor_.base_speed_rpm(),
+            effective_airflow(motor_, in.airflow_m3s), lptn::airflow_factor(motor_, in.airflow_m3s)};
+  }
+
   // The step's linear system dx/dt = A x + c (rate form, ready for the integrator). Returns the
   // step's losses so that callers can report them (and which rotor-loss route was taken).
   template <class T>
   OperatingLosses<R> assemble(const Inputs<R>& in, const T* p, HeatBalance<T>& sys) const {
-    using std::abs;
-    const OperatingLosses<R> losses = operating_losses(motor_, in);
-    const EffectInputs<R> e{motor_, in, losses, abs(in.speed_rpm) / motor_.base_speed_rpm(),
-                            effective_airflow(motor_, in.airflow_m3s)};
+    const PreparedInputs prepared = prepare(in);
+    assemble(prepared, p, sys);
+    return prepared.losses;
+  }
+  template <class T>
+  void assemble(const PreparedInputs& step, const T* p, HeatBalance<T>& sys) const {
+    const Inputs<R>& in = step.in;
+    const EffectInputs<R> e{motor_, in, step.losses, step.speed_ratio, step.effective_airflow_m3s, step.airflow_factor};
 
-    StepConductances<T> g = paper_conductances(motor_, in, p);
+    StepConductances<T> g = paper_conductances(step.airflow_factor, p);
     EffectLibrary::for_each_enabled(effects_, [&](auto index, auto* tag) {
       using E = std::remove_pointer_t<decltype(tag)>;
       const T* ep = p + kNumPaperParams + EffectLibrary::kParamOffsets[index];
@@ -93,14 +114,13 @@ class Model {
     });
 
     sys.reset(layout_.n);
-    assemble_paper_network(motor_, in, losses, g, p, sys);
+    assemble_paper_network(motor_, in, step.losses, g, p, sys);
     EffectLibrary::for_each_enabled(effects_, [&](auto index, auto* tag) {
       using E = std::remove_pointer_t<decltype(tag)>;
       const T* ep = p + kNumPaperParams + EffectLibrary::kParamOffsets[index];
       if constexpr (requires { E::apply(e, ep, g, sys, 0); }) E::apply(e, ep, g, sys, first_state_[index]);
     });
     sys.finish();
-    return losses;
   }
 
   // One fixed step of dt seconds with the inputs held over it. Returns false only if the step's
@@ -119,6 +139,10 @@ class Model {
   };
   template <class T>
   bool step(T* x, const Inputs<R>& in, const T* p, R dt, StepWorkspace<T>& work) const {
+    return step(x, prepare(in), p, dt, work);
+  }
+  template <class T>
+  bool step(T* x, const PreparedInputs& in, const T* p, R dt, StepWorkspace<T>& work) const {
     assemble(in, p, work.sys);
     return Sdirk2<T>::step(work.sys, x, dt, work.lu);
   }

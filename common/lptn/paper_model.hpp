@@ -176,9 +176,9 @@ struct StepConductances {
   T rotor_internal{};     // l12r
 };
 
+// k: airflow_factor() at the step's airflow.
 template <class T, class R>
-StepConductances<T> paper_conductances(const MotorConstants<R>& m, const Inputs<R>& in, const T* p) {
-  const R k = airflow_factor(m, in.airflow_m3s);
+StepConductances<T> paper_conductances(const R& k, const T* p) {
   StepConductances<T> g;
   g.to_air[kStatorWinding] = p[kLambda1s] * k;
   g.to_air[kStatorCore] = p[kLambda2s] * k;
@@ -187,6 +187,10 @@ StepConductances<T> paper_conductances(const MotorConstants<R>& m, const Inputs<
   g.stator_internal = p[kLambda12s];
   g.rotor_internal = p[kLambda12r];
   return g;
+}
+template <class T, class R>
+StepConductances<T> paper_conductances(const MotorConstants<R>& m, const Inputs<R>& in, const T* p) {
+  return paper_conductances(airflow_factor(m, in.airflow_m3s), p);
 }
 
 // Equations 1-6 into the step's linear system.

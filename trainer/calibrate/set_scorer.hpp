@@ -13,6 +13,7 @@
 #include "lptn/model.hpp"
 #include "trainer/calibrate/problem.hpp"
 #include "trainer/data/dataset.hpp"
+#include "trainer/model/simulate.hpp"
 
 namespace lptn {
 
@@ -61,6 +62,7 @@ class SetScorer {
   FreeParameters free_;
   ParamVector<double> fixed_;
   std::vector<data::Cycle> cycles_;
+  std::vector<PreparedCycle> prepared_;  // each cycle's inputs, prepared once for every set scored
   std::vector<std::vector<std::uint8_t>> split_bits_;  // per cycle and sample: bit s set where split s holds
 };
 

@@ -11,7 +11,7 @@ namespace {
 
 // Model minus measurement at every measured grid point of the window, in a fixed order.
 std::vector<double> residuals(const Model<double>& model, const ParamVector<double>& params, const data::Cycle& cycle,
-                              const InitialOffsets<double>& offsets, std::size_t steps) {
+                              const InitialOffsets<double>& offsets, std::size_t steps, const PreparedCycle* prepared) {
   std::vector<double> r;
   run_cycle(model, params.data(), cycle, [&](std::ptrdiff_t k, const double* x) {
     if (k < 0) return;  // grid step 0 starts at the measurement by construction
@@ -20,7 +20,7 @@ std::vector<double> residuals(const Model<double>& model, const ParamVector<doub
     const float yr = cycle.at(data::Channel::rotor_c, grid);
     if (!std::isnan(ys)) r.push_back(model.stator_sensor(x) - ys);
     if (!std::isnan(yr)) r.push_back(model.rotor_sensor(x) - yr);
-  }, offsets, steps);
+  }, offsets, steps, prepared);
   return r;
 }
 
@@ -42,12 +42,13 @@ double along(double self_self, double self_other, double self_r, double other) {
 }  // namespace
 
 InitialOffsets<double> estimate_initial_offsets(const Model<double>& model, const ParamVector<double>& params,
-                                               const data::Cycle& cycle, double window_s) {
+                                               const data::Cycle& cycle, double window_s,
+                                               const PreparedCycle* prepared) {
   const auto steps = static_cast<std::size_t>(std::max(2.0, window_s / cycle.dt_s));
-  const std::vector<double> r0 = residuals(model, params, cycle, {}, steps);
+  const std::vector<double> r0 = residuals(model, params, cycle, {}, steps, prepared);
   if (r0.empty()) return {};
-  const std::vector<double> rs = residuals(model, params, cycle, {1.0, 0.0}, steps);
-  const std::vector<double> rt = residuals(model, params, cycle, {0.0, 1.0}, steps);
+  const std::vector<double> rs = residuals(model, params, cycle, {1.0, 0.0}, steps, prepared);
+  const std::vector<double> rt = residuals(model, params, cycle, {0.0, 1.0}, steps, prepared);
   Quadratic q;
   for (std::size_t i = 0; i < r0.size(); ++i) {
     const double a = rs[i] - r0[i], b = rt[i] - r0[i];

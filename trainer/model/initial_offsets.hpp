@@ -24,7 +24,9 @@ inline constexpr double kInitialOffsetWindowS = 600.0;
 // offsets s and r: three simulations give y0, a and b exactly, and the bounded two-parameter
 // least-squares problem is solved in closed form. A cycle with no measurement in the window, or
 // an offset the window's outputs do not depend on, gets 0.
+// `prepared`, where given, is prepare_cycle()'s for this model and cycle (run_cycle).
 InitialOffsets<double> estimate_initial_offsets(const Model<double>& model, const ParamVector<double>& params,
-                                               const data::Cycle& cycle, double window_s = kInitialOffsetWindowS);
+                                               const data::Cycle& cycle, double window_s = kInitialOffsetWindowS,
+                                               const PreparedCycle* prepared = nullptr);
 
 }  // namespace lptn

@@ -382,7 +382,7 @@ struct Mass {
                     int first_state) {
     sys.capacitance[first_state] = p[1] * T(1000);
     sys.path(Node, first_state, p[0]);
-    sys.to_fixed(first_state, p[2] * airflow_factor(e.motor, e.in.airflow_m3s), e.in.ambient_c);
+    sys.to_fixed(first_state, p[2] * e.airflow_factor, e.in.ambient_c);
   }
 
   template <class T>

@@ -69,6 +69,7 @@ struct EffectInputs {
   const OperatingLosses<R>& losses;
   R speed_ratio;          // |n| / base speed
   R effective_airflow_m3s;  // the airflow with the natural-convection floor of eq. 14 applied
+  R airflow_factor;       // eq. 14's factor on the conductances to the air at this airflow
 };
 
 // The sides of the network an effect's heat flows through (bits): the paper leaves stator and

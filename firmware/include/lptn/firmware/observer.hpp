@@ -134,22 +134,29 @@ class Observer {
     for (int i = 0; i < kNumParams; ++i) p[i] = params[i];
     const T factor = exp(x_[n]);
     for (int i : kConductancesToAir) p[i] = params[i] * factor;
+    // The inputs' share of the step (losses, airflow), once for the step and its sensitivities.
+    const typename Model<T>::PreparedInputs step = model_.prepare(in);
     HeatBalance<T> sys;
-    losses_ = model_.assemble(in, p.data(), sys);
+    model_.assemble(step, p.data(), sys);
+    losses_ = step.losses;
     T phi[kMaxFilterStates][kMaxFilterStates]{};
     T model_phi[kMaxStates][kMaxStates];
-    if (!Sdirk2<T>::transition(sys, settings_.dt_s, model_phi)) return false;
+    internal::SmallLu<T> lu;
+    if (!Sdirk2<T>::transition(sys, settings_.dt_s, model_phi, lu)) return false;
     for (int i = 0; i < n; ++i)
       for (int j = 0; j < n; ++j) phi[i][j] = model_phi[i][j];
+    // The rates at x_, and one network for every stepped set below (assemble() sets all it reads).
+    T rate[kMaxStates];
+    for (int i = 0; i < n; ++i) rate[i] = sys.derivative(i, x_);
+    HeatBalance<T> stepped;
     if (settings_.estimate_cooling) {
       // The rates are linear in the factor, so a step of 10 % gives d rate / d theta exactly,
       // up to rounding, at magnitudes a float resolves.
       constexpr double kStep = 1.1;
       for (int i : kConductancesToAir) p[i] = params[i] * factor * T(kStep);
-      HeatBalance<T> stepped;
-      model_.assemble(in, p.data(), stepped);
+      model_.assemble(step, p.data(), stepped);
       const T scale = settings_.dt_s / T(log(kStep));
-      for (int i = 0; i < n; ++i) phi[i][n] = (stepped.derivative(i, x_) - sys.derivative(i, x_)) * scale;
+      for (int i = 0; i < n; ++i) phi[i][n] = (stepped.derivative(i, x_) - rate[i]) * scale;
       phi[n][n] = T(1);
       for (int i : kConductancesToAir) p[i] = params[i] * factor;
     }
@@ -161,13 +168,12 @@ class Observer {
       const int j = consider_[c];
       const T base = p[j];
       p[j] = base * T(kParamStep);
-      HeatBalance<T> stepped;
-      model_.assemble(in, p.data(), stepped);
+      model_.assemble(step, p.data(), stepped);
       p[j] = base;
       const T scale = settings_.dt_s / T(kParamStep - 1.0);
-      for (int i = 0; i < n; ++i) psi[i][c] = (stepped.derivative(i, x_) - sys.derivative(i, x_)) * scale;
+      for (int i = 0; i < n; ++i) psi[i][c] = (stepped.derivative(i, x_) - rate[i]) * scale;
     }
-    Sdirk2<T>::step(sys, x_, settings_.dt_s);
+    Sdirk2<T>::step_factored(sys, lu, x_, settings_.dt_s);
     propagate_covariance(phi, psi, freeze_cooling);
     return true;
   }
