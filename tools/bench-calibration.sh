@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The calibration benchmark (README "Calibration"): Levenberg-Marquardt and the TD3 formulations on
+# The calibration benchmark (docs/benchmarks.md): Levenberg-Marquardt and the TD3 formulations on
 # the same nine generated cycles, six train and three test, every TD3 formulation over seeds.
 # Each run's calibration.json stays in OUT_DIR and a run whose output exists is not repeated, so
 # the benchmark resumes where it stopped; tools/bench-calibration-summary.py prints the table.

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The on-board figures for README.md, in one run on this machine:
+# The on-board figures for docs/benchmarks.md, in one run on this machine:
 #  1. the estimator's step time and allocations per step (Google Benchmark: constant parameters
 #     and actor-scheduled, double and float), build/host/firmware/bench/lptn_estimator_benchmark;
 #  2. replay and convert throughput in frames/s per log format (candump, Vector ASC, Vector BLF)

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # check-m7-image.sh ELF — prints the Cortex-M7 image's .text/.data/.bss and fails if it contains a
 # heap (malloc and friends, operator new/delete, _sbrk) or C++ exception machinery: the firmware
-# core must never allocate after start-up and never throw (README.md, "No heap after start-up"), and on the MCU the linker
+# core must never allocate after start-up and never throw (docs/onboard.md, "No heap after start-up"), and on the MCU the linker
 # only pulls these in if something calls them.
 set -euo pipefail
 elf=${1:?usage: check-m7-image.sh ELF}

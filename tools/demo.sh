@@ -46,7 +46,7 @@ step "3. simulate and compare: the paper's model with the motor file's initial g
 step "4. calibrate with Levenberg-Marquardt (Ceres): 6 cycles train, 3 test"
 calibrate --data "$out/fleet" --motor "$out/fleet/motor.toml" --method lm --seed 1 --out "$out/calibration-lm.json" --force
 step "5. calibrate with TD3 (libtorch), an agent stepping through parameter sets, demo budget of ${TD3_ROUNDS:=400} rounds"
-echo "      (its default, 1200 rounds, reaches LM within 1.1x in about 4 minutes on 2 cores: see README.md, Benchmark)"
+echo "      (its default, 1200 rounds, reaches LM within 1.1x in about 4 minutes on 2 cores: see docs/benchmarks.md)"
 calibrate --data "$out/fleet" --motor "$out/fleet/motor.toml" --method td3 --seed 1 --episodes "$TD3_ROUNDS" \
   --out "$out/calibration-td3.json" --checkpoint-dir "$out/td3-checkpoints" --force
 step "6. export: the LM and the TD3 calibrations as the firmware's headers"

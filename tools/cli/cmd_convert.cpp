@@ -83,10 +83,10 @@ std::string footer() {
          "frames are skipped and counted. Columns whose message never appears are left out; the ones the\n"
          "contract requires must appear.\n"
          "\n"
-         "--bus bus.toml: the converter's own frames instead of ours, as its map names them (README.md,\n"
-         "\"Your converter's bus\"): each mapped message every cycle time, 1 ms apart within a grid step, a\n"
-         "multiplexed one as a frame per multiplexor value, each with its alive counter; signals the map\n"
-         "does not name are sent as 0.\n";
+         "--bus bus.toml: the converter's own frames instead of ours, as its map names them\n"
+         "(docs/onboard.md, \"Your converter's bus\"): each mapped message every cycle time, 1 ms apart\n"
+         "within a grid step, a multiplexed one as a frame per multiplexor value, each with its alive\n"
+         "counter; signals the map does not name are sent as 0.\n";
 }
 
 std::string lower_extension(const fs::path& p) {

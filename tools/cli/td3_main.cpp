@@ -141,8 +141,8 @@ void run_td3(const CalibrateArgs& a, const MotorFile& motor, const data::Dataset
   // there is no actor to flash.
   r.has_actor = !sequential;
   if (!r.has_actor) return;
-  // Does scheduling with the operating point pay on data the training never saw? (README: where
-  // the actor wins.)
+  // Does scheduling with the operating point pay on data the training never saw? (docs/benchmarks.md:
+  // where the actor wins.)
   if (!split.test.empty()) {
     const SplitMetrics scheduled = td3::evaluate_scheduled_actor(o, motor, dataset, split.test);
     const SplitMetrics constant = evaluate_split(motor.model(), o.values, dataset, split.test);

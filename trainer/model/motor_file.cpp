@@ -526,7 +526,7 @@ void write_constants(std::ostream& o, std::string_view section, const MotorConst
 
 std::string format_motor_file(const MotorFile& motor) {
   std::ostringstream o;
-  o << "# Motor description for lptn (see README.md, 'The motor file'). Keys carry their units.\n";
+  o << "# Motor description for lptn (see docs/model.md, 'The motor file'). Keys carry their units.\n";
   o << "name = " << toml_string(motor.name) << "\n";
   for (const std::string_view section : constant_sections()) {
     o << "\n[" << section << "]\n";

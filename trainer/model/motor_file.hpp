@@ -1,4 +1,4 @@
-// The motor file: what the user knows of the motor (TOML, see README.md "The motor file" and
+// The motor file: what the user knows of the motor (TOML, see docs/model.md "The motor file" and
 // ../shared/contracts/motor.example.toml) and which parameters calibration may move.
 #pragma once
 

@@ -63,7 +63,7 @@ struct InitialOffsets {
   T rotor_core = T(0);
 };
 
-// Initial temperatures (README.md "The model"): each measured node starts at its sensor's first
+// Initial temperatures (docs/model.md "The model"): each measured node starts at its sensor's first
 // reading. The nodes no sensor sees start where a motor that has stood would be, soaked through:
 // the stator core at the stator winding's reading, the rotor core at the rotor reading (where the
 // rotor is not measured, both rotor nodes at the stator's), plus the cycle's offsets.

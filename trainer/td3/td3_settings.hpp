@@ -56,7 +56,7 @@ struct TrainingSettings {
   // Paper, table 2.
   int max_episodes = 1000;
   int averaging_window = 100;
-  double stop_average_reward = 2.0;  // per-step reward averaged over the window (see README)
+  double stop_average_reward = 2.0;  // per-step reward averaged over the window (docs/calibrate.md)
   int max_steps_per_episode = 9990;
   double agent_sample_time_s = 0.1;  // must equal the data's grid step
   // Exploration (TD3 authors): Gaussian noise on the deterministic action, std in action units,

@@ -41,7 +41,7 @@ std::optional<LmReport> coarse_stage(const MotorFile& with_effect, const ParamVe
 // The fit on `dataset` from where `on_coarse` ended (its parameters and the cycles' initial
 // offsets): the result is the fit on `dataset`, and its iterations are the polish's. Where the data
 // pin the effect the polish takes a few iterations to the same optimum; along a flat direction (an
-// absent effect) it ends elsewhere on it than a fit without the coarse stage would (README, "Scale:
+// absent effect) it ends elsewhere on it than a fit without the coarse stage would (docs/hardening.md, "Scale:
 // a fleet dump of 200 hours"). After a coarse fit that used up its iterations, at most
 // kCrawlPolishIterations.
 Refit polish(const MotorFile& with_effect, int effect, const LmReport& on_coarse, const data::Dataset& dataset,

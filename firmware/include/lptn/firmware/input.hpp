@@ -27,7 +27,7 @@ constexpr InputMask bit(Input i) { return static_cast<InputMask>(1u << index_of(
 inline constexpr const char* kInputNames[kNumInputs] = {"speed",  "current", "frequency",     "airflow",     "ambient",
                                                         "torque", "voltage", "stator_sensor", "rotor_sensor"};
 
-// What every converter sends (README.md, "Signal conditioning"): the model cannot run without these. Torque and voltage
+// What every converter sends (docs/onboard.md, "Signal conditioning"): the model cannot run without these. Torque and voltage
 // refine the loss model where the bus carries them; the temperature sensors correct and start it.
 inline constexpr InputMask kRequiredInputs =
     bit(Input::speed) | bit(Input::current) | bit(Input::frequency) | bit(Input::airflow) | bit(Input::ambient);
