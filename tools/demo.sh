@@ -21,11 +21,17 @@ step() {  # step "N. what": prints "== N. what" and starts timing it (the step b
   step_name=${1%%:*} step_started=$SECONDS
   [ "$1" = end ] || echo "== $1"
 }
-tools/setup.sh
-step "0. build: configure and build lptn and lptn-daemon (preset host)"
-cmake --preset host >/dev/null
-cmake --build --preset host -j"$(nproc)" --target lptn lptn-daemon
-lptn=build/host/tools/cli/lptn
+# LPTN=path/to/lptn runs an lptn already built (no set-up, no build), and TD3_ROUNDS=0 leaves TD3's
+# steps out: tests/readme runs the demo so, to hold README.md's quoted figures to what it prints.
+if [[ -n ${LPTN:-} ]]; then
+  lptn=$(realpath "$LPTN")
+else
+  tools/setup.sh
+  step "0. build: configure and build lptn and lptn-daemon (preset host)"
+  cmake --preset host >/dev/null
+  cmake --build --preset host -j"$(nproc)" --target lptn lptn-daemon
+  lptn=build/host/tools/cli/lptn
+fi
 out=${1:-demo-out}
 mkdir -p "$out"
 # lptn calibrate exits 3 when it wrote a calibration with warnings (printed above it): the demo shows
@@ -45,13 +51,17 @@ step "3. simulate and compare: the paper's model with the motor file's initial g
 "$lptn" simulate --data "$out/fleet" --motor "$out/fleet/motor.toml" --out "$out/simulation" --force
 step "4. calibrate with Levenberg-Marquardt (Ceres): 6 cycles train, 3 test"
 calibrate --data "$out/fleet" --motor "$out/fleet/motor.toml" --method lm --seed 1 --out "$out/calibration-lm.json" --force
-step "5. calibrate with TD3 (libtorch), an agent stepping through parameter sets, demo budget of ${TD3_ROUNDS:=400} rounds"
-echo "      (its default, 1200 rounds, reaches LM within 1.1x in about 4 minutes on 2 cores: see docs/benchmarks.md)"
-calibrate --data "$out/fleet" --motor "$out/fleet/motor.toml" --method td3 --seed 1 --episodes "$TD3_ROUNDS" \
-  --out "$out/calibration-td3.json" --checkpoint-dir "$out/td3-checkpoints" --force
+if ((${TD3_ROUNDS:=400} > 0)); then
+  step "5. calibrate with TD3 (libtorch), an agent stepping through parameter sets, demo budget of $TD3_ROUNDS rounds"
+  echo "      (its default, 1200 rounds, reaches LM within 1.1x in about 4 minutes on 2 cores: see docs/benchmarks.md)"
+  calibrate --data "$out/fleet" --motor "$out/fleet/motor.toml" --method td3 --seed 1 --episodes "$TD3_ROUNDS" \
+    --out "$out/calibration-td3.json" --checkpoint-dir "$out/td3-checkpoints" --force
+fi
 step "6. export: the LM and the TD3 calibrations as the firmware's headers"
 "$lptn" export --calibration "$out/calibration-lm.json" --out "$out/thermal_calibration.hpp" --force
-"$lptn" export --calibration "$out/calibration-td3.json" --out "$out/thermal_calibration_td3.hpp" --force
+if ((TD3_ROUNDS > 0)); then
+  "$lptn" export --calibration "$out/calibration-td3.json" --out "$out/thermal_calibration_td3.hpp" --force
+fi
 step "7. on board: a test cycle as the converter would send it on CAN (lptn convert through the DBC), replayed"
 echo "      through the firmware's estimator with the LM calibration (lptn replay, what the daemon runs)"
 mkdir -p "$out/onboard"
