@@ -234,25 +234,28 @@ class Observer {
         tmp[i][j] = acc;
       }
     T (&phi_c)[kMaxFilterStates][kNumParams] = phi_cross_;  // Phi C
-    T (&psi_s)[kMaxFilterStates][kNumParams] = psi_s_;       // Psi S
     for (int i = 0; i < n; ++i)
       for (int c = 0; c < m; ++c) {
         T acc = T(0);
         for (int k = 0; k < n; ++k) acc += phi[i][k] * cross_[k][c];
         phi_c[i][c] = acc;
-        const T s = settings_.param_ln_std[consider_[c]];
-        psi_s[i][c] = psi[i][c] * s * s;
       }
-    for (int i = 0; i < n; ++i)
+    // Row by row: P's row i needs row i of Psi S, and C's row i is no longer read once Phi C is made.
+    for (int i = 0; i < n; ++i) {
+      T psi_s[kNumParams];  // row i of Psi S (psi s s, in that order, as the sums always took it)
+      for (int c = 0; c < m; ++c) {
+        const T s = settings_.param_ln_std[consider_[c]];
+        psi_s[c] = psi[i][c] * s * s;
+      }
       for (int j = 0; j < n; ++j) {
         T acc = T(0);
         for (int k = 0; k < n; ++k) acc += tmp[i][k] * phi[j][k];
         // + Phi C Psi' + Psi C' Phi' + Psi S Psi'
-        for (int c = 0; c < m; ++c) acc += phi_c[i][c] * psi[j][c] + psi[i][c] * phi_c[j][c] + psi_s[i][c] * psi[j][c];
+        for (int c = 0; c < m; ++c) acc += phi_c[i][c] * psi[j][c] + psi[i][c] * phi_c[j][c] + psi_s[c] * psi[j][c];
         p_[i][j] = acc;
       }
-    for (int i = 0; i < n; ++i)
-      for (int c = 0; c < m; ++c) cross_[i][c] = phi_c[i][c] + psi_s[i][c];
+      for (int c = 0; c < m; ++c) cross_[i][c] = phi_c[i][c] + psi_s[c];
+    }
     for (int i = 0; i < num_states(); ++i) {
       const T q = i < kNumNodes ? settings_.process_noise_k_per_sqrt_s[i] : settings_.process_noise_extra_k_per_sqrt_s;
       p_[i][i] += q * q * settings_.dt_s;
@@ -305,7 +308,6 @@ class Observer {
   T cross_[kMaxFilterStates][kNumParams]{};
   T psi_[kMaxFilterStates][kNumParams]{};        // predict's scratch: the step's parameter sensitivities
   T phi_cross_[kMaxFilterStates][kNumParams]{};  // propagate's scratch: Phi C
-  T psi_s_[kMaxFilterStates][kNumParams]{};      // propagate's scratch: Psi S (psi s^2, as it was written inline)
   OperatingLosses<T> losses_{};
 };
 
