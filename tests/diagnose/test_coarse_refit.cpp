@@ -4,10 +4,13 @@
 // alone instead of failing.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "fixture.hpp"
 #include "trainer/diagnose/internal/refit.hpp"
+#include "trainer/model/simulate.hpp"
 
 namespace lptn::diagnose {
 namespace {
@@ -56,6 +59,42 @@ TEST(CoarseRefit, WithoutAReadingOnTheCoarseGridTheFineRefitRunsAlone) {
                                                 &coarse));
   EXPECT_EQ(staged.fit.values, fine.fit.values);
   EXPECT_EQ(staged.fit.iterations, fine.fit.iterations);
+}
+
+// correct_for_grid: at the baseline the corrected coarse grid's residuals are the data grid's at
+// the same instants, where the uncorrected grid's differ by the grid's own error (which a heat
+// term would absorb, and which grows with the data).
+TEST(CoarseRefit, TheCorrectedGridSeesTheDataGridsMisfitAtTheBaseline) {
+  const auto g = testing::generate({}, 3, 20, 25, 8);
+  const Model<double> model = g->motor.model();
+  const LmReport& at = g->calibrated;
+  ASSERT_EQ(at.offsets.size(), g->split.train.size());
+  const data::Dataset coarse = internal::coarse_dataset(g->dataset, kCoarse);
+  data::Dataset corrected = coarse;
+  internal::correct_for_grid(corrected, g->dataset, model, at.values, g->split.train, at.offsets, 2);
+  double worst_corrected = 0, sum_uncorrected = 0;
+  std::size_t readings = 0;
+  for (std::size_t i = 0; i < g->split.train.size(); ++i) {
+    const std::size_t c = g->split.train[i];
+    const CycleSimulation fine = simulate_cycle(model, at.values, g->dataset.cycles[c], at.offsets[i]);
+    const CycleSimulation on_coarse = simulate_cycle(model, at.values, coarse.cycles[c], at.offsets[i]);
+    for (std::size_t k = 0; k < coarse.cycles[c].steps; ++k) {
+      const float reading = coarse.cycles[c].at(data::Channel::stator_winding_c, k);
+      if (std::isnan(reading)) continue;
+      const double data_grid = double(fine.stator_sensor[k * kCoarse]) - g->dataset.cycles[c].at(data::Channel::stator_winding_c, k * kCoarse);
+      const double uncorrected = double(on_coarse.stator_sensor[k]) - reading;
+      const double with_correction = double(on_coarse.stator_sensor[k]) - corrected.cycles[c].at(data::Channel::stator_winding_c, k);
+      worst_corrected = std::max(worst_corrected, std::abs(with_correction - data_grid));
+      sum_uncorrected += (uncorrected - data_grid) * (uncorrected - data_grid);
+      ++readings;
+    }
+  }
+  ASSERT_GT(readings, 1000u);
+  const double grid_error = std::sqrt(sum_uncorrected / static_cast<double>(readings));
+  std::printf("the coarse grid's own error at the baseline: %.4f K RMS; after the correction at most %.2g K\n", grid_error,
+              worst_corrected);
+  EXPECT_GT(grid_error, 0.005) << "the grid has an error of its own to correct";
+  EXPECT_LT(worst_corrected, 1e-4) << "float rounding of the readings, no more";
 }
 
 }  // namespace

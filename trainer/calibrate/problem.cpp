@@ -108,9 +108,10 @@ void join_metrics(std::vector<CycleMetrics>& metrics, const data::Dataset& datas
 }  // namespace
 
 CycleEvaluation simulate_and_evaluate(const Model<double>& model, const ParamVector<double>& params,
-                                      const data::Cycle& cycle) {
+                                      const data::Cycle& cycle, const PreparedCycle* prepared) {
   CycleEvaluation e;
-  e.simulation = simulate_cycle(model, params, cycle, estimate_initial_offsets(model, params, cycle));
+  e.simulation = simulate_cycle(model, params, cycle,
+                                estimate_initial_offsets(model, params, cycle, kInitialOffsetWindowS, prepared), prepared);
   e.metrics.name = cycle.name;
   e.metrics.stator = compare(e.simulation.stator_sensor, cycle, data::Channel::stator_winding_c);
   e.metrics.rotor = compare(e.simulation.rotor_sensor, cycle, data::Channel::rotor_c);
@@ -122,8 +123,9 @@ std::size_t evaluation_steps(const data::Cycle& cycle) {
   return 3 * std::min(cycle.steps, window) + cycle.steps;
 }
 
-CycleMetrics evaluate_cycle(const Model<double>& model, const ParamVector<double>& params, const data::Cycle& cycle) {
-  return simulate_and_evaluate(model, params, cycle).metrics;
+CycleMetrics evaluate_cycle(const Model<double>& model, const ParamVector<double>& params, const data::Cycle& cycle,
+                            const PreparedCycle* prepared) {
+  return simulate_and_evaluate(model, params, cycle, prepared).metrics;
 }
 
 SplitMetrics evaluate_split(const Model<double>& model, const ParamVector<double>& params, const data::Dataset& dataset,

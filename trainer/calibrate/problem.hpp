@@ -51,13 +51,16 @@ struct CycleEvaluation {
   CycleSimulation simulation;
   CycleMetrics metrics;
 };
+// `prepared`, where given, is prepare_cycle()'s for this model and cycle: for a caller that
+// evaluates one cycle at many parameter sets (diagnose's drift factors).
 CycleEvaluation simulate_and_evaluate(const Model<double>& model, const ParamVector<double>& params,
-                                      const data::Cycle& cycle);
+                                      const data::Cycle& cycle, const PreparedCycle* prepared = nullptr);
 // The model steps simulate_and_evaluate takes on a cycle (the offsets' three short runs and the
 // cycle), for calibrators that report their simulation budget.
 std::size_t evaluation_steps(const data::Cycle& cycle);
 // The metrics alone.
-CycleMetrics evaluate_cycle(const Model<double>& model, const ParamVector<double>& params, const data::Cycle& cycle);
+CycleMetrics evaluate_cycle(const Model<double>& model, const ParamVector<double>& params, const data::Cycle& cycle,
+                            const PreparedCycle* prepared = nullptr);
 // Sets m.stator and m.rotor from m.cycles (the rotor over the cycles that measure it).
 void pool_cycles(SplitMetrics& m);
 // Every listed cycle and the pooled figures (cycles simulated in parallel on `threads`).

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <iterator>
 #include <limits>
 #include <thread>
 #include <utility>
@@ -57,6 +58,14 @@ std::vector<CycleFinding> examine_all(const Model<double>& model, const ParamVec
   return out;
 }
 
+// The cycles' metrics as evaluate_split pools them.
+SplitMetrics split_metrics(std::vector<CycleFinding>::const_iterator from, std::vector<CycleFinding>::const_iterator to) {
+  SplitMetrics m;
+  for (auto f = from; f != to; ++f) m.cycles.push_back(f->metrics);
+  pool_cycles(m);
+  return m;
+}
+
 const ErrorMetrics& metric(const CycleMetrics& m, int s) { return s == 0 ? m.stator : m.rotor; }
 
 }  // namespace
@@ -66,9 +75,14 @@ Adequacy assess_adequacy(const Model<double>& model, const ParamVector<double>& 
   std::vector<std::size_t> every = split.train;
   every.insert(every.end(), split.test.begin(), split.test.end());
   const internal::RegionEdges edges = internal::region_edges(dataset, every);
-  const std::vector<CycleFinding> train = examine_all(model, params, dataset, split.train, edges, threads);
-  const std::vector<CycleFinding> test = examine_all(model, params, dataset, split.test, edges, threads);
+  // Train and test in one loop over the cores (a few cycles keep both busy only together).
+  std::vector<CycleFinding> train = examine_all(model, params, dataset, every, edges, threads);
+  const std::vector<CycleFinding> test(std::make_move_iterator(train.begin() + static_cast<std::ptrdiff_t>(split.train.size())),
+                                       std::make_move_iterator(train.end()));
+  train.resize(split.train.size());
   Adequacy a;
+  a.train = split_metrics(train.begin(), train.end());
+  a.test = split_metrics(test.begin(), test.end());
   for (int s = 0; s < 2; ++s) {
     // The noise is the sensor's, not the split's: pooled over every cycle.
     NoiseSum noise;
@@ -98,7 +112,8 @@ Adequacy assess_adequacy(const Model<double>& model, const ParamVector<double>& 
     v.where = internal::where(where, edges);
     v.shape = internal::shape(where);
     std::vector<std::pair<double, std::string>> beyond;
-    for (const auto* side : {&train, &test})
+    const std::vector<CycleFinding>* sides[] = {&train, &test};
+    for (const std::vector<CycleFinding>* side : sides)
       for (const CycleFinding& f : *side)
         if (metric(f.metrics, s).samples && metric(f.metrics, s).rmse_k > bound)
           beyond.emplace_back(metric(f.metrics, s).rmse_k, f.metrics.name);

@@ -71,9 +71,12 @@ struct SensorAdequacy {
 struct Adequacy {
   bool adequate = true;  // every measured sensor is
   std::vector<SensorAdequacy> sensors;  // the measured ones
+  // The simulation's metrics, per cycle and pooled, as evaluate_split gives them (the diagnosis's
+  // "before" figures read them instead of simulating the cycles again).
+  SplitMetrics train, test;
 };
 
-// Simulates every cycle of the split at `params` (offsets as the metrics estimate them).
+// Simulates every cycle of the split at `params` once (offsets as the metrics estimate them).
 Adequacy assess_adequacy(const Model<double>& model, const ParamVector<double>& params, const data::Dataset& dataset,
                          const Split& split, int threads);
 

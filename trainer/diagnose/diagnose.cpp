@@ -49,22 +49,17 @@ LmProgress lm_progress(const Progress& progress, const std::string& stage) {
   };
 }
 
-double stator_rmse(const Model<double>& model, const ParamVector<double>& values, const data::Dataset& dataset,
-                   const std::vector<std::size_t>& cycles, int threads) {
-  if (cycles.empty()) return kNoTest;
-  return evaluate_split(model, values, dataset, cycles, threads).stator.rmse_k;
-}
+// The stator sensor's error over the cycles a split's metrics pooled: NaN without any.
+double stator_rmse(const SplitMetrics& m) { return m.cycles.empty() ? kNoTest : m.stator.rmse_k; }
 
-// The held-out cycles' errors from one simulation of each: the stator sensor's, and every measured
-// sensor's (the RMS of the stator's and the rotor's residuals, each sample once; the stator alone
-// would not see a recommendation that makes the rotor worse). NaN without test cycles.
+// The held-out cycles' errors: the stator sensor's, and every measured sensor's (the RMS of the
+// stator's and the rotor's residuals, each sample once; the stator alone would not see a
+// recommendation that makes the rotor worse). NaN without test cycles.
 struct HeldOut {
   double stator_k = kNoTest, combined_k = kNoTest;
 };
-HeldOut held_out(const Model<double>& model, const ParamVector<double>& values, const data::Dataset& dataset,
-                 const std::vector<std::size_t>& test, int threads) {
-  if (test.empty()) return {};
-  const SplitMetrics m = evaluate_split(model, values, dataset, test, threads);
+HeldOut held_out(const SplitMetrics& m) {
+  if (m.cycles.empty()) return {};
   const double ns = static_cast<double>(m.stator.samples), nr = static_cast<double>(m.rotor.samples);
   HeldOut h;
   h.stator_k = m.stator.rmse_k;
@@ -189,7 +184,10 @@ Candidate examine(const MotorFile& motor, const Scored& scored, const Diagnosis&
   c.needs = EffectLibrary::kNeeds[e];
   const internal::Score& score = scored.score;
   c.score = score.statistic;
-  c.predicted_rmse_k = std::sqrt(std::max(0.0, score.rss_k2 - score.reduction_k2) / static_cast<double>(score.residuals));
+  // The score test's footing may be the coarse grid's baseline: the fall it predicts as a share
+  // of that footing's error, applied to the baseline's error on the data's grid.
+  c.predicted_rmse_k = score.rss_k2 > 0 ? before.rmse_k * std::sqrt(std::max(0.0, score.rss_k2 - score.reduction_k2) / score.rss_k2)
+                                        : before.rmse_k;
 
   c.threshold = chi_square_quantile(1.0 - settings.level, c.df);
   if (!score.feasible) {
@@ -324,16 +322,16 @@ Candidate examine(const MotorFile& motor, const Scored& scored, const Diagnosis&
   if (fresh)
     baseline->second =
         internal::block_errors(motor.model(), before.baseline.values, dataset, split.train, block_steps, settings.threads);
-  const internal::BlockTest blocks = internal::block_test(
-      baseline->second, internal::block_errors(model, refit.fit.values, dataset, split.train, block_steps, settings.threads),
-      settings.block_level);
+  // The refit's one simulation of every cycle: its blocks, its training and held-out errors.
+  const internal::SplitRun run = internal::run_split(model, refit.fit.values, dataset, split, block_steps, settings.threads);
+  const internal::BlockTest blocks = internal::block_test(baseline->second, run.train_blocks, settings.block_level);
   c.blocks = blocks.blocks;
   c.block_gain = blocks.mean_gain;
   c.block_t = blocks.t;
   c.block_threshold = blocks.threshold;
   c.verdict = verdict(c, blocks.significant, refit, c.reason);
-  c.train_stator_rmse_k = stator_rmse(model, refit.fit.values, dataset, split.train, settings.threads);
-  const HeldOut after = held_out(model, refit.fit.values, dataset, split.test, settings.threads);
+  c.train_stator_rmse_k = stator_rmse(run.train);
+  const HeldOut after = held_out(run.test);
   c.test_stator_rmse_k = after.stator_k;
   c.test_rmse_k_after = after.combined_k;
   return c;
@@ -412,11 +410,12 @@ Diagnosis diagnose(const MotorFile& motor, const ParamVector<double>& calibrated
   d.rmse_k = d.baseline.rmse_k;
   d.effective_residuals = static_cast<double>(d.baseline.residuals) / d.baseline.correlation_time;
   const Model<double> model = motor.model();
-  d.train_stator_rmse_k = stator_rmse(model, d.baseline.values, dataset, split.train, settings.threads);
-  const HeldOut before = held_out(model, d.baseline.values, dataset, split.test, settings.threads);
+  // One simulation of every cycle at the baseline: the adequacy and the "before" figures.
+  d.adequacy = assess_adequacy(model, d.baseline.values, dataset, split, settings.threads);
+  d.train_stator_rmse_k = stator_rmse(d.adequacy.train);
+  const HeldOut before = held_out(d.adequacy.test);
   d.test_stator_rmse_k = before.stator_k;
   d.test_rmse_k = before.combined_k;
-  d.adequacy = assess_adequacy(model, d.baseline.values, dataset, split, settings.threads);
   if (progress) progress("drift between cycles");
   d.drift = find_drift(model, d.baseline.values, dataset, settings.threads);
   if (progress) progress("sensor faults");
@@ -433,6 +432,8 @@ Diagnosis diagnose(const MotorFile& motor, const ParamVector<double>& calibrated
   BaselineBlocks baseline_blocks;
   // Each refit takes its steps on the 1 s grid and polishes on the data's (refit.hpp).
   CoarseGrid coarse{internal::coarse_dataset(dataset, kRefitCoarseFactor), std::nullopt};
+  internal::correct_for_grid(coarse.dataset, dataset, model, d.baseline.values, split.train, d.baseline.offsets,
+                             settings.threads);
   {
     LmSettings lm = refit_settings(settings);
     lm.start_offsets = d.baseline.offsets;
@@ -443,11 +444,30 @@ Diagnosis diagnose(const MotorFile& motor, const ParamVector<double>& calibrated
   std::vector<int> missing;
   for (int e = 0; e < kNumEffects; ++e)
     if (!(motor.effects & effect_bit(e))) missing.push_back(e);
-  const std::vector<internal::Score> scores = internal::score_tests(
-      motor, missing, d.baseline, dataset, split.train, settings.threads, [&](int e) {
-        if (progress)
-          progress(e < 0 ? std::string("score tests") : std::string(EffectLibrary::kNames[static_cast<std::size_t>(e)]) + ": score test");
-      });
+  // The score tests on the coarse grid, at the baseline refit there: a score asks which way the
+  // residuals point, a question of minutes that the 1 s grid answers at a tenth of the cost (the
+  // joint Jacobian of every term on the data's grid was half of a diagnosis). The refits start
+  // from their steps on that grid and are judged by their likelihood ratios, polished where that
+  // can matter. An effect scored off its neutral value (the sensor lag: its score is the limit's
+  // sensitivity, -dT1/dt, which 1 s averages blunt) is scored on the data's grid.
+  const auto on_data_grid = [&](int e) {
+    return !coarse.baseline || !std::isnan(EffectLibrary::kScoreAt[static_cast<std::size_t>(e)]);
+  };
+  std::vector<int> coarse_missing, fine_missing;
+  for (int e : missing) (on_data_grid(e) ? fine_missing : coarse_missing).push_back(e);
+  const auto scoring = [&](int e) {
+    if (progress)
+      progress(e < 0 ? std::string("score tests") : std::string(EffectLibrary::kNames[static_cast<std::size_t>(e)]) + ": score test");
+  };
+  const std::vector<internal::Score> fine_scores =
+      internal::score_tests(motor, fine_missing, d.baseline, dataset, split.train, settings.threads, scoring);
+  const std::vector<internal::Score> coarse_scores =
+      coarse_missing.empty() ? std::vector<internal::Score>{}
+                             : internal::score_tests(motor, coarse_missing, *coarse.baseline, coarse.dataset,
+                                                     split.train, settings.threads, scoring);
+  std::vector<internal::Score> scores;
+  for (std::size_t k = 0, f = 0, c = 0; k < missing.size(); ++k)
+    scores.push_back(on_data_grid(missing[k]) ? fine_scores[f++] : coarse_scores[c++]);
   for (std::size_t k = 0; k < missing.size(); ++k) {
     const Scored scored{missing[k], scores[k]};
     if (EffectLibrary::kKinds[static_cast<std::size_t>(scored.effect)] == EffectKind::library)

@@ -22,8 +22,9 @@ constexpr int kMaxEvaluations = 40;  // Brent's worst case on [-1, 1] to 1e-4 is
 // t statistics finite when cycles agree to the last digit.
 constexpr double kFactorResolution = 0.005;
 
-double squared_error(const Model<double>& model, const ParamVector<double>& p, const data::Cycle& cycle) {
-  const CycleMetrics m = evaluate_cycle(model, p, cycle);
+double squared_error(const Model<double>& model, const ParamVector<double>& p, const data::Cycle& cycle,
+                     const PreparedCycle& prepared) {
+  const CycleMetrics m = evaluate_cycle(model, p, cycle, &prepared);
   double sse = 0;
   for (const ErrorMetrics* e : {&m.stator, &m.rotor})
     if (e->samples) sse += e->rmse_k * e->rmse_k * static_cast<double>(e->samples);
@@ -35,7 +36,8 @@ double squared_error(const Model<double>& model, const ParamVector<double>& p, c
 // simulations where the golden section alone took 24, most of what the drift check costs).
 double best_factor(const Model<double>& model, const ParamVector<double>& p, DriftGroup g, const data::Cycle& cycle) {
   constexpr double kGolden = 0.3819660112501051;  // 2 - phi
-  auto f = [&](double y) { return squared_error(model, scaled_group(p, g, std::exp(y)), cycle); };
+  const PreparedCycle prepared = prepare_cycle(model, cycle);  // the losses once, not at every evaluation
+  auto f = [&](double y) { return squared_error(model, scaled_group(p, g, std::exp(y)), cycle, prepared); };
   double a = kMinLogFactor, b = kMaxLogFactor;
   double x = a + kGolden * (b - a), w = x, v = x;
   double fx = f(x), fw = fx, fv = fx;

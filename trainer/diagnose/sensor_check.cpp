@@ -26,8 +26,10 @@ struct Run {
   std::vector<unsigned char> sensor;  // 0 stator, 1 rotor
 };
 
+// `prepared`: prepare_cycle()'s for the cycle's inputs (a cycle with changed readings has its
+// cycle's inputs).
 Run run(const Model<double>& model, const ParamVector<double>& params, const data::Cycle& cycle,
-        const InitialOffsets<double>& offsets) {
+        const InitialOffsets<double>& offsets, const PreparedCycle& prepared) {
   Run out;
   run_cycle(model, params.data(), cycle, [&](std::ptrdiff_t k, const double* x) {
     if (k < 0) return;  // grid step 0 starts at the measurement by construction
@@ -40,7 +42,7 @@ Run run(const Model<double>& model, const ParamVector<double>& params, const dat
       out.model.push_back(static_cast<float>(m));
       out.sensor.push_back(static_cast<unsigned char>(s));
     }
-  }, offsets);
+  }, offsets, SIZE_MAX, &prepared);
   return out;
 }
 
@@ -73,7 +75,8 @@ data::Cycle changed_readings(const data::Cycle& cycle, data::Channel sensor, dou
 
 CycleFit fit_cycle(const Model<double>& model, const ParamVector<double>& params, const data::Cycle& cycle) {
   CycleFit f;
-  const Run base = run(model, params, cycle, {});
+  const PreparedCycle prepared = prepare_cycle(model, cycle);  // the losses once for its nine runs
+  const Run base = run(model, params, cycle, {}, prepared);
   const std::size_t m = base.r.size();
   if (m == 0) return f;
   std::vector<std::vector<double>> col(kColumns);
@@ -82,16 +85,16 @@ CycleFit fit_cycle(const Model<double>& model, const ParamVector<double>& params
     col[static_cast<std::size_t>(c)].resize(m);
     for (std::size_t i = 0; i < m; ++i) col[static_cast<std::size_t>(c)][i] = (other.r[i] - base.r[i]) / per;
   };
-  difference(kStatorCore, run(model, params, cycle, {1.0, 0.0}), 1.0);
-  difference(kRotorCore, run(model, params, cycle, {0.0, 1.0}), 1.0);
+  difference(kStatorCore, run(model, params, cycle, {1.0, 0.0}, prepared), 1.0);
+  difference(kRotorCore, run(model, params, cycle, {0.0, 1.0}, prepared), 1.0);
   for (int s = 0; s < 2; ++s) {
     f.measured[s] = cycle.has(kSensors[s]);
     if (!f.measured[s]) continue;
-    difference(kOffsetColumn[s], run(model, params, changed_readings(cycle, kSensors[s], 1.0, 1.0), {}), 1.0);
-    difference(kGainColumn[s], run(model, params, changed_readings(cycle, kSensors[s], 1.0 + kGainStep, 0.0), {}), kGainStep);
+    difference(kOffsetColumn[s], run(model, params, changed_readings(cycle, kSensors[s], 1.0, 1.0), {}, prepared), 1.0);
+    difference(kGainColumn[s], run(model, params, changed_readings(cycle, kSensors[s], 1.0 + kGainStep, 0.0), {}, prepared), kGainStep);
   }
-  difference(kCooling, run(model, scaled_group(params, DriftGroup::cooling, std::exp(kLogFactorStep)), cycle, {}), kLogFactorStep);
-  difference(kLosses, run(model, scaled_group(params, DriftGroup::losses, std::exp(kLogFactorStep)), cycle, {}), kLogFactorStep);
+  difference(kCooling, run(model, scaled_group(params, DriftGroup::cooling, std::exp(kLogFactorStep)), cycle, {}, prepared), kLogFactorStep);
+  difference(kLosses, run(model, scaled_group(params, DriftGroup::losses, std::exp(kLogFactorStep)), cycle, {}, prepared), kLogFactorStep);
   for (std::size_t i = 0; i < m; ++i) {
     f.n[base.sensor[i]] += 1;
     f.mean_c[base.sensor[i]] += base.model[i];

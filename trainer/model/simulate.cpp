@@ -22,7 +22,7 @@ ErrorMetrics finish(double sum, double sum_sq, double sum_abs, double max_abs, s
 }  // namespace
 
 CycleSimulation simulate_cycle(const Model<double>& model, const ParamVector<double>& params, const data::Cycle& cycle,
-                               const InitialOffsets<double>& offsets) {
+                               const InitialOffsets<double>& offsets, const PreparedCycle* prepared) {
   CycleSimulation out;
   out.name = cycle.name;
   for (auto& v : out.nodes) v.reserve(cycle.steps);
@@ -32,7 +32,7 @@ CycleSimulation simulate_cycle(const Model<double>& model, const ParamVector<dou
     for (int i = 0; i < kNumNodes; ++i) out.nodes[i].push_back(static_cast<float>(x[i]));
     out.stator_sensor.push_back(static_cast<float>(model.stator_sensor(x)));
     out.rotor_sensor.push_back(static_cast<float>(model.rotor_sensor(x)));
-  }, offsets);
+  }, offsets, SIZE_MAX, prepared);
   return out;
 }
 

@@ -109,8 +109,9 @@ struct CycleSimulation {
   std::vector<float> rotor_sensor;
 };
 
+// `prepared`, where given, is prepare_cycle()'s for this model and cycle (run_cycle).
 CycleSimulation simulate_cycle(const Model<double>& model, const ParamVector<double>& params, const data::Cycle& cycle,
-                               const InitialOffsets<double>& offsets = {});
+                               const InitialOffsets<double>& offsets = {}, const PreparedCycle* prepared = nullptr);
 
 // Model-minus-measurement statistics over the steps where the measurement exists.
 struct ErrorMetrics {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "hostio/worker_threads.hpp"
 #include "trainer/calibrate/grid_residuals.hpp"
 #include "trainer/data/coarse_grid.hpp"
 
@@ -59,6 +60,32 @@ data::Dataset coarse_dataset(const data::Dataset& fine, int factor) {
     out.cycles.push_back(std::move(coarse));
   }
   return out;
+}
+
+void correct_for_grid(data::Dataset& coarse, const data::Dataset& fine, const Model<double>& model,
+                      const ParamVector<double>& at, const std::vector<std::size_t>& train,
+                      const std::vector<InitialOffsets<double>>& offsets, int threads) {
+  const struct {
+    data::Channel channel;
+    std::vector<float> CycleSimulation::*trace;
+  } sensors[] = {{data::Channel::stator_winding_c, &CycleSimulation::stator_sensor},
+                 {data::Channel::rotor_c, &CycleSimulation::rotor_sensor}};
+  // diagnose's shared dataset keeps every cycle's samples on every rank: each corrects them all.
+  parallel_for(train.size(), threads, [&](std::size_t i) {
+    const data::Cycle& f = fine.cycles[train[i]];
+    data::Cycle& c = coarse.cycles[train[i]];
+    if (c.steps == 0 || f.steps == 0) return;
+    const std::size_t factor = static_cast<std::size_t>(std::lround(c.dt_s / f.dt_s));
+    const CycleSimulation on_fine = simulate_cycle(model, at, f, offsets[i]);
+    const CycleSimulation on_coarse = simulate_cycle(model, at, c, offsets[i]);
+    for (const auto& s : sensors) {
+      if (!c.has(s.channel)) continue;
+      std::vector<float>& readings = c.samples[data::index_of(s.channel)];
+      const std::vector<float>&model_fine = on_fine.*(s.trace), &model_coarse = on_coarse.*(s.trace);
+      for (std::size_t k = 0; k < c.steps && k < model_coarse.size() && k * factor < model_fine.size(); ++k)
+        readings[k] = static_cast<float>(double(readings[k]) + (double(model_coarse[k]) - double(model_fine[k * factor])));
+    }
+  });
 }
 
 std::optional<LmReport> coarse_stage(const MotorFile& with_effect, const ParamVector<double>& start,

@@ -20,6 +20,18 @@ struct Refit {
 // at 10), shared over the processes as `fine` is (each remote cycle's residual count its own).
 data::Dataset coarse_dataset(const data::Dataset& fine, int factor);
 
+// `coarse` (coarse_dataset of `fine`) with its own error taken out at `at`: each training cycle's
+// readings shifted by what the coarse grid's simulation differs from the data's at the same
+// instants (multigrid's tau correction), both from the cycles' `offsets` (the baseline fit's, in
+// `train`'s order). At `at` the coarse residuals are then the data grid's at those instants, and
+// near it a coarse fit sees the data's misfit, not the grid's: unlike the grid's own error (copper
+// losses of currents that change within a second, a step of 1 s instead of 0.1 s), which a heat
+// term absorbs and which grows with the data (on a clean 48 h dump, dictionary scores of 10 where
+// the data grid's are 3), a score or a likelihood ratio on the corrected grid is the data's.
+void correct_for_grid(data::Dataset& coarse, const data::Dataset& fine, const Model<double>& model,
+                      const ParamVector<double>& at, const std::vector<std::size_t>& train,
+                      const std::vector<InitialOffsets<double>>& offsets, int threads);
+
 // fit_lm of `with_effect` (the calibrated motor with `effect` switched on) from `start`: the
 // baseline's values with the effect's at one of diagnose's starts (the score test's Gauss-Newton
 // step, or the neutral value: from the step alone, or from the motor file's initial guess, a refit
