@@ -1,29 +1,29 @@
 #!/usr/bin/env bash
 # Regenerates the change-indication test's expected outputs (tests/change_indication/expected/)
-# by running, over the committed inputs, exactly what tests/change_indication runs fresh:
-#   lptn replay (closed loop and --open-loop) of input/cycle.log with the committed default
-#   calibration, every 10th tick kept; lptn calibrate --method lm on input/fleet, its
-#   deterministic part kept (parameters, correlations, split, iterations, final cost, initial
-#   offsets, metrics: no timestamps, wall times, paths or hashes).
-# Run it when a numerical change is intended, then commit the diff: the reviewer sees it there.
+# by running the test: it runs lptn replay (closed loop and --open-loop) and lptn calibrate
+# --method lm over the committed inputs and, where a number differs from the committed one,
+# writes its fresh output over it (the commands and what is kept of their outputs are the test's
+# alone). Run it when a numerical change is intended, then commit the diff: the reviewer sees it.
 #
-#   tools/update-change-indication.sh [--inputs] [LPTN]
-#     LPTN      the lptn binary (default build/ci/tools/cli/lptn); build it first
-#     --inputs  also regenerate the committed inputs (log and fleet dump) with lptn generate and
-#               lptn convert. Rarely wanted: new inputs make every expected number change at once.
+#   tools/update-change-indication.sh [--inputs] [BUILD_DIR]
+#     BUILD_DIR  a configured build tree (default build/ci); its lptn and the test are built first
+#     --inputs   first regenerate the committed inputs (log and fleet dump) with lptn generate and
+#                lptn convert. Rarely wanted: new inputs make every expected number change at once.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 inputs=0
-lptn=$root/build/ci/tools/cli/lptn
+build=$root/build/ci
 for arg in "$@"; do
   case $arg in
     --inputs) inputs=1 ;;
-    -h | --help) sed -n '2,13p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h | --help) sed -n '2,11p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     -*) echo "update-change-indication.sh: unknown option $arg (see --help)" >&2; exit 2 ;;
-    *) lptn=$arg ;;
+    *) build=$(cd "$arg" && pwd) ;;
   esac
 done
-[[ -x $lptn ]] || { echo "update-change-indication.sh: $lptn is not an executable (build: cmake --build --preset ci --target lptn)" >&2; exit 2; }
+[[ -f $build/CMakeCache.txt ]] || { echo "update-change-indication.sh: $build is not a configured build tree (cmake --preset ci)" >&2; exit 2; }
+cmake --build "$build" --target lptn lptn_change_indication_tests >/dev/null
+lptn=$build/tools/cli/lptn
 here=$root/tests/change_indication
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
@@ -54,38 +54,14 @@ if ((inputs)); then
   mv "$work/cycle.log" "$here/input/cycle.log"
 fi
 
-# Every 10th tick (1 s apart) and the header; the test decimates its fresh CSV the same way.
-decimate() { awk 'NR == 1 || (NR - 2) % 10 == 0' "$1"; }
-
-cal=$root/firmware/calibration/default_calibration.json
-"$lptn" replay --quiet --log "$here/input/cycle.log" --calibration "$cal" --out "$work/closed.csv"
-"$lptn" replay --quiet --open-loop --log "$here/input/cycle.log" --calibration "$cal" --out "$work/open.csv"
-decimate "$work/closed.csv" >"$work/replay_closed_loop.csv"
-decimate "$work/open.csv" >"$work/replay_open_loop.csv"
-
-"$lptn" calibrate --quiet --method lm --seed 1 --data "$here/input/fleet" --motor "$here/input/fleet/motor.toml" \
-  --out "$work/calibration.json"
-# The same selection as deterministic_part() in the test. Python's json writes every double in its
-# shortest round-trip form, so nothing is lost and nothing is invented.
-python3 - "$work/calibration.json" "$work/calibration_lm.json" <<'PY'
-import json, sys
-cal = json.load(open(sys.argv[1]))
-d = cal["method"]["details"]
-out = {
-    "parameters": [{k: p[k] for k in ("name", "unit", "calibrated", "value", "std_error")} for p in cal["parameters"]],
-    "correlated": cal["correlated"],
-    "split": cal["data"]["split"],
-    "method": {"name": cal["method"]["name"], **{k: d[k] for k in ("iterations", "converged", "final_cost_k2", "initial_offsets")}},
-    "metrics": cal["metrics"],
+# The test writes every expected file that differs; it fails then, which is why it runs here.
+"$build/tests/change_indication/lptn_change_indication_tests" --gtest_filter='ChangeIndication.*' >"$work/test.log" 2>&1 ||
+  grep -E "mismatch|missing" "$work/test.log" || true
+# The written files must now pass: anything else is a failure of the commands themselves.
+"$build/tests/change_indication/lptn_change_indication_tests" --gtest_filter='ChangeIndication.*' >"$work/test.log" 2>&1 || {
+  cat "$work/test.log" >&2
+  echo "update-change-indication.sh: the test still fails on the outputs it wrote" >&2
+  exit 1
 }
-with open(sys.argv[2], "w") as f:
-    json.dump(out, f, indent=1)
-    f.write("\n")
-PY
-
-mkdir -p "$here/expected"
-for f in replay_closed_loop.csv replay_open_loop.csv calibration_lm.json; do
-  mv "$work/$f" "$here/expected/$f"
-done
 (cd "$root" && git status --short -- tests/change_indication) || true
 echo "expected outputs rewritten in tests/change_indication/expected/; review the diff (git diff --stat) and commit it"

@@ -195,33 +195,6 @@ TEST(EstimateRow, IsTheRowPrintfWrote) {
   }
 }
 
-// The header and every 10th row, as tools/update-change-indication.sh keeps them.
-std::string every_tenth_row(const std::string& csv) {
-  std::istringstream in(csv);
-  std::string line, out;
-  for (std::size_t n = 1; std::getline(in, line); ++n)
-    if (n == 1 || (n - 2) % 10 == 0) out += line + '\n';
-  return out;
-}
-
-TEST(ReplayBytes, AFreshReplayIsTheCommittedChangeIndicationRowsByteForByte) {
-  TempDir dir;
-  for (const auto& [mode, name] : {std::pair{"", "replay_closed_loop.csv"}, {"--open-loop ", "replay_open_loop.csv"}}) {
-    const fs::path out = dir.path() / name;
-    const auto r = run(std::string("replay --quiet ") + mode + "--log " + kLog.string() + " --calibration " +
-                           kCalibration.string() + " --out " + out.string(),
-                       dir.path());
-    ASSERT_EQ(r.code, 0) << r.err;
-    const std::string expected = slurp(kChangeIndication / "expected" / name);
-    ASSERT_FALSE(expected.empty());
-    // Numbers as printf printed them when the files were committed: no number within 1e-9, the
-    // same bytes (tests/change_indication compares within 1e-9; this holds the text itself).
-    EXPECT_TRUE(every_tenth_row(slurp(out)) == expected)
-        << name << ": not the committed bytes (if the estimator changed on purpose, "
-        << "tools/update-change-indication.sh regenerates both)";
-  }
-}
-
 // A directory of logs: the change-indication log as candump, as lptn's ASC and BLF, and its first
 // half as a second candump log.
 class ReplayDirectory : public ::testing::Test {
