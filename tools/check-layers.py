@@ -10,7 +10,8 @@ may include everything its dependencies may (the closure). An include fails the 
     code do);
   - it is a bare name that only some other module's include directory resolves ("replay.hpp"
     for firmware/linux/replay.hpp): every include is relative to the including file or to a
-    module root (the repository root, common/, firmware/include/, or the generated headers).
+    module root (the repository root, common/, firmware/include/, tests/support/ (the test-support
+    library, lptn_test_support), or the generated headers).
 
   tools/check-layers.py [REPO]    exit 0 if every include keeps to the layers; else one line each
 """
@@ -41,7 +42,7 @@ DEPENDS = {
     "firmware/calibration": ["common"],
     "firmware/linux": ["firmware/include", "hostio"],
     "firmware/baremetal": ["firmware/include", "firmware/calibration"],
-    # Benchmarks are tests beside the code: they may use the tests' simulated converter.
+    # Benchmarks are tests beside the code: they may use the test-support library's simulated converter.
     "firmware/bench": ["firmware/linux", "firmware/calibration", "tests"],
     "trainer/data": ["common", "hostio"],
     "trainer/model": ["trainer/data"],
@@ -76,7 +77,7 @@ INTERNAL_FOR_TESTS = {"common", "trainer/calibrate", "trainer/diagnose", "traine
                       "trainer/fleet", "tools/canfile"}
 
 # Module roots a quoted include may be relative to, and headers generated into the build tree.
-ROOTS = ["", "common", "firmware/include"]
+ROOTS = ["", "common", "firmware/include", "tests/support"]
 # thermal_calibration.hpp: headers the tests export at build time.
 GENERATED = {"lptn/version.hpp": "common", "lptn/can/": "can-dbc", "lptn/bus/": "can-dbc", "thermal_calibration.hpp": "tests"}
 SOURCE_EXTENSIONS = (".hpp", ".cpp", ".h", ".cc")

@@ -12,7 +12,7 @@
 #include <vector>
 
 #include LPTN_BENCH_CALIBRATION_HEADER
-#include "../../tests/firmware/converter.hpp"
+#include "lptn_testing/converter.hpp"
 #include "lptn/firmware/estimator.hpp"
 #include "lptn/firmware/exported_calibration.hpp"
 #include "lptn/firmware/output_frames.hpp"

@@ -19,7 +19,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "../cli/temp_dir.hpp"
+#include "lptn_testing/temp_dir.hpp"
 
 namespace lptn {
 namespace {

@@ -16,8 +16,8 @@
 #include <string>
 #include <vector>
 
-#include "../cli/run_lptn.hpp"
-#include "../cli/temp_dir.hpp"
+#include "lptn_testing/run_lptn.hpp"
+#include "lptn_testing/temp_dir.hpp"
 #include "lptn/bus/test/foreign_glue.hpp"
 #include "lptn/firmware/output_frames.hpp"
 #include "tools/bus/bus_map.hpp"

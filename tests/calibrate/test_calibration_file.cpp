@@ -6,8 +6,8 @@
 #include <fstream>
 #include <string>
 
-#include "../cli/temp_dir.hpp"
-#include "sample_result.hpp"
+#include "lptn_testing/temp_dir.hpp"
+#include "lptn_testing/sample_result.hpp"
 #include "trainer/calibrate/calibration_file.hpp"
 
 namespace lptn {

@@ -4,7 +4,7 @@
 #include <fstream>
 #include <string>
 
-#include "../cli/temp_dir.hpp"
+#include "lptn_testing/temp_dir.hpp"
 #include "trainer/calibrate/calibration_file.hpp"
 #include "trainer/calibrate/internal/sha256.hpp"
 

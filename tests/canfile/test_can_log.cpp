@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "../cli/temp_dir.hpp"
+#include "lptn_testing/temp_dir.hpp"
 #include "tools/canfile/can_log.hpp"
 
 namespace lptn::canfile {

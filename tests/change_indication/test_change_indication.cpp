@@ -27,7 +27,7 @@
 #include <string>
 #include <vector>
 
-#include "../cli/temp_dir.hpp"
+#include "lptn_testing/temp_dir.hpp"
 
 namespace lptn {
 namespace {

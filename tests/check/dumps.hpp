@@ -8,7 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "../cli/run_lptn.hpp"
+#include "lptn_testing/run_lptn.hpp"
 
 namespace lptn::testing {
 

@@ -8,8 +8,8 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "run_lptn.hpp"
-#include "temp_dir.hpp"
+#include "lptn_testing/run_lptn.hpp"
+#include "lptn_testing/temp_dir.hpp"
 
 namespace lptn {
 namespace {

@@ -7,7 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "temp_dir.hpp"
+#include "lptn_testing/temp_dir.hpp"
 #include "tools/generate/generate.hpp"
 #include "trainer/data/dataset.hpp"
 

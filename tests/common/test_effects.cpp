@@ -7,7 +7,7 @@
 #include <string_view>
 
 #include "lptn/model.hpp"
-#include "reference_case.hpp"
+#include "lptn_testing/reference_case.hpp"
 
 namespace lptn {
 namespace {

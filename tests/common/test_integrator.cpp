@@ -9,7 +9,7 @@
 #include <unsupported/Eigen/MatrixFunctions>
 
 #include "lptn/model.hpp"
-#include "reference_case.hpp"
+#include "lptn_testing/reference_case.hpp"
 
 namespace lptn {
 namespace {

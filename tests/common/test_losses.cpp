@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "lptn/paper_model.hpp"
-#include "reference_case.hpp"
+#include "lptn_testing/reference_case.hpp"
 
 namespace lptn {
 namespace {

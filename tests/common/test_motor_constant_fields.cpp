@@ -8,7 +8,7 @@
 #include <type_traits>
 #include <utility>
 
-#include "distinct_motor_constants.hpp"
+#include "lptn_testing/distinct_motor_constants.hpp"
 #include "lptn/motor_constants.hpp"
 
 namespace lptn {

@@ -5,7 +5,7 @@
 #include <cmath>
 
 #include "lptn/model.hpp"
-#include "reference_case.hpp"
+#include "lptn_testing/reference_case.hpp"
 
 namespace lptn {
 namespace {

@@ -27,8 +27,8 @@
 #include <string>
 #include <vector>
 
-#include "../cli/run_lptn.hpp"
-#include "../cli/temp_dir.hpp"
+#include "lptn_testing/run_lptn.hpp"
+#include "lptn_testing/temp_dir.hpp"
 #include "lptn/firmware/parameter_uncertainty.hpp"
 #include "trainer/model/motor_file.hpp"
 

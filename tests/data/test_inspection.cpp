@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "../data/test_util.hpp"
+#include "test_util.hpp"
 #include "trainer/data/dataset.hpp"
 #include "trainer/data/inspection.hpp"
 

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "../data/test_util.hpp"
+#include "test_util.hpp"
 #include "trainer/data/dataset.hpp"
 
 namespace lptn::data {

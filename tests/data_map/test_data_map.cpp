@@ -14,8 +14,8 @@
 #include <string>
 #include <vector>
 
-#include "../cli/run_lptn.hpp"
-#include "../cli/temp_dir.hpp"
+#include "lptn_testing/run_lptn.hpp"
+#include "lptn_testing/temp_dir.hpp"
 #include "tools/generate/generate.hpp"
 #include "trainer/data/data_map.hpp"
 #include "trainer/data/dataset.hpp"

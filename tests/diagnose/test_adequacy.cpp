@@ -8,7 +8,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "fixture.hpp"
+#include "lptn_testing/small_fleet.hpp"
 #include "trainer/diagnose/adequacy.hpp"
 
 namespace lptn {

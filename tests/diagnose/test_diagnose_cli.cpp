@@ -8,9 +8,9 @@
 #include <set>
 #include <string>
 
-#include "../cli/run_lptn.hpp"
-#include "../cli/temp_dir.hpp"
-#include "sound_candidates.hpp"
+#include "lptn_testing/run_lptn.hpp"
+#include "lptn_testing/temp_dir.hpp"
+#include "lptn_testing/sound_candidates.hpp"
 #include "trainer/diagnose/diagnose.hpp"
 
 namespace lptn {

@@ -10,7 +10,7 @@
 
 #include <cstdio>
 
-#include "hidden_effect_check.hpp"
+#include "lptn_testing/hidden_effect_check.hpp"
 
 namespace lptn::diagnose {
 namespace {

@@ -11,8 +11,8 @@
 #include <cstdio>
 #include <stdexcept>
 
-#include "fixture.hpp"
-#include "sound_candidates.hpp"
+#include "lptn_testing/small_fleet.hpp"
+#include "lptn_testing/sound_candidates.hpp"
 #include "trainer/diagnose/diagnose.hpp"
 
 namespace lptn {

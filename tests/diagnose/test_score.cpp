@@ -5,7 +5,7 @@
 
 #include <cmath>
 
-#include "fixture.hpp"
+#include "lptn_testing/small_fleet.hpp"
 #include "trainer/diagnose/internal/score_test.hpp"
 
 namespace lptn::diagnose {

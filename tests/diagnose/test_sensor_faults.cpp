@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "fixture.hpp"
+#include "lptn_testing/small_fleet.hpp"
 #include "trainer/data/sensor_fault.hpp"
 #include "trainer/diagnose/diagnose.hpp"
 

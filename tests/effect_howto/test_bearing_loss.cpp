@@ -7,7 +7,7 @@
 
 #include <cmath>
 
-#include "../diagnose/hidden_effect_check.hpp"
+#include "lptn_testing/hidden_effect_check.hpp"
 #include "trainer/diagnose/internal/heat_path.hpp"
 
 namespace lptn::diagnose {

@@ -7,8 +7,8 @@
 #include <fstream>
 #include <string>
 
-#include "../calibrate/sample_result.hpp"
-#include "../cli/temp_dir.hpp"
+#include "lptn_testing/sample_result.hpp"
+#include "lptn_testing/temp_dir.hpp"
 
 namespace lptn {
 namespace {

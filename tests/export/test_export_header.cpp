@@ -10,8 +10,8 @@
 #include <type_traits>
 #include <vector>
 
-#include "../calibrate/sample_result.hpp"
-#include "../common/distinct_motor_constants.hpp"
+#include "lptn_testing/sample_result.hpp"
+#include "lptn_testing/distinct_motor_constants.hpp"
 #include "tools/export/cpp_literals.hpp"
 #include "tools/export/export_header.hpp"
 #include "trainer/model/motor_file.hpp"

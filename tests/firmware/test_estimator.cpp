@@ -7,7 +7,7 @@
 #include <memory>
 #include <random>
 
-#include "converter.hpp"
+#include "lptn_testing/converter.hpp"
 #include "lptn/firmware/estimator.hpp"
 #include "lptn/firmware/output_frames.hpp"
 

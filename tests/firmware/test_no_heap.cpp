@@ -11,7 +11,7 @@
 #include <new>
 #include <vector>
 
-#include "converter.hpp"
+#include "lptn_testing/converter.hpp"
 #include "lptn/firmware/estimator.hpp"
 #include "lptn/firmware/output_frames.hpp"
 

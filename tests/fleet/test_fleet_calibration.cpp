@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "../cli/temp_dir.hpp"
+#include "lptn_testing/temp_dir.hpp"
 #include "tools/generate/generate.hpp"
 #include "trainer/calibrate/calibration_result.hpp"
 #include "trainer/calibrate/lm_result.hpp"

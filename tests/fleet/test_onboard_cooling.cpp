@@ -14,9 +14,9 @@
 #include <string>
 #include <vector>
 
-#include "../cli/run_lptn.hpp"
-#include "../cli/temp_dir.hpp"
-#include "../common/csv_columns.hpp"
+#include "lptn_testing/run_lptn.hpp"
+#include "lptn_testing/temp_dir.hpp"
+#include "lptn_testing/csv_columns.hpp"
 #include "trainer/calibrate/calibration_file.hpp"
 #include "trainer/fleet/outlier_test.hpp"
 

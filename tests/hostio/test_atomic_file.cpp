@@ -8,7 +8,7 @@
 #include <fstream>
 #include <iterator>
 
-#include "../cli/temp_dir.hpp"
+#include "lptn_testing/temp_dir.hpp"
 #include "hostio/atomic_file.hpp"
 
 namespace lptn {

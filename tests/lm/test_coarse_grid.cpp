@@ -7,7 +7,7 @@
 #include <cstdio>
 #include <cstring>
 
-#include "../cli/temp_dir.hpp"
+#include "lptn_testing/temp_dir.hpp"
 #include "tools/generate/generate.hpp"
 #include "trainer/calibrate/lm.hpp"
 #include "trainer/calibrate/set_scorer.hpp"

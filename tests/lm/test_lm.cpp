@@ -7,7 +7,7 @@
 #include <fstream>
 #include <string>
 
-#include "../cli/temp_dir.hpp"
+#include "lptn_testing/temp_dir.hpp"
 #include "tools/generate/generate.hpp"
 #include "tools/generate/plant_truth.hpp"
 #include "trainer/calibrate/lm.hpp"

@@ -13,8 +13,8 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "../cli/run_lptn.hpp"
-#include "../cli/temp_dir.hpp"
+#include "lptn_testing/run_lptn.hpp"
+#include "lptn_testing/temp_dir.hpp"
 
 namespace lptn {
 namespace {

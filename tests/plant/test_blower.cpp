@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "../plant/plant_fixtures.hpp"
+#include "plant_fixtures.hpp"
 #include "tools/plant/driving_cycle.hpp"
 
 namespace lptn::plant {

@@ -1,6 +1,6 @@
 #include <gtest/gtest.h>
 
-#include "../plant/plant_fixtures.hpp"
+#include "plant_fixtures.hpp"
 #include "tools/plant/driving_cycle.hpp"
 
 namespace lptn::plant {

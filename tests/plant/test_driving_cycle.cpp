@@ -3,7 +3,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "../plant/plant_fixtures.hpp"
+#include "plant_fixtures.hpp"
 #include "tools/plant/ambient.hpp"
 #include "tools/plant/driving_cycle.hpp"
 

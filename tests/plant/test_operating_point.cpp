@@ -3,7 +3,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "../plant/plant_fixtures.hpp"
+#include "plant_fixtures.hpp"
 #include "tools/plant/operating_point.hpp"
 
 namespace lptn::plant {

@@ -21,8 +21,8 @@
 #include <thread>
 #include <vector>
 
-#include "../cli/temp_dir.hpp"
-#include "../common/csv_columns.hpp"
+#include "lptn_testing/temp_dir.hpp"
+#include "lptn_testing/csv_columns.hpp"
 #include "lptn/firmware/candump_line.hpp"
 #include "lptn/can/lptn_frames.hpp"
 #include "trainer/calibrate/calibration_file.hpp"

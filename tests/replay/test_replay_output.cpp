@@ -17,8 +17,8 @@
 #include <string>
 #include <vector>
 
-#include "../cli/run_lptn.hpp"
-#include "../cli/temp_dir.hpp"
+#include "lptn_testing/run_lptn.hpp"
+#include "lptn_testing/temp_dir.hpp"
 #include "firmware/linux/csv_number.hpp"
 #include "firmware/linux/estimate_csv.hpp"
 #include "tools/canfile/can_log.hpp"

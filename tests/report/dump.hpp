@@ -9,7 +9,7 @@
 #include <filesystem>
 #include <string>
 
-#include "../cli/run_lptn.hpp"
+#include "lptn_testing/run_lptn.hpp"
 
 namespace lptn::testing {
 

@@ -11,9 +11,9 @@
 #include <string>
 #include <vector>
 
-#include "../cli/run_lptn.hpp"
-#include "../cli/temp_dir.hpp"
-#include "page.hpp"
+#include "lptn_testing/run_lptn.hpp"
+#include "lptn_testing/temp_dir.hpp"
+#include "lptn_testing/report_page.hpp"
 
 namespace lptn {
 namespace {

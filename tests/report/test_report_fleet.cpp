@@ -8,9 +8,9 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "../cli/run_lptn.hpp"
-#include "../cli/temp_dir.hpp"
-#include "page.hpp"
+#include "lptn_testing/run_lptn.hpp"
+#include "lptn_testing/temp_dir.hpp"
+#include "lptn_testing/report_page.hpp"
 
 namespace lptn {
 namespace {

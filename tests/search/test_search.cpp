@@ -4,7 +4,7 @@
 
 #include <cstdio>
 
-#include "../cli/temp_dir.hpp"
+#include "lptn_testing/temp_dir.hpp"
 #include "tools/generate/generate.hpp"
 #include "trainer/calibrate/lm.hpp"
 #include "trainer/search/search.hpp"

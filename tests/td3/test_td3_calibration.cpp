@@ -5,7 +5,7 @@
 #include <cmath>
 #include <fstream>
 
-#include "../cli/temp_dir.hpp"
+#include "lptn_testing/temp_dir.hpp"
 #include "tools/generate/generate.hpp"
 #include "trainer/calibrate/problem.hpp"
 #include "trainer/td3/td3_calibration.hpp"

@@ -20,7 +20,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "../cli/temp_dir.hpp"
+#include "lptn_testing/temp_dir.hpp"
 
 extern char** environ;
 

@@ -9,7 +9,7 @@
 #include <type_traits>
 #include <vector>
 
-#include "../common/distinct_motor_constants.hpp"
+#include "lptn_testing/distinct_motor_constants.hpp"
 #include "trainer/model/motor_file.hpp"
 
 namespace lptn {

@@ -11,7 +11,7 @@
 #include "lptn/firmware/can_frame.hpp"
 #include "lptn/firmware/input.hpp"
 #include "lptn/model.hpp"
-#include "../common/reference_case.hpp"
+#include "lptn_testing/reference_case.hpp"
 
 namespace lptn::fw::testing {
 

@@ -9,8 +9,8 @@
 #include <cstdio>
 #include <string>
 
-#include "fixture.hpp"
-#include "sound_candidates.hpp"
+#include "lptn_testing/small_fleet.hpp"
+#include "lptn_testing/sound_candidates.hpp"
 
 namespace lptn::diagnose {
 

@@ -7,7 +7,7 @@
 #include <utility>
 #include <vector>
 
-#include "../cli/temp_dir.hpp"
+#include "lptn_testing/temp_dir.hpp"
 #include "tools/generate/generate.hpp"
 #include "trainer/calibrate/lm.hpp"
 #include "trainer/diagnose/diagnose.hpp"
