@@ -11,6 +11,7 @@
 #include "hostio/worker_threads.hpp"
 #include "trainer/calibrate/sensor_noise.hpp"
 #include "trainer/diagnose/internal/json_number.hpp"
+#include "trainer/diagnose/internal/sensor_traces.hpp"
 #include "trainer/diagnose/internal/where.hpp"
 
 namespace lptn::diagnose {
@@ -18,13 +19,7 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-struct SensorDef {
-  const char* name;
-  data::Channel channel;
-  std::vector<float> CycleSimulation::*model;
-};
-constexpr SensorDef kSensors[] = {{"stator", data::Channel::stator_winding_c, &CycleSimulation::stator_sensor},
-                                  {"rotor", data::Channel::rotor_c, &CycleSimulation::rotor_sensor}};
+using internal::kSensorTraces;
 
 // One cycle's contribution per sensor: its metrics and the noise sums of its residual.
 struct CycleFinding {
@@ -39,12 +34,12 @@ CycleFinding examine(const Model<double>& model, const ParamVector<double>& para
   CycleFinding f;
   f.metrics = std::move(e.metrics);
   for (int s = 0; s < 2; ++s) {
-    if (!cycle.has(kSensors[s].channel)) continue;
-    const std::vector<float>& m = e.simulation.*(kSensors[s].model);
+    if (!cycle.has(kSensorTraces[s].channel)) continue;
+    const std::vector<float>& m = e.simulation.*(kSensorTraces[s].trace);
     std::vector<float> r(cycle.steps);
-    for (std::size_t k = 0; k < cycle.steps; ++k) r[k] = m[k] - cycle.at(kSensors[s].channel, k);
-    f.noise[s] = sensor_noise(r, reading_period(dataset, cycle, kSensors[s].channel));
-    f.where[s] = internal::where_sums(cycle, kSensors[s].channel, r, edges);
+    for (std::size_t k = 0; k < cycle.steps; ++k) r[k] = m[k] - cycle.at(kSensorTraces[s].channel, k);
+    f.noise[s] = sensor_noise(r, reading_period(dataset, cycle, kSensorTraces[s].channel));
+    f.where[s] = internal::where_sums(cycle, kSensorTraces[s].channel, r, edges);
   }
   return f;
 }
@@ -100,7 +95,7 @@ Adequacy assess_adequacy(const Model<double>& model, const ParamVector<double>& 
     }
     if (train_m.empty() && test_m.empty()) continue;  // not measured
     SensorAdequacy v;
-    v.sensor = kSensors[s].name;
+    v.sensor = kSensorTraces[s].name;
     v.noise_k = noise.sigma();
     v.train_rmse_k = train_m.empty() ? kNaN : pool(train_m).rmse_k;
     v.test_rmse_k = test_m.empty() ? kNaN : pool(test_m).rmse_k;

@@ -7,6 +7,7 @@
 #include "hostio/worker_threads.hpp"
 #include "trainer/calibrate/problem.hpp"
 #include "trainer/diagnose/diagnose.hpp"
+#include "trainer/diagnose/internal/sensor_traces.hpp"
 
 namespace lptn::diagnose::internal {
 namespace {
@@ -15,15 +16,11 @@ namespace {
 std::vector<double> cycle_blocks(const CycleEvaluation& e, const data::Cycle& cycle, std::size_t steps_per_block) {
   const std::size_t blocks = std::max<std::size_t>(1, cycle.steps / steps_per_block);
   std::vector<double> out(blocks, 0.0);
-  const struct {
-    data::Channel channel;
-    const std::vector<float>* model;
-  } sensors[] = {{data::Channel::stator_winding_c, &e.simulation.stator_sensor},
-                 {data::Channel::rotor_c, &e.simulation.rotor_sensor}};
-  for (const auto& s : sensors) {
-    if (!cycle.has(s.channel) || s.model->size() < cycle.steps) continue;
+  for (const SensorTrace& s : kSensorTraces) {
+    const std::vector<float>& model = e.simulation.*s.trace;
+    if (!cycle.has(s.channel) || model.size() < cycle.steps) continue;
     for (std::size_t k = 0; k < cycle.steps; ++k) {
-      const double r = double((*s.model)[k]) - double(cycle.at(s.channel, k));
+      const double r = double(model[k]) - double(cycle.at(s.channel, k));
       if (std::isfinite(r)) out[std::min(blocks - 1, k / steps_per_block)] += r * r;
     }
   }

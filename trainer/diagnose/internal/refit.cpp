@@ -9,6 +9,7 @@
 #include "trainer/data/coarse_grid.hpp"
 
 #include "trainer/diagnose/internal/heat_path.hpp"
+#include "trainer/diagnose/internal/sensor_traces.hpp"
 
 namespace lptn::diagnose::internal {
 namespace {
@@ -65,11 +66,6 @@ data::Dataset coarse_dataset(const data::Dataset& fine, int factor) {
 void correct_for_grid(data::Dataset& coarse, const data::Dataset& fine, const Model<double>& model,
                       const ParamVector<double>& at, const std::vector<std::size_t>& train,
                       const std::vector<InitialOffsets<double>>& offsets, int threads) {
-  const struct {
-    data::Channel channel;
-    std::vector<float> CycleSimulation::*trace;
-  } sensors[] = {{data::Channel::stator_winding_c, &CycleSimulation::stator_sensor},
-                 {data::Channel::rotor_c, &CycleSimulation::rotor_sensor}};
   // diagnose's shared dataset keeps every cycle's samples on every rank: each corrects them all.
   parallel_for(train.size(), threads, [&](std::size_t i) {
     const data::Cycle& f = fine.cycles[train[i]];
@@ -78,10 +74,11 @@ void correct_for_grid(data::Dataset& coarse, const data::Dataset& fine, const Mo
     const std::size_t factor = static_cast<std::size_t>(std::lround(c.dt_s / f.dt_s));
     const CycleSimulation on_fine = simulate_cycle(model, at, f, offsets[i]);
     const CycleSimulation on_coarse = simulate_cycle(model, at, c, offsets[i]);
-    for (const auto& s : sensors) {
+    for (const SensorTrace& s : kSensorTraces) {
       if (!c.has(s.channel)) continue;
       std::vector<float>& readings = c.samples[data::index_of(s.channel)];
-      const std::vector<float>&model_fine = on_fine.*(s.trace), &model_coarse = on_coarse.*(s.trace);
+      const std::vector<float>& model_fine = on_fine.*s.trace;
+      const std::vector<float>& model_coarse = on_coarse.*s.trace;
       for (std::size_t k = 0; k < c.steps && k < model_coarse.size() && k * factor < model_fine.size(); ++k)
         readings[k] = static_cast<float>(double(readings[k]) + (double(model_coarse[k]) - double(model_fine[k * factor])));
     }
