@@ -58,8 +58,6 @@ struct Drift {
 // Cooling first; where it shows no drift, the losses. `params` is the calibration.
 Drift find_drift(const Model<double>& model, const ParamVector<double>& params, const data::Dataset& dataset,
                  int threads);
-Drift find_drift(const Model<double>& model, const ParamVector<double>& params, const data::Dataset& dataset,
-                 int threads, DriftGroup group);
 
 // `params` with the group's parameters times `factor`.
 ParamVector<double> scaled_group(const ParamVector<double>& params, DriftGroup group, double factor);
