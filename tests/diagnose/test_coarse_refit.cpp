@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <functional>
+#include <vector>
 
 #include "lptn_testing/small_fleet.hpp"
 #include "trainer/diagnose/internal/refit.hpp"
@@ -95,6 +97,49 @@ TEST(CoarseRefit, TheCorrectedGridSeesTheDataGridsMisfitAtTheBaseline) {
               worst_corrected);
   EXPECT_GT(grid_error, 0.005) << "the grid has an error of its own to correct";
   EXPECT_LT(worst_corrected, 1e-4) << "float rounding of the readings, no more";
+}
+
+// The likelihood ratios a refit passes through, fed to internal::stop_short_of as LM reports its
+// costs: the iteration it is stopped after, or -1 where it runs to the end.
+int stopped_after(const std::vector<double>& ratios, double mark, int max_iterations) {
+  constexpr double kBaseCost = 1000, kResiduals = 5000;
+  const std::function<bool(int, double)> stop = internal::stop_short_of(mark, kBaseCost, kResiduals, max_iterations, 0.1);
+  for (std::size_t i = 0; i < ratios.size(); ++i)
+    if (stop(static_cast<int>(i), kBaseCost * std::exp(-ratios[i] / kResiduals))) return static_cast<int>(i);
+  return -1;
+}
+
+TEST(RefitStop, ACrawlShortOfItsMarkStopsAndOneThatCanReachItRunsOn) {
+  // Iteration 0 far above the baseline (initial offsets of zero), then a crawl at 0.1 an
+  // iteration towards a mark of 6.9: stopped at the first iteration allowed, the fourth.
+  std::vector<double> crawl{-500, 1.0};
+  for (int i = 2; i <= 15; ++i) crawl.push_back(crawl.back() + 0.1);
+  EXPECT_EQ(stopped_after(crawl, 6.9, 15), 4);
+  // The same crawl at 0.5 an iteration: twice its pace over the 11 iterations left reaches the
+  // mark, so it runs on, until the iterations left at that pace no longer can.
+  std::vector<double> faster{-500, 1.0};
+  for (int i = 2; i <= 15; ++i) faster.push_back(faster.back() + 0.5);
+  const int at = stopped_after(faster, 6.9, 15);
+  EXPECT_TRUE(at == -1 || faster[static_cast<std::size_t>(at)] + 2 * 0.5 * (15 - at) < 6.9) << at;
+  EXPECT_TRUE(at == -1 || at >= 10) << at;
+  // A refit that gains fast is never stopped, whatever its pace does later.
+  std::vector<double> effect{-500, 5, 15, 25, 30, 32, 33};
+  EXPECT_EQ(stopped_after(effect, 6.9, 15), -1);
+  // One pause (a rejected step) among larger gains: the best of the last three sets the pace.
+  EXPECT_EQ(stopped_after({-500, 0.5, 1.5, 1.5, 2.5, 2.5}, 6.9, 15), -1);
+}
+
+TEST(RefitStop, AboveTheBaselineOnlyWhereItWouldEndAboveItAnyway) {
+  // At -3 and climbing 0.5 an iteration: it would reach the baseline, so it runs on while it
+  // can (stopped only once above it, short of the mark, or not at all).
+  std::vector<double> climbing{-500, -3.0};
+  for (int i = 2; i <= 15; ++i) climbing.push_back(climbing.back() + 0.5);
+  const int at = stopped_after(climbing, 6.9, 15);
+  EXPECT_TRUE(at == -1 || climbing[static_cast<std::size_t>(at)] >= -0.1) << at;
+  // At -3 and climbing 0.01 an iteration: above the baseline either way, stopped.
+  std::vector<double> stuck{-500, -3.0};
+  for (int i = 2; i <= 15; ++i) stuck.push_back(stuck.back() + 0.01);
+  EXPECT_EQ(stopped_after(stuck, 6.9, 15), 4);
 }
 
 }  // namespace

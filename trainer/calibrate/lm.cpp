@@ -404,18 +404,20 @@ Eigen::MatrixXd gram(const ceres::CRSMatrix& jacobian) {
 
 class Progress final : public ceres::IterationCallback {
  public:
-  Progress(const LmProgress& progress, std::size_t residuals, std::chrono::steady_clock::time_point start)
-      : progress_(progress), residuals_(residuals), start_(start) {}
+  Progress(const LmProgress& progress, const std::function<bool(int, double)>& stop, std::size_t residuals,
+           std::chrono::steady_clock::time_point start)
+      : progress_(progress), stop_(stop), residuals_(residuals), start_(start) {}
   ceres::CallbackReturnType operator()(const ceres::IterationSummary& s) override {
     if (progress_) {
       const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
       progress_(s.iteration, std::sqrt(2.0 * s.cost / static_cast<double>(residuals_)), seconds);
     }
-    return ceres::SOLVER_CONTINUE;
+    return stop_ && stop_(s.iteration, s.cost) ? ceres::SOLVER_TERMINATE_SUCCESSFULLY : ceres::SOLVER_CONTINUE;
   }
 
  private:
   const LmProgress& progress_;
+  const std::function<bool(int, double)>& stop_;
   std::size_t residuals_;
   std::chrono::steady_clock::time_point start_;
 };
@@ -541,7 +543,7 @@ LmReport fit_once(const MotorFile& motor, const ParamVector<double>& start, cons
   // is copying and small sums, kept in one thread so that every rank adds in the same order.
   options.num_threads = 1;
   options.logging_type = ceres::SILENT;
-  Progress callback(progress, report.residuals, t0);
+  Progress callback(progress, settings.stop, report.residuals, t0);
   options.callbacks.push_back(&callback);
   ceres::Solver::Summary summary;
   ceres::Solve(options, &problem, &summary);

@@ -30,6 +30,10 @@ struct LmSettings {
   // Each listed cycle's initial offsets to start from (empty: zero), as a fit of the same cycles
   // ended them (diagnose's refit, polished on the fine grid after its steps on a coarse one).
   std::vector<InitialOffsets<double>> start_offsets;
+  // Asked after every iteration with its number and the cost where the fit stands (half the sum of
+  // squared residuals): true ends the fit there, not converged (diagnose's refits that cannot reach
+  // their threshold at the pace they gain).
+  std::function<bool(int iteration, double cost)> stop;
 };
 
 // A free parameter the data could not pin, left at its start (LmReport::not_identifiable).

@@ -213,9 +213,18 @@ Candidate examine(const MotorFile& motor, const Scored& scored, const Diagnosis&
     RefitStart s;
     s.from = from;
     const LmProgress report = lm_progress(progress, c.name + ": refit from " + from);
+    // On the coarse grid its mark is the polish (below it the verdict is the coarse fit's), on the
+    // data's the threshold.
+    LmSettings on_coarse_lm = lm, on_data_lm = lm;
+    if (coarse.baseline)
+      on_coarse_lm.stop = internal::stop_short_of(kPolishShare * c.threshold, coarse.baseline->final_cost,
+                                                  before.effective_residuals, lm.max_iterations, kAtBaselineLr);
+    on_data_lm.stop = internal::stop_short_of(c.threshold, before.baseline.final_cost, before.effective_residuals,
+                                              lm.max_iterations, kAtBaselineLr);
     try {
       if (std::optional<LmReport> on_coarse =
-              coarse.baseline ? internal::coarse_stage(with, values, coarse.dataset, split.train, lm, report) : std::nullopt) {
+              coarse.baseline ? internal::coarse_stage(with, values, coarse.dataset, split.train, on_coarse_lm, report)
+                              : std::nullopt) {
         s.rmse_k = on_coarse->rmse_k;
         s.iterations = on_coarse->iterations;
         s.converged = on_coarse->converged;
@@ -225,7 +234,7 @@ Candidate examine(const MotorFile& motor, const Scored& scored, const Diagnosis&
           best_start = c.starts.size();
         }
       } else {
-        internal::Refit r = internal::refit_with(with, effect, values, dataset, split.train, lm, report);
+        internal::Refit r = internal::refit_with(with, effect, values, dataset, split.train, on_data_lm, report);
         s.rmse_k = r.fit.rmse_k;
         s.iterations = r.fit.iterations;
         s.converged = r.fit.converged;
@@ -256,7 +265,10 @@ Candidate examine(const MotorFile& motor, const Scored& scored, const Diagnosis&
   if (best_coarse) {
     RefitStart& s = c.starts[best_start];
     try {
-      kept = internal::polish(with, effect, *best_coarse, dataset, split.train, lm,
+      LmSettings polish_lm = lm;
+      polish_lm.stop = internal::stop_short_of(c.threshold, before.baseline.final_cost, before.effective_residuals,
+                                               lm.max_iterations, kAtBaselineLr);
+      kept = internal::polish(with, effect, *best_coarse, dataset, split.train, polish_lm,
                               lm_progress(progress, c.name + ": polish from " + s.from));
       s.rmse_k = kept->fit.rmse_k;
       s.iterations = kept->fit.iterations;

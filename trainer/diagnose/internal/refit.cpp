@@ -95,6 +95,20 @@ std::optional<LmReport> coarse_stage(const MotorFile& with_effect, const ParamVe
   return fit_lm(with_effect, start, coarse, train, settings, progress);
 }
 
+std::function<bool(int, double)> stop_short_of(double mark, double base_cost, double effective_residuals,
+                                               int max_iterations, double at_baseline) {
+  std::vector<double> ratios;  // after each iteration
+  return [=](int iteration, double cost) mutable {
+    ratios.push_back(effective_residuals * std::log(base_cost / cost));
+    if (iteration < kPaceIterations || ratios.size() <= static_cast<std::size_t>(kPaceIterations)) return false;
+    const std::size_t n = ratios.size();
+    double pace = 0;
+    for (std::size_t k = n - kPaceIterations; k < n; ++k) pace = std::max(pace, ratios[k] - ratios[k - 1]);
+    const double now = ratios.back(), reach = now + kPaceMargin * pace * (max_iterations - iteration);
+    return reach < mark && (now >= -at_baseline || reach < -at_baseline);
+  };
+}
+
 Refit judged(LmReport fit, const MotorFile& with_effect, int effect) {
   Refit out;
   out.fit = std::move(fit);
