@@ -74,7 +74,7 @@ DEPENDS = {
 
 # Internal headers the tests of a module may reach (its own tests, beside the code).
 INTERNAL_FOR_TESTS = {"common", "trainer/calibrate", "trainer/diagnose", "trainer/data", "trainer/td3", "trainer/search",
-                      "trainer/fleet", "tools/canfile"}
+                      "trainer/fleet", "tools/canfile", "hostio"}
 
 # Module roots a quoted include may be relative to, and headers generated into the build tree.
 ROOTS = ["", "common", "firmware/include", "tests/support"]

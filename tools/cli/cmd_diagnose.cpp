@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "tools/cli/commands.hpp"
+#include "hostio/utc_stamp.hpp"
 #include "tools/cli/data_map_option.hpp"
 #include "trainer/model/motor_plausibility.hpp"
 #include "hostio/process_group.hpp"

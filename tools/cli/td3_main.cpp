@@ -11,6 +11,7 @@
 #include "hostio/atomic_file.hpp"
 
 #include "hostio/progress_line.hpp"
+#include "hostio/sha256.hpp"
 #include "lptn/version.hpp"
 #include "tools/cli/commands.hpp"
 #include "trainer/td3/td3_calibration.hpp"

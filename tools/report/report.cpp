@@ -8,6 +8,7 @@
 #include <optional>
 #include <utility>
 
+#include "hostio/utc_stamp.hpp"
 #include "hostio/worker_threads.hpp"
 #include "lptn/model.hpp"
 #include "tools/report/fleet_section.hpp"

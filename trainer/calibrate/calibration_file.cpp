@@ -6,12 +6,10 @@
 #include <charconv>
 #include <cmath>
 #include <cstring>
-#include <ctime>
 #include <fstream>
 #include <iterator>
 
 #include "trainer/calibrate/internal/json_reader.hpp"
-#include "trainer/calibrate/internal/sha256.hpp"
 #include "hostio/atomic_file.hpp"
 #include "trainer/model/motor_file.hpp"
 #include "trainer/data/sensor_fault.hpp"
@@ -426,34 +424,6 @@ nlohmann::json read_json_file(const std::filesystem::path& path) {
 
 CalibrationResult load_calibration(const std::filesystem::path& path) {
   return calibration_from_json(read_json_file(path), path.string());
-}
-
-std::string sha256_hex(const void* data, std::size_t size) {
-  internal::Sha256 h;
-  h.update(data, size);
-  return h.hex();
-}
-
-std::string sha256_file(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error(path.string() + ": cannot read (missing or not readable)");
-  internal::Sha256 h;
-  char buf[1 << 16];
-  while (in) {
-    in.read(buf, sizeof buf);
-    h.update(buf, static_cast<std::size_t>(in.gcount()));
-  }
-  if (in.bad()) throw std::runtime_error(path.string() + ": read failed");
-  return h.hex();
-}
-
-std::string utc_now() {
-  const std::time_t now = std::time(nullptr);
-  std::tm tm{};
-  gmtime_r(&now, &tm);  // thread-safe, unlike std::gmtime
-  char buf[32];
-  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
-  return buf;
 }
 
 }  // namespace lptn

@@ -143,11 +143,4 @@ CalibrationResult load_calibration(const std::filesystem::path& path);
 // or "FILE: line N: reason".
 nlohmann::json read_json_file(const std::filesystem::path& path);
 
-// SHA-256 of a file's bytes, lower-case hex.
-std::string sha256_file(const std::filesystem::path& path);
-std::string sha256_hex(const void* data, std::size_t size);
-
-// The present time as calibration files stamp it (created_utc): "2026-11-21T10:00:00Z".
-std::string utc_now();
-
 }  // namespace lptn

@@ -3,6 +3,8 @@
 #include <map>
 #include <stdexcept>
 
+#include "hostio/sha256.hpp"
+#include "hostio/utc_stamp.hpp"
 #include "lptn/version.hpp"
 
 namespace lptn {

@@ -8,7 +8,7 @@
 #include <string>
 #include <utility>
 
-#include "trainer/calibrate/calibration_file.hpp"  // sha256_file
+#include "hostio/sha256.hpp"
 #include "trainer/calibrate/grid_residuals.hpp"
 
 namespace lptn {

@@ -7,6 +7,7 @@
 #include <map>
 #include <type_traits>
 
+#include "hostio/sha256.hpp"
 #include "lptn/motor_constant_fields.hpp"
 #include "lptn/motor_constants.hpp"
 

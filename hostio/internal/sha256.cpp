@@ -1,4 +1,4 @@
-#include "trainer/calibrate/internal/sha256.hpp"
+#include "hostio/internal/sha256.hpp"
 
 #include <algorithm>
 #include <cstring>

@@ -5,8 +5,8 @@
 #include <string>
 
 #include "lptn_testing/temp_dir.hpp"
-#include "trainer/calibrate/calibration_file.hpp"
-#include "trainer/calibrate/internal/sha256.hpp"
+#include "hostio/internal/sha256.hpp"
+#include "hostio/sha256.hpp"
 
 namespace lptn {
 namespace {

@@ -1,0 +1,16 @@
+// SHA-256 of bytes and of files, lower-case hex: calibration files record the hash of every data
+// file they were fitted to (and TD3's agent file), so that a result can be traced to the exact
+// bytes; lptn check compares them.
+#pragma once
+
+#include <cstddef>
+#include <filesystem>
+#include <string>
+
+namespace lptn {
+
+std::string sha256_hex(const void* data, std::size_t size);
+// Throws std::runtime_error "FILE: cannot read (missing or not readable)" or "FILE: read failed".
+std::string sha256_file(const std::filesystem::path& path);
+
+}  // namespace lptn
