@@ -10,6 +10,7 @@
 
 #include "lptn_testing/small_fleet.hpp"
 #include "trainer/diagnose/adequacy.hpp"
+#include "trainer/model/motor_effects.hpp"
 
 namespace lptn {
 namespace {

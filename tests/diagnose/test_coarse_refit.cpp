@@ -12,6 +12,7 @@
 
 #include "lptn_testing/small_fleet.hpp"
 #include "trainer/diagnose/internal/refit.hpp"
+#include "trainer/model/motor_effects.hpp"
 #include "trainer/model/simulate.hpp"
 
 namespace lptn::diagnose {

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "lptn_testing/small_fleet.hpp"
+#include "trainer/diagnose/diagnose.hpp"
 #include "trainer/diagnose/internal/score_test.hpp"
 
 namespace lptn::diagnose {

@@ -7,8 +7,7 @@
 #include <cstdio>
 #include <cstring>
 
-#include "lptn_testing/temp_dir.hpp"
-#include "tools/generate/generate.hpp"
+#include "lptn_testing/fleet_dump.hpp"
 #include "trainer/calibrate/lm.hpp"
 #include "trainer/calibrate/set_scorer.hpp"
 #include "trainer/data/coarse_grid.hpp"
@@ -16,26 +15,15 @@
 namespace lptn {
 namespace {
 
-struct Fixture {
-  testing::TempDir dir;
-  data::Dataset dataset, coarse;
-  MotorFile motor;
-  Split split;
+struct Fixture : testing::Dump {
+  data::Dataset coarse;
   LmReport fine_fit;
 };
 
 const Fixture& generated() {
   static const Fixture* f = [] {
     auto* fx = new Fixture;
-    gen::GenerateOptions o;
-    o.cycles = 6;
-    o.seed = 3;
-    o.min_duration_s = 1800;
-    o.max_duration_s = 2400;
-    gen::generate(o, fx->dir.path());
-    fx->dataset = data::load_fleet_dump({fx->dir.path()});
-    fx->motor = load_motor_file(fx->dir.path() / "motor.toml");
-    fx->split = split_cycles(fx->dataset, {}, 1.0 / 3.0, 1);
+    testing::generate_dump(*fx, 6, 3, 1800, 2400, 1.0 / 3.0);
     for (const data::Cycle& c : fx->dataset.cycles) fx->coarse.cycles.push_back(data::coarse_grid(c, 10));
     fx->fine_fit = fit_lm(fx->motor, fx->motor.initial_values(), fx->dataset, fx->split.train, LmSettings{});
     return fx;

@@ -7,7 +7,7 @@
 #include <fstream>
 #include <string>
 
-#include "lptn_testing/temp_dir.hpp"
+#include "lptn_testing/fleet_dump.hpp"
 #include "tools/generate/generate.hpp"
 #include "tools/generate/plant_truth.hpp"
 #include "trainer/calibrate/lm.hpp"
@@ -18,33 +18,18 @@
 namespace lptn {
 namespace {
 
-struct Fixture {
-  testing::TempDir dir;
-  data::Dataset dataset;
-  MotorFile motor;
-  Split split;
-};
-
 // Nine cycles (as the benchmark), shorter than the default so the test takes seconds.
-const Fixture& generated() {
-  static const Fixture* f = [] {
-    auto* fx = new Fixture;
-    gen::GenerateOptions o;
-    o.cycles = 9;
-    o.seed = 7;
-    o.min_duration_s = 1800;
-    o.max_duration_s = 2700;
-    gen::generate(o, fx->dir.path());
-    fx->dataset = data::load_fleet_dump({fx->dir.path()});
-    fx->motor = load_motor_file(fx->dir.path() / "motor.toml");
-    fx->split = split_cycles(fx->dataset, {}, 1.0 / 3.0, 1);
-    return fx;
+const testing::Dump& generated() {
+  static const testing::Dump* f = [] {
+    auto* d = new testing::Dump;
+    testing::generate_dump(*d, 9, 7, 1800, 2700, 1.0 / 3.0);
+    return d;
   }();
   return *f;
 }
 
 TEST(LevenbergMarquardt, RecoversTrueConductancesAndFitsUnseenCyclesToTheNoise) {
-  const Fixture& f = generated();
+  const testing::Dump& f = generated();
   ASSERT_EQ(f.split.train.size(), 6u);
   ASSERT_EQ(f.split.test.size(), 3u);
   const ParamVector<double> start = f.motor.initial_values();
@@ -67,7 +52,7 @@ TEST(LevenbergMarquardt, RecoversTrueConductancesAndFitsUnseenCyclesToTheNoise) 
 }
 
 TEST(LevenbergMarquardt, ReportsStandardErrorsThatCoverTheTruth) {
-  const Fixture& f = generated();
+  const testing::Dump& f = generated();
   const LmReport r = fit_lm(f.motor, f.motor.initial_values(), f.dataset, f.split.train, LmSettings{});
   const ParamVector<double> truth = gen::true_parameters();
   const FreeParameters free = FreeParameters::from_motor(f.motor);
@@ -105,7 +90,7 @@ TEST(LevenbergMarquardt, FlagsParametersTheDataCannotTellApart) {
 // motors start soaked through, so the stator core starts where the winding does, not where its
 // first noisy reading says.
 TEST(InitialOffsets, EstimateFindsTheUnmeasuredNodesTrueStart) {
-  const Fixture& f = generated();
+  const testing::Dump& f = generated();
   const Model<double> model = f.motor.model();
   const ParamVector<double> truth = gen::true_parameters();
   double rule_error = 0, estimate_error = 0, rule_sum = 0, estimate_sum = 0;
@@ -202,7 +187,7 @@ InitialOffsets<double> offsets_by_ceres(const Model<double>& model, const ParamV
 // cost than Ceres reaches with its tolerances at their tightest, and the same point to that
 // solver's precision, on the truth and on a starting guess 18 K off (where the offsets are large).
 TEST(InitialOffsets, ClosedFormIsTheMinimumTheIterativeSolverApproaches) {
-  const Fixture& f = generated();
+  const testing::Dump& f = generated();
   const Model<double> model = f.motor.model();
   double worst = 0, largest = 0, worst_excess = -1;
   for (const ParamVector<double>& params : {gen::true_parameters(), f.motor.initial_values()}) {
@@ -226,7 +211,7 @@ TEST(InitialOffsets, ClosedFormIsTheMinimumTheIterativeSolverApproaches) {
 // offset exceed the bound, and the estimate must then be the bounded minimum, not the clamp of the
 // unbounded one (both offsets pull on the same residuals).
 TEST(InitialOffsets, AtTheBoundItIsTheBoundedMinimum) {
-  const Fixture& f = generated();
+  const testing::Dump& f = generated();
   data::Cycle cycle = f.dataset.cycles[0];
   for (std::size_t k = 0; k < cycle.steps; ++k) {  // every temperature reading 60 K higher after the first
     float* s = &cycle.samples[data::index_of(data::Channel::stator_winding_c)][k];
@@ -246,7 +231,7 @@ TEST(InitialOffsets, AtTheBoundItIsTheBoundedMinimum) {
 }
 
 TEST(Split, SeededFractionIsRepeatableAndNamedCyclesAreHonoured) {
-  const Fixture& f = generated();
+  const testing::Dump& f = generated();
   const Split a = split_cycles(f.dataset, {}, 1.0 / 3.0, 5), b = split_cycles(f.dataset, {}, 1.0 / 3.0, 5);
   EXPECT_EQ(a.test, b.test);
   const Split named = split_cycles(f.dataset, {f.dataset.cycles[2].name}, 0, 0);

@@ -4,34 +4,18 @@
 
 #include <cstdio>
 
-#include "lptn_testing/temp_dir.hpp"
-#include "tools/generate/generate.hpp"
+#include "lptn_testing/fleet_dump.hpp"
 #include "trainer/calibrate/lm.hpp"
 #include "trainer/search/search.hpp"
 
 namespace lptn {
 namespace {
 
-struct Fixture {
-  testing::TempDir dir;
-  data::Dataset dataset;
-  MotorFile motor;
-  Split split;
-};
-
-const Fixture& generated() {
-  static const Fixture* f = [] {
-    auto* fx = new Fixture;
-    gen::GenerateOptions o;
-    o.cycles = 4;
-    o.seed = 11;
-    o.min_duration_s = 1200;
-    o.max_duration_s = 1500;
-    gen::generate(o, fx->dir.path());
-    fx->dataset = data::load_fleet_dump({fx->dir.path()});
-    fx->motor = load_motor_file(fx->dir.path() / "motor.toml");
-    fx->split = split_cycles(fx->dataset, {}, 0.25, 1);
-    return fx;
+const testing::Dump& generated() {
+  static const testing::Dump* f = [] {
+    auto* d = new testing::Dump;
+    testing::generate_dump(*d, 4, 11, 1200, 1500, 0.25);
+    return d;
   }();
   return *f;
 }
@@ -39,7 +23,7 @@ const Fixture& generated() {
 double pooled(const SplitMetrics& m) { return pool({m.stator, m.rotor}).rmse_k; }
 
 TEST(Search, BothMethodsBeatTheGuessAndCmaEsComesCloseToLm) {
-  const Fixture& f = generated();
+  const testing::Dump& f = generated();
   const Model<double> model = f.motor.model();
   const double guess = pooled(evaluate_split(model, f.motor.initial_values(), f.dataset, f.split.test));
   const LmReport lm = fit_lm(f.motor, f.motor.initial_values(), f.dataset, f.split.train, LmSettings{});

@@ -5,33 +5,18 @@
 #include <cmath>
 #include <fstream>
 
-#include "lptn_testing/temp_dir.hpp"
-#include "tools/generate/generate.hpp"
+#include "lptn_testing/fleet_dump.hpp"
 #include "trainer/calibrate/problem.hpp"
 #include "trainer/td3/td3_calibration.hpp"
 
 namespace lptn::td3 {
 namespace {
 
-struct Data {
-  testing::TempDir dir;
-  data::Dataset dataset;
-  MotorFile motor;
-  Split split;
-};
-
-const Data& generated() {
-  static const Data* d = [] {
-    auto* x = new Data;
-    gen::GenerateOptions o;
-    o.cycles = 4;
-    o.seed = 11;
-    o.min_duration_s = 1200;
-    o.max_duration_s = 1500;
-    gen::generate(o, x->dir.path());
-    x->dataset = data::load_fleet_dump({x->dir.path()});
-    x->motor = load_motor_file(x->dir.path() / "motor.toml");
-    x->split = split_cycles(x->dataset, {}, 0.25, 1);
+// Four cycles of 20-25 minutes, one held out (the search suite's dump).
+const testing::Dump& generated() {
+  static const testing::Dump* d = [] {
+    auto* x = new testing::Dump;
+    testing::generate_dump(*x, 4, 11, 1200, 1500, 0.25);
     return x;
   }();
   return *d;
@@ -61,7 +46,7 @@ double average(const std::vector<EpisodeRecord>& curve, std::size_t from, std::s
 }
 
 void expect_learns(Formulation f, int episodes, int random) {
-  const Data& d = generated();
+  const testing::Dump& d = generated();
   testing::TempDir checkpoints;
   TrainingSettings s = small(f, episodes);
   const Td3Outcome o = train_td3(d.motor, d.dataset, d.split.train, s, checkpoints.path(), false);
@@ -96,7 +81,7 @@ void expect_learns(Formulation f, int episodes, int random) {
 // the data's grid) fits unseen cycles far better than the guess, and as well as the best set scored.
 TEST(Td3Calibration, SequentialFormulationLearnsWithASmallBudget) {
   expect_learns(Formulation::sequential, 60, 5);
-  const Data& d = generated();
+  const testing::Dump& d = generated();
   testing::TempDir checkpoints;
   const Td3Outcome o = train_td3(d.motor, d.dataset, d.split.train, small(Formulation::sequential, 20), checkpoints.path(), false);
   const SplitMetrics train = evaluate_split(d.motor.model(), o.values, d.dataset, d.split.train);
@@ -108,7 +93,7 @@ TEST(Td3Calibration, SequentialFormulationLearnsWithASmallBudget) {
 // A warm start takes the earlier agent's networks: its first rollouts are the earlier agent's last
 // (the same data here), and it takes no random rounds. Another agent shape is refused.
 TEST(Td3Calibration, AWarmStartContinuesFromTheEarlierAgent) {
-  const Data& d = generated();
+  const testing::Dump& d = generated();
   testing::TempDir first_dir, warm_dir, other_dir;
   const TrainingSettings s = small(Formulation::sequential, 10);
   const Td3Outcome first = train_td3(d.motor, d.dataset, d.split.train, s, first_dir.path(), false);
@@ -128,7 +113,7 @@ TEST(Td3Calibration, AWarmStartContinuesFromTheEarlierAgent) {
 // The paper's actor scheduled over cycles: with an untrained actor held at one set, scheduling
 // gives exactly the constant set's figures; a trained one gives its own.
 TEST(Td3Calibration, TheScheduledActorIsScoredOnTheCyclesGiven) {
-  const Data& d = generated();
+  const testing::Dump& d = generated();
   testing::TempDir dir;
   const Td3Outcome o = train_td3(d.motor, d.dataset, d.split.train, small(Formulation::per_step, 4), dir.path(), false);
   Td3Outcome flat = o;  // an actor whose every output is the constant set: zero weights, biases atanh(u)
@@ -159,7 +144,7 @@ INSTANTIATE_TEST_SUITE_P(Formulations, Td3Resume,
                          });
 
 TEST_P(Td3Resume, AKilledRunResumesToTheSameResult) {
-  const Data& d = generated();
+  const testing::Dump& d = generated();
   TrainingSettings s = small(GetParam(), 7);
   s.max_steps_per_episode = 400;
   s.agent.hidden = 16;

@@ -11,6 +11,7 @@
 
 #include "lptn_testing/small_fleet.hpp"
 #include "lptn_testing/sound_candidates.hpp"
+#include "trainer/diagnose/diagnose.hpp"
 
 namespace lptn::diagnose {
 

@@ -1,24 +1,19 @@
-// Generated data for the diagnose tests: a fleet dump with chosen hidden effects, the paper's
-// model calibrated on it (LM), the last two cycles held out.
+// Generated data for the diagnose tests: a fleet dump (fleet_dump.hpp) with chosen hidden effects
+// and plant physics, the last two cycles held out, the paper's model calibrated on the rest (LM).
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <utility>
 #include <vector>
 
-#include "lptn_testing/temp_dir.hpp"
-#include "tools/generate/generate.hpp"
+#include "lptn_testing/fleet_dump.hpp"
 #include "trainer/calibrate/lm.hpp"
-#include "trainer/diagnose/diagnose.hpp"
 
 namespace lptn::testing {
 
-struct Generated {
-  TempDir dir;
-  data::Dataset dataset;
-  MotorFile motor;
-  Split split;
+struct Generated : Dump {
   LmReport calibrated;  // the paper's model (the motor file's), on split.train
 };
 
@@ -29,9 +24,7 @@ struct Generated {
 // Any dump the generator can write (`options`), calibrated as below.
 inline std::unique_ptr<Generated> generate(const gen::GenerateOptions& options) {
   auto g = std::make_unique<Generated>();
-  gen::generate(options, g->dir.path());
-  g->dataset = data::load_fleet_dump({g->dir.path()});
-  g->motor = load_motor_file(g->dir.path() / "motor.toml");
+  write_and_load(*g, options);
   const std::size_t n = g->dataset.cycles.size();
   g->split = split_cycles(g->dataset, {g->dataset.cycles[n - 2].name, g->dataset.cycles[n - 1].name}, 0, 0);
   g->calibrated = fit_lm(g->motor, g->motor.initial_values(), g->dataset, g->split.train, LmSettings{});
