@@ -3,11 +3,15 @@
 // the physics), however significant; the JSON says which, with the error before and after.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 #include <string>
 #include <utility>
 
+#include "lptn_testing/small_fleet.hpp"
+#include "lptn_testing/sound_candidates.hpp"
 #include "trainer/diagnose/diagnose.hpp"
 #include "trainer/diagnose/internal/heat_path.hpp"
 
@@ -138,6 +142,36 @@ TEST(Recommendation, AFailedRefitIsListedNotJudged) {
   EXPECT_FALSE(c.at("recommended").get<bool>());
   EXPECT_TRUE(c.at("test_rmse_k_after").is_null());
   EXPECT_EQ(c.at("reason"), failed.reason);
+}
+
+// An effect whose neutral value lies beyond the motor file's bound cannot be switched off by its
+// refit: a sensor lag of at least 5 s on data whose sensor does not lag ends above the baseline
+// from every start, and that is the data pulling it towards nothing, not a lost fit: judged at the
+// baseline, not significant, where diagnose listed "refit failed" (the clean 48 h bench dump's
+// sensor lag at its 0.5 s floor, before).
+TEST(Recommendation, AnEffectHeldAtTheBoundBeforeItsNeutralValueIsNotSignificant) {
+  const auto g = testing::generate({}, 4, 20, 25, 13);
+  MotorFile motor = g->motor;
+  const int tau = param_index("sensor_time_constant_s");
+  // As a motor file's [parameters.sensor_time_constant_s] sets it (one enable_effect keeps).
+  ParameterSetting& setting = motor.parameters[static_cast<std::size_t>(tau)];
+  setting.min = 5.0;
+  setting.initial = std::max(setting.initial, 5.0);
+  setting.in_file = true;
+  diagnose::Settings settings;
+  settings.threads = 2;
+  const diagnose::Diagnosis d = diagnose::diagnose(motor, g->calibrated.values, g->dataset, g->split, settings);
+  const diagnose::Candidate* lag = nullptr;
+  for (const diagnose::Candidate& c : d.candidates)
+    if (c.name == "sensor_lag") lag = &c;
+  ASSERT_NE(lag, nullptr);
+  std::printf("sensor_lag: %s, %s; LR %.2f\n", diagnose::to_string(lag->verdict), lag->reason.c_str(), lag->statistic);
+  EXPECT_EQ(lag->verdict, diagnose::Verdict::not_significant);
+  EXPECT_NE(lag->reason.find("past the motor file's bound sensor_time_constant_s = 5 s"), std::string::npos) << lag->reason;
+  EXPECT_EQ(lag->refit_rmse_k, d.rmse_k);
+  EXPECT_EQ(lag->statistic, 0.0);
+  EXPECT_NEAR(lag->refit.values[tau], 5.0, 1e-5);
+  diagnose::expect_sound_candidates(d, "sensor lag floored at 5 s");
 }
 
 // "Not distinguishable" names only a parameter that shares a heat path with the candidate: a

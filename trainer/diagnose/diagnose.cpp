@@ -132,6 +132,23 @@ ParamVector<double> neutral_start(const MotorFile& with, int effect, const Param
   return at;
 }
 
+// Where the effect's neutral value lies beyond its first parameter's bound in the motor file (the
+// sensor lag: neutral 0 s, its floor 0.5 s), the refit cannot switch it off: held at that bound it
+// can end above the baseline from every start, which says the data pull the effect towards
+// nothing past what the bound allows, not that the fit got lost. The bound it is held at, in
+// words ("sensor_time_constant_s = 0.5 s"), or empty where it is not held there.
+std::string held_at_neutral_bound(const MotorFile& with, int effect, const ParamVector<double>& values) {
+  const int i = kNumPaperParams + EffectLibrary::kParamOffsets[static_cast<std::size_t>(effect)];
+  const ParameterSetting& p = with.parameters[static_cast<std::size_t>(i)];
+  const double neutral = param_spec(i).neutral, v = values[i];
+  const double bound = neutral < p.min ? p.min : neutral > p.max ? p.max : std::numeric_limits<double>::quiet_NaN();
+  if (std::isnan(bound) || std::abs(v - bound) > 1e-6 * std::max(1.0, std::abs(bound))) return {};
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "%s = %g %s", std::string(param_spec(i).name).c_str(), bound,
+                std::string(param_spec(i).unit).c_str());
+  return buf;
+}
+
 // A refit ending above the baseline by less than this, in likelihood-ratio units (a hundredth of
 // any threshold), ended at the baseline: the tolerance of LM's convergence, not a worse fit.
 constexpr double kAtBaselineLr = 0.1;
@@ -290,6 +307,18 @@ Candidate examine(const MotorFile& motor, const Scored& scored, const Diagnosis&
   // scaled by the two fits' ratio on the coarse grid (the likelihood ratio's footing).
   const double kept_rmse_k =
       unpolished ? before.rmse_k * std::sqrt(kept->fit.final_cost / coarse.baseline->final_cost) : kept ? kept->fit.rmse_k : kNoTest;
+  if (lr < -kAtBaselineLr && kept) {
+    if (const std::string bound = held_at_neutral_bound(with, effect, kept->fit.values); !bound.empty()) {
+      // Held at the bound before its neutral value: the constrained fit's best is the baseline.
+      at_baseline(c, before, kept->fit.values,
+                  "the data pull it towards nothing, past the motor file's bound " + bound + " (its refit ends " +
+                      "there, above the baseline's " +
+                      (unpolished ? kelvin_text(coarse.baseline->rmse_k) + " on the coarse grid" : kelvin_text(before.rmse_k)) +
+                      ")");
+      c.words = in_words(effect, kept->fit.values);
+      return c;
+    }
+  }
   if (lr < -kAtBaselineLr) {
     // Above the baseline from every start: the fit got lost (a local minimum, a crawl cut short),
     // and where it ended says nothing about the effect. Listed, not judged.
