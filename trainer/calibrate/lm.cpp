@@ -98,9 +98,10 @@ class CycleResiduals final : public CycleBlock {
       return plain_.ok;
     }
     // The derivatives at a point already differentiated are the ones found then: Ceres asks for
-    // the Jacobian at a point more than once (10 requests for 5 points on a 48 h fit), and the
-    // last two points are kept: the covariance at the solution asks for the accepted point's
-    // after a rejected step's (on the 48 h baseline refit, a fifth of its time).
+    // the Jacobian at a point more than once (10 requests for 5 points on a 48 h fit). The last
+    // two points are kept: the covariance at the solution asks for the accepted point's, and with
+    // the line search's cubic a rejected trial's had replaced it (a fifth of the 48 h baseline
+    // refit's time); with its quadratic (below) no trial is differentiated, and two cost nothing.
     const Jets* jets = cached(theta, offset);
     if (jets == nullptr && (jets = evaluate_jets(theta, offset)) == nullptr) return false;
     std::copy(jets->residuals.begin(), jets->residuals.end(), residuals);
