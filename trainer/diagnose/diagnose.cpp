@@ -220,6 +220,12 @@ Candidate examine(const MotorFile& motor, const Scored& scored, const Diagnosis&
   // Both run on the coarse grid, and the one that ends lower there is polished on the data's own
   // (the polish is most of a refit's cost); without readings on the coarse grid, both on the data's.
   const LmSettings lm = refit_settings(settings);
+  // The refit settings that stop a refit whose likelihood ratio against `base_cost` cannot reach `mark`.
+  auto stopping_short_of = [&](double mark, double base_cost) {
+    LmSettings stopping = lm;
+    stopping.stop = internal::stop_short_of(mark, base_cost, before.effective_residuals, lm.max_iterations, kAtBaselineLr);
+    return stopping;
+  };
   const std::pair<const char*, ParamVector<double>> starts[] = {
       {"the score test's step", score.predicted}, {"the neutral value", neutral_start(with, effect, before.baseline.values)}};
   std::optional<internal::Refit> kept;
@@ -232,16 +238,12 @@ Candidate examine(const MotorFile& motor, const Scored& scored, const Diagnosis&
     const LmProgress report = lm_progress(progress, c.name + ": refit from " + from);
     // On the coarse grid its mark is the polish (below it the verdict is the coarse fit's), on the
     // data's the threshold.
-    LmSettings on_coarse_lm = lm, on_data_lm = lm;
-    if (coarse.baseline)
-      on_coarse_lm.stop = internal::stop_short_of(kPolishShare * c.threshold, coarse.baseline->final_cost,
-                                                  before.effective_residuals, lm.max_iterations, kAtBaselineLr);
-    on_data_lm.stop = internal::stop_short_of(c.threshold, before.baseline.final_cost, before.effective_residuals,
-                                              lm.max_iterations, kAtBaselineLr);
     try {
       if (std::optional<LmReport> on_coarse =
-              coarse.baseline ? internal::coarse_stage(with, values, coarse.dataset, split.train, on_coarse_lm, report)
-                              : std::nullopt) {
+              coarse.baseline
+                  ? internal::coarse_stage(with, values, coarse.dataset, split.train,
+                                           stopping_short_of(kPolishShare * c.threshold, coarse.baseline->final_cost), report)
+                  : std::nullopt) {
         s.rmse_k = on_coarse->rmse_k;
         s.iterations = on_coarse->iterations;
         s.converged = on_coarse->converged;
@@ -251,7 +253,8 @@ Candidate examine(const MotorFile& motor, const Scored& scored, const Diagnosis&
           best_start = c.starts.size();
         }
       } else {
-        internal::Refit r = internal::refit_with(with, effect, values, dataset, split.train, on_data_lm, report);
+        internal::Refit r = internal::refit_with(with, effect, values, dataset, split.train,
+                                                 stopping_short_of(c.threshold, before.baseline.final_cost), report);
         s.rmse_k = r.fit.rmse_k;
         s.iterations = r.fit.iterations;
         s.converged = r.fit.converged;
@@ -282,10 +285,8 @@ Candidate examine(const MotorFile& motor, const Scored& scored, const Diagnosis&
   if (best_coarse) {
     RefitStart& s = c.starts[best_start];
     try {
-      LmSettings polish_lm = lm;
-      polish_lm.stop = internal::stop_short_of(c.threshold, before.baseline.final_cost, before.effective_residuals,
-                                               lm.max_iterations, kAtBaselineLr);
-      kept = internal::polish(with, effect, *best_coarse, dataset, split.train, polish_lm,
+      kept = internal::polish(with, effect, *best_coarse, dataset, split.train,
+                              stopping_short_of(c.threshold, before.baseline.final_cost),
                               lm_progress(progress, c.name + ": polish from " + s.from));
       s.rmse_k = kept->fit.rmse_k;
       s.iterations = kept->fit.iterations;
