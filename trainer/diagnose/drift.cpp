@@ -134,12 +134,10 @@ std::optional<double> parabolic_from_baseline(const F& f, double f0) {
 }
 
 // The factor of the group that fits `cycle` best, the other parameters at `p`; `f0` its error at
-// factor 1 (NaN: not known yet, and then set here for the next group).
+// factor 1 (both groups share it).
 double best_factor(const Model<double>& model, const ParamVector<double>& p, DriftGroup g, const data::Cycle& cycle,
-                   double& f0) {
-  const PreparedCycle prepared = prepare_cycle(model, cycle);  // the losses once, not at every evaluation
+                   const PreparedCycle& prepared, double f0) {
   auto f = [&](double y) { return squared_error(model, scaled_group(p, g, std::exp(y)), cycle, prepared); };
-  if (std::isnan(f0)) f0 = squared_error(model, p, cycle, prepared);
   if (const std::optional<double> y = parabolic_from_baseline(f, f0)) return std::exp(*y);
   return std::exp(brent_minimum(f));
 }
@@ -210,18 +208,14 @@ ParamVector<double> scaled_group(const ParamVector<double>& p, DriftGroup g, dou
 }
 
 namespace {
-// `at_baseline`: each cycle's error at factor 1, NaN where not yet known (the groups share it).
-Drift find_drift(const Model<double>& model, const ParamVector<double>& params, const data::Dataset& dataset,
-                 int threads, DriftGroup group, std::vector<double>& at_baseline) {
+// The drift of one group, from every cycle's factor of it (in the dump's order).
+Drift drift_of(DriftGroup group, const data::Dataset& dataset, const std::vector<double>& factors) {
   Drift d;
   d.group = group;
   const std::size_t n = dataset.cycles.size();
   d.factors.resize(n);
-  parallel_for(n, threads, [&](std::size_t i) {
-    d.factors[i] = {dataset.cycles[i].name, best_factor(model, params, group, dataset.cycles[i], at_baseline[i])};
-  });
+  for (std::size_t i = 0; i < n; ++i) d.factors[i] = {dataset.cycles[i].name, factors[i]};
   if (n < 4) return d;
-
   std::vector<double> y(n);
   for (std::size_t i = 0; i < n; ++i) y[i] = std::log(d.factors[i].factor);
   const Statistic step = step_statistic(y);
@@ -271,11 +265,22 @@ Drift find_drift(const Model<double>& model, const ParamVector<double>& params, 
 
 Drift find_drift(const Model<double>& model, const ParamVector<double>& params, const data::Dataset& dataset,
                  int threads) {
-  std::vector<double> at_baseline(dataset.cycles.size(), std::numeric_limits<double>::quiet_NaN());
-  Drift cooling = find_drift(model, params, dataset, threads, DriftGroup::cooling, at_baseline);
-  if (cooling.found) return cooling;
-  Drift losses = find_drift(model, params, dataset, threads, DriftGroup::losses, at_baseline);
-  return losses.found ? losses : cooling;
+  // Both groups' factors in one pass over the cycles: each cycle's losses prepared once, its
+  // error at factor 1 simulated once. The losses' factors are computed even where the cooling's
+  // drift will be the finding, and then go unused (about four simulations a cycle).
+  const std::size_t n = dataset.cycles.size();
+  std::vector<double> cooling(n), losses(n);
+  parallel_for(n, threads, [&](std::size_t i) {
+    const data::Cycle& cycle = dataset.cycles[i];
+    const PreparedCycle prepared = prepare_cycle(model, cycle);
+    const double f0 = squared_error(model, params, cycle, prepared);
+    cooling[i] = best_factor(model, params, DriftGroup::cooling, cycle, prepared, f0);
+    losses[i] = best_factor(model, params, DriftGroup::losses, cycle, prepared, f0);
+  });
+  Drift by_cooling = drift_of(DriftGroup::cooling, dataset, cooling);
+  if (by_cooling.found) return by_cooling;
+  Drift by_losses = drift_of(DriftGroup::losses, dataset, losses);
+  return by_losses.found ? by_losses : by_cooling;
 }
 
 nlohmann::json to_json(const Drift& d) {

@@ -9,8 +9,10 @@
 //   groups     cooling: every conductance to air (lambda_1s, lambda_2s, lambda_1r, lambda_2r)
 //              times c; losses: both copper-loss factors (k_stemp, k_rtemp) times c. The cooling
 //              is tried first; the losses only where the cooling shows no change.
-//   per cycle  c minimizing the cycle's squared error over its measured sensors (golden section
-//              on log c, offsets estimated per cycle as the metrics do).
+//   per cycle  c minimizing the cycle's squared error over its measured sensors (on log c: a
+//              parabola through factor 1 and a step to either side, refined through its vertex;
+//              Brent's minimizer over the whole range where those do not bracket it; offsets
+//              estimated per cycle as the metrics do).
 //   the test   y_i = log c_i in the dump's order (the cycles sorted by file name). Step: the
 //              largest two-sample t statistic over every split with at least two cycles on each
 //              side. Trend: the t statistic of the least-squares slope. Each statistic's p-value

@@ -36,21 +36,13 @@ CycleSimulation simulate_cycle(const Model<double>& model, const ParamVector<dou
   return out;
 }
 
+ErrorMetrics ErrorSum::metrics() const { return finish(sum_, sum_sq_, sum_abs_, max_abs_, samples_); }
+
 ErrorMetrics compare(const std::vector<float>& model, const data::Cycle& cycle, data::Channel measured) {
-  double sum = 0, sum_sq = 0, sum_abs = 0, max_abs = 0;
-  std::size_t samples = 0;
+  ErrorSum errors;
   const std::size_t n = std::min(model.size(), cycle.steps);
-  for (std::size_t k = 0; k < n; ++k) {
-    const float y = cycle.at(measured, k);
-    if (std::isnan(y)) continue;
-    const double e = static_cast<double>(model[k]) - y;
-    sum += e;
-    sum_sq += e * e;
-    sum_abs += std::abs(e);
-    max_abs = std::max(max_abs, std::abs(e));
-    ++samples;
-  }
-  return finish(sum, sum_sq, sum_abs, max_abs, samples);
+  for (std::size_t k = 0; k < n; ++k) errors.add(model[k], cycle.at(measured, k));
+  return errors.metrics();
 }
 
 ErrorMetrics pool(const std::vector<ErrorMetrics>& parts) {

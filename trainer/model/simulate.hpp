@@ -122,6 +122,28 @@ struct ErrorMetrics {
   std::size_t samples = 0;
 };
 
+// The statistics accumulated one step at a time: compare() over a stored simulation, or a caller
+// that needs the metrics alone and compares as it runs (evaluate_cycle: the same sums in the same
+// order, so the same bits, without storing every node of every step).
+class ErrorSum {
+ public:
+  // One step: the model's value (as a simulation stores it, in float) against the reading (NaN: none).
+  void add(float model, float measured) {
+    if (std::isnan(measured)) return;
+    const double e = static_cast<double>(model) - measured;
+    sum_ += e;
+    sum_sq_ += e * e;
+    sum_abs_ += std::abs(e);
+    max_abs_ = std::max(max_abs_, std::abs(e));
+    ++samples_;
+  }
+  ErrorMetrics metrics() const;
+
+ private:
+  double sum_ = 0, sum_sq_ = 0, sum_abs_ = 0, max_abs_ = 0;
+  std::size_t samples_ = 0;
+};
+
 ErrorMetrics compare(const std::vector<float>& model, const data::Cycle& cycle, data::Channel measured);
 // Pools several cycles' metrics into one (weighted by samples).
 ErrorMetrics pool(const std::vector<ErrorMetrics>& parts);
