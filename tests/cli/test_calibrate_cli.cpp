@@ -90,11 +90,17 @@ TEST_F(CalibrateCli, BadInputIsOneLineAndLeavesNothing) {
   EXPECT_EQ(config.code, 2);
   EXPECT_NE(config.err.find("bad.toml:2: key 'agent.hidden'"), std::string::npos) << config.err;
   EXPECT_FALSE(std::filesystem::exists(out));
-  // A warm start from a file that is no td3 calibration with an agent.
-  std::ofstream(t.path() / "lm.json") << R"({"method": {"name": "lm", "details": {}}, "parameters": []})";
+  // A warm start from a calibration that is no td3 calibration with an agent (LM's, a whole one),
+  // and from JSON that is no calibration at all.
+  const Result lm = run(base() + " --method lm --quiet --out " + (t.path() / "lm.json").string(), t.path());
+  ASSERT_TRUE(lm.code == 0 || lm.code == 3) << lm.err;
   const Result warm = run(base() + " --method td3 --warm-start " + (t.path() / "lm.json").string() + " --out " + out.string(), t.path());
   EXPECT_EQ(warm.code, 2);
   EXPECT_NE(warm.err.find("lm.json: method.details.agent_file"), std::string::npos) << warm.err;
+  std::ofstream(t.path() / "other.json") << R"({"method": {"name": "td3", "details": {"agent_file": "a.pt"}}, "parameters": []})";
+  const Result other = run(base() + " --method td3 --warm-start " + (t.path() / "other.json").string() + " --out " + out.string(), t.path());
+  EXPECT_EQ(other.code, 2);
+  EXPECT_NE(other.err.find("other.json: not a calibration file"), std::string::npos) << other.err;
   EXPECT_FALSE(std::filesystem::exists(out));
   EXPECT_FALSE(std::filesystem::exists(t.path() / "calibration.json.agent"));
 #endif

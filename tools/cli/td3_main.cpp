@@ -14,6 +14,7 @@
 #include "hostio/sha256.hpp"
 #include "lptn/version.hpp"
 #include "tools/cli/commands.hpp"
+#include "trainer/calibrate/calibration_file.hpp"
 #include "trainer/td3/td3_calibration.hpp"
 #include "trainer/td3/td3_settings.hpp"
 
@@ -33,36 +34,35 @@ void keep_agent(const CalibrateArgs& a, const td3::Td3Outcome& o, CalibrationRes
   r.details["agent_sha256"] = sha256_hex(bytes.data(), bytes.size());
 }
 
+// A string field of method.details, "" where absent or not a string.
+std::string detail(const CalibrationResult& r, const char* key) {
+  const auto it = r.details.find(key);
+  return it != r.details.end() && it->is_string() ? it->get<std::string>() : std::string();
+}
+
 // --warm-start FILE: an earlier td3 calibration of the same free parameters, its agent beside it.
+// Read as every command reads a calibration (load_calibration: a file that is not one is bad input
+// naming its field).
 td3::WarmStart warm_start_from(const CalibrateArgs& a, const MotorFile& motor) {
   if (a.warm_start.empty()) return {};
   const std::filesystem::path file = a.warm_start;
-  std::ifstream in(file);
-  if (!in) throw BadInput("--warm-start " + file.string() + ": cannot open it");
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::exception& e) {
-    throw BadInput(file.string() + ": not JSON (" + e.what() + ")");
-  }
-  const nlohmann::json details = j.value("method", nlohmann::json::object()).value("details", nlohmann::json::object());
-  if (j.value("method", nlohmann::json::object()).value("name", "") != "td3" || !details.contains("agent_file"))
+  const CalibrationResult earlier = load_calibration(file);
+  const std::string agent_file = detail(earlier, "agent_file");
+  if (earlier.method != "td3" || agent_file.empty())
     throw BadInput(file.string() + ": method.details.agent_file: not a td3 calibration with an agent to start from");
   // The same free parameters and bounds: the agent's actions and states mean nothing otherwise.
   const FreeParameters free = FreeParameters::from_motor(motor);
   std::vector<std::string> before, now;
-  for (const auto& p : j.at("parameters"))
-    if (p.value("calibrated", false))
-      before.push_back(p.at("name").get<std::string>() + " [" + std::to_string(p.at("min").get<double>()) + ", " +
-                       std::to_string(p.at("max").get<double>()) + "]");
+  for (const ParameterResult& p : earlier.parameters)
+    if (p.calibrated) before.push_back(p.name + " [" + std::to_string(p.min) + ", " + std::to_string(p.max) + "]");
   for (std::size_t k = 0; k < free.size(); ++k)
     now.push_back(std::string(param_spec(free.index[k]).name) + " [" + std::to_string(free.min[k]) + ", " + std::to_string(free.max[k]) + "]");
   if (before != now)
     throw BadInput(file.string() + ": parameters: calibrated other parameters or bounds than " + a.motor + " marks; a warm start needs the same");
-  const std::filesystem::path agent = file.parent_path() / details.at("agent_file").get<std::string>();
+  const std::filesystem::path agent = file.parent_path() / agent_file;
   if (!std::filesystem::exists(agent)) throw BadInput(file.string() + ": method.details.agent_file: " + agent.string() + " does not exist");
   const std::string sha = sha256_file(agent);
-  if (sha != details.value("agent_sha256", ""))
+  if (sha != detail(earlier, "agent_sha256"))
     throw BadInput(file.string() + ": method.details.agent_sha256: " + agent.string() + " is not the agent this calibration wrote");
   return {agent, sha};
 }
