@@ -25,7 +25,7 @@
 namespace lptn::cli {
 namespace {
 
-struct Args {
+struct CheckArgs {
   std::vector<std::string> data;
   std::string fleet, calibration, json_out, map;
   bool json = false, force = false, quiet = false;
@@ -45,7 +45,7 @@ data::Dataset motor_dataset(const FleetDump& fleet, std::size_t m) {
   return d;
 }
 
-bool check_data(const Args& a) {
+bool check_data(const CheckArgs& a) {
   if (is_fleet_file(a.calibration))
     throw BadInput(a.calibration + ": a fleet calibration (lptn calibrate --fleet): use --fleet FLEET, each motor against "
                                    "its own cooling factor");
@@ -77,7 +77,7 @@ bool check_data(const Args& a) {
 
 // One motor checked: with fleet.json against the type and its own cooling factor; a motor the
 // fleet calibration does not know, and every motor under a calibration.json, against that calibration.
-nlohmann::json check_motor(const Args& a, const std::optional<FleetFile>& fleet_file, const CalibrationResult& single,
+nlohmann::json check_motor(const CheckArgs& a, const std::optional<FleetFile>& fleet_file, const CalibrationResult& single,
                            const FleetDump& fleet, std::size_t m, const std::optional<MotorFile>& data_motor) {
   const std::string& id = fleet.motor_ids[m];
   std::string against = fleet_file ? "the type (not in " + a.calibration + ")" : a.calibration;
@@ -101,9 +101,9 @@ nlohmann::json check_motor(const Args& a, const std::optional<FleetFile>& fleet_
 
 // Under mpirun the motors are shared over the processes (motor m loaded and checked by the rank
 // that load_shared_fleet gives it); every rank joins the verdicts, rank 0 prints and writes.
-bool check_fleet(const Args& given) {
+bool check_fleet(const CheckArgs& given) {
   const ProcessGroup& group = ProcessGroup::world();
-  Args a = given;
+  CheckArgs a = given;
   if (!group.leads()) {
     a.quiet = true;
     if (std::freopen("/dev/null", "w", stdout) == nullptr) throw std::runtime_error("cannot silence rank " + std::to_string(group.rank()));
@@ -162,7 +162,7 @@ bool check_fleet(const Args& given) {
   return failing.empty();
 }
 
-void run(const Args& a) {
+void run(const CheckArgs& a) {
   if (a.data.empty() == a.fleet.empty()) throw BadInput("check: give --data DIR or --fleet FLEET (one of them)");
   // Inputs, then the output, before any work (a missing input is the first thing to hear of).
   for (const std::string& d : a.data) check_input_path(d, "--data");
@@ -186,7 +186,7 @@ void add_check(CLI::App& app) {
                "calibration's own test error, and its cooling factor against the calibration's; exit 0 it holds, 1 it "
                "does not, 2 bad input (docs/check.md); with --fleet under `mpirun -np N` the motors are shared over N "
                "processes");
-  auto a = std::make_shared<Args>();
+  auto a = std::make_shared<CheckArgs>();
   cmd->add_option("--data", a->data, "Directories of cycle CSVs, or CSV files: the data to check the calibration on")
       ->expected(1, -1);
   cmd->add_option("--fleet", a->fleet,

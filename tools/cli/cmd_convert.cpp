@@ -29,7 +29,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Args {
+struct ConvertArgs {
   std::string in, out, interface = "can0", format, channel, bus, data_map_path;
   double start_time_s = 0;
   bool force = false;
@@ -95,13 +95,13 @@ std::string lower_extension(const fs::path& p) {
   return ext;
 }
 
-std::optional<canfile::LogFormat> given_format(const Args& args) {
+std::optional<canfile::LogFormat> given_format(const ConvertArgs& args) {
   if (args.format.empty()) return std::nullopt;
   return canfile::format_from_name(args.format);
 }
 
 // A log or a CSV: by the name where it says, else by --format, else by the content (a log's, or a CSV).
-bool is_log(const fs::path& file, const Args& args) {
+bool is_log(const fs::path& file, const ConvertArgs& args) {
   const std::string ext = lower_extension(file);
   if (ext == ".csv") return false;
   if (canfile::format_from_extension(file) || given_format(args)) return true;
@@ -114,11 +114,11 @@ bool is_log(const fs::path& file, const Args& args) {
 }
 
 // CSV -> log: --format, else the extension of the log to write, else candump.
-canfile::LogFormat output_format(const Args& args, const fs::path& out) {
+canfile::LogFormat output_format(const ConvertArgs& args, const fs::path& out) {
   return given_format(args).value_or(canfile::format_from_extension(out).value_or(canfile::LogFormat::candump));
 }
 
-canlog::Converted convert(const fs::path& in, const fs::path& out, bool from_log, const Args& args) {
+canlog::Converted convert(const fs::path& in, const fs::path& out, bool from_log, const ConvertArgs& args) {
   try {
     // A log to a log's name: the frames again in that format (never a CSV under a log's name).
     if (from_log && canfile::format_from_extension(out))
@@ -160,7 +160,7 @@ void reject_interface(const CLI::App& cmd, canfile::LogFormat format) {
                    " logs carry channel 1");
 }
 
-void convert_file(const CLI::App& cmd, const Args& args) {
+void convert_file(const CLI::App& cmd, const ConvertArgs& args) {
   const fs::path in(args.in), out(args.out);
   if (fs::exists(out) && fs::equivalent(in, out)) throw BadInput(args.out + ": is the input");
   if (fs::is_directory(out)) throw BadInput(args.out + ": is a directory (one input file makes one output file)");
@@ -194,7 +194,7 @@ void list_inputs(const fs::path& dir, std::vector<fs::path>& csvs, std::vector<f
   std::sort(logs.begin(), logs.end());
 }
 
-void convert_directory(const CLI::App& cmd, const Args& args) {
+void convert_directory(const CLI::App& cmd, const ConvertArgs& args) {
   const fs::path in(args.in);
   std::vector<fs::path> csvs, logs;
   list_inputs(in, csvs, logs);
@@ -272,7 +272,7 @@ std::string check_interface(const std::string& name) {
 void add_convert(CLI::App& app) {
   auto* cmd = app.add_subcommand("convert", "Convert a fleet-dump CSV into a CAN log (candump, Vector ASC, BLF or MDF4; "
                                             "through the DBC's encoders), or such a log into a fleet-dump CSV");
-  auto args = std::make_shared<Args>();
+  auto args = std::make_shared<ConvertArgs>();
   cmd->add_option("--in", args->in, "A cycle CSV, a CAN log (candump -L, Vector ASC, BLF or MDF4), or a directory of either")
       ->required()
       ->check(CLI::ExistingPath);

@@ -27,7 +27,7 @@
 namespace lptn::cli {
 namespace {
 
-struct Args {
+struct DiagnoseArgs {
   std::vector<std::string> data;
   std::string calibration, out, json_out, map;
   std::vector<std::string> test_cycles;
@@ -197,11 +197,11 @@ void print_table(const diagnose::Diagnosis& d, double level) {
   if (!recommended && !fault && !d.drift.found && !any_significant && !d.adequacy.adequate) print_shapes(d);
 }
 
-void run(const Args& given) {
+void run(const DiagnoseArgs& given) {
   // Under mpirun the LM refits are shared over the processes (each simulates its share of the
   // cycles); every rank holds the whole dump and does the rest too; rank 0 alone speaks and writes.
   const ProcessGroup& group = ProcessGroup::world();
-  Args a = given;
+  DiagnoseArgs a = given;
   if (!group.leads()) {
     a.quiet = true;
     if (std::freopen("/dev/null", "w", stdout) == nullptr) throw std::runtime_error("cannot silence rank " + std::to_string(group.rank()));
@@ -305,7 +305,7 @@ void add_diagnose(CLI::App& app) {
       "diagnose", "Is the calibrated model adequate, did the motor drift between cycles, and which effect of the library or "
                   "term of the dictionary does it lack (score test, refit, block test, held-out error); under `mpirun -np N` "
                   "its LM refits are shared over N processes");
-  auto a = std::make_shared<Args>();
+  auto a = std::make_shared<DiagnoseArgs>();
   cmd->add_option("--data", a->data, "Directories of cycle CSVs, or CSV files (the data the calibration was made from)")
       ->required()
       ->expected(1, -1);

@@ -21,12 +21,12 @@ std::string without_source_map(std::string_view js) {
 }
 
 // JSON inside <script>: only "</" could end the element early; "<\/" is the same JSON string.
-std::string script_safe(const std::string& json) {
+std::string script_safe(const std::string& text) {
   std::string out;
-  out.reserve(json.size());
-  for (std::size_t i = 0; i < json.size(); ++i) {
-    out += json[i];
-    if (json[i] == '<' && i + 1 < json.size() && json[i + 1] == '/') out += '\\';
+  out.reserve(text.size());
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    out += text[i];
+    if (text[i] == '<' && i + 1 < text.size() && text[i + 1] == '/') out += '\\';
   }
   return out;
 }

@@ -12,6 +12,7 @@
 #include "hostio/worker_threads.hpp"
 #include "trainer/calibrate/problem.hpp"
 #include "trainer/model/cooling_factor.hpp"
+#include "trainer/diagnose/internal/cycle_span.hpp"
 #include "trainer/diagnose/internal/permutation.hpp"
 
 namespace lptn::diagnose {
@@ -34,7 +35,7 @@ double squared_error(const Model<double>& model, const ParamVector<double>& p, c
   return sse;
 }
 
-struct Point {
+struct Evaluated {  // a log factor and the error there
   double x, f;
 };
 
@@ -43,7 +44,7 @@ struct Point {
 struct ParabolicStep {
   double step, q;
 };
-ParabolicStep parabolic_step(Point x, Point w, Point v) {
+ParabolicStep parabolic_step(Evaluated x, Evaluated w, Evaluated v) {
   const double r = (x.x - w.x) * (x.f - v.f), q = (x.x - v.x) * (x.f - w.f);
   const double step = (x.x - v.x) * q - (x.x - w.x) * r, twice = 2 * (q - r);
   return {twice > 0 ? -step : step, std::abs(twice)};
@@ -109,13 +110,13 @@ constexpr int kMaxParabolicSteps = 8;
 
 template <class F>
 std::optional<double> parabolic_from_baseline(const F& f, double f0) {
-  std::array<Point, 3> p{{{0.0, f0}, {-kBaselineStep, f(-kBaselineStep)}, {kBaselineStep, f(kBaselineStep)}}};
+  std::array<Evaluated, 3> p{{{0.0, f0}, {-kBaselineStep, f(-kBaselineStep)}, {kBaselineStep, f(kBaselineStep)}}};
   if (!(p[0].f < p[1].f && p[0].f < p[2].f)) return std::nullopt;
   double lo = -kBaselineStep, hi = kBaselineStep;  // the minimum's bracket
   const double tol = 0.5 * kLogFactorTolerance;
   for (int step = 0; step < kMaxParabolicSteps; ++step) {
-    std::sort(p.begin(), p.end(), [](const Point& a, const Point& b) { return a.f < b.f; });
-    const Point &x = p[0], &w = p[1], &v = p[2];
+    std::sort(p.begin(), p.end(), [](const Evaluated& a, const Evaluated& b) { return a.f < b.f; });
+    const Evaluated &x = p[0], &w = p[1], &v = p[2];
     // The parabola through the three: its curvature (the second divided difference) and vertex.
     const double curvature = ((v.f - x.f) / (v.x - x.x) - (w.f - x.f) / (w.x - x.x)) / (v.x - w.x);
     const auto [step_to_vertex, q] = parabolic_step(x, w, v);
@@ -191,11 +192,6 @@ Trend trend_of(const std::vector<double>& y) {
 
 double trend_statistic(const std::vector<double>& y) { return trend_of(y).t; }
 
-std::string span(const std::vector<std::string>& cycles) {
-  if (cycles.empty()) return "";
-  return cycles.size() == 1 ? cycles.front() : cycles.front() + " .. " + cycles.back();
-}
-
 }  // namespace
 
 const char* to_string(DriftGroup g) { return g == DriftGroup::cooling ? "cooling" : "losses"; }
@@ -245,13 +241,13 @@ Drift drift_of(DriftGroup group, const data::Dataset& dataset, const std::vector
   const char* direction = cooling ? (d.change < 0 ? "weaker" : "stronger") : (d.change > 0 ? "higher" : "lower");
   if (d.shape == "step")
     std::snprintf(text, sizeof text, "the %s of cycles %s is %.0f %% %s than the earlier cycles' (p = %.3f over %d orderings)",
-                  cooling ? "cooling" : "copper loss", span(d.cycles).c_str(), 100 * std::abs(d.change), direction,
+                  cooling ? "cooling" : "copper loss", internal::cycle_span(d.cycles).c_str(), 100 * std::abs(d.change), direction,
                   d.p_value, internal::kOrderings);
   else
     std::snprintf(text, sizeof text,
                   "the %s grows %.0f %% %s from the first cycle to the last, most in cycles %s (p = %.3f over %d "
                   "orderings)",
-                  cooling ? "cooling" : "copper loss", 100 * std::abs(d.change), direction, span(d.cycles).c_str(),
+                  cooling ? "cooling" : "copper loss", 100 * std::abs(d.change), direction, internal::cycle_span(d.cycles).c_str(),
                   d.p_value, internal::kOrderings);
   d.finding = text;
   d.inspect = cooling ? "the cooling air path of these cycles' motor: air filters, the blower and its supply, the "

@@ -10,6 +10,7 @@
 #include "hostio/worker_threads.hpp"
 #include "trainer/model/simulate.hpp"
 #include "trainer/diagnose/drift.hpp"
+#include "trainer/diagnose/internal/cycle_span.hpp"
 #include "trainer/diagnose/internal/permutation.hpp"
 
 namespace lptn::diagnose {
@@ -193,11 +194,6 @@ Fit best_fit(const std::vector<Point>& points, const std::vector<std::size_t>& f
   return best;
 }
 
-std::string span(const std::vector<std::string>& cycles) {
-  if (cycles.empty()) return "";
-  return cycles.size() == 1 ? cycles.front() : cycles.front() + " .. " + cycles.back();
-}
-
 void describe(SensorFinding& f, const std::string& first_cycle) {
   const char* name = data::sensor_name(f.sensor);
   char what[256];
@@ -221,7 +217,7 @@ void describe(SensorFinding& f, const std::string& first_cycle) {
                 " (cycles %s; p = %.4f over %d orderings); the heat balance explains those cycles worse: squared error "
                 "%.0f K^2 with each cycle's own %s %s against %.0f with its own cooling factor and %.0f with its own "
                 "copper-loss factor",
-                span(f.cycles).c_str(), f.p_value, internal::kOrderings, f.sse_sensor, name,
+                internal::cycle_span(f.cycles).c_str(), f.p_value, internal::kOrderings, f.sse_sensor, name,
                 f.fault.shape == data::FaultShape::gain ? "gain" : "offset", f.sse_cooling, f.sse_losses);
   f.finding = std::string(what) + evidence;
   f.calibrate = data::format_sensor_fault(f.fault, first_cycle);

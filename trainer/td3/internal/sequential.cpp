@@ -25,7 +25,7 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-struct RunState {
+struct SequentialRunState {
   int round = 0;  // rounds done
   std::mt19937_64 rng;
   std::vector<EpisodeRecord> curve;
@@ -68,7 +68,7 @@ class SequentialTrainer {
   }
 
   Agent& agent() { return agent_; }
-  RunState& state() { return state_; }
+  SequentialRunState& state() { return state_; }
   const FreeParameters& free() const { return free_; }
   std::size_t obs_dim() const { return obs_dim_; }
 
@@ -214,7 +214,7 @@ class SequentialTrainer {
   SetScorer scorer_;
   std::size_t p_, obs_dim_;
   Agent agent_;
-  RunState state_;
+  SequentialRunState state_;
   std::vector<double> guess_, rollout_starts_;
 };
 
@@ -230,7 +230,7 @@ nlohmann::json identity(const TrainingSettings& settings, const data::Dataset& d
 
 // Returns the agent file it wrote.
 std::filesystem::path save_checkpoint(SequentialTrainer& trainer, const std::filesystem::path& dir, const nlohmann::json& id) {
-  const RunState& s = trainer.state();
+  const SequentialRunState& s = trainer.state();
   nlohmann::json j;
   j["rng"] = to_text(s.rng);
   j["seconds"] = s.seconds;
@@ -248,7 +248,7 @@ std::filesystem::path save_checkpoint(SequentialTrainer& trainer, const std::fil
 
 void load_checkpoint(SequentialTrainer& trainer, const std::filesystem::path& dir, const nlohmann::json& id) {
   const nlohmann::json j = read_checkpoint(dir, id, trainer.agent());
-  RunState& s = trainer.state();
+  SequentialRunState& s = trainer.state();
   s.round = j.at("episode").get<int>();
   from_text(j.at("rng").get<std::string>(), s.rng);
   s.seconds = j.at("seconds").get<double>();
@@ -271,7 +271,7 @@ Td3Outcome train_sequential(const MotorFile& motor, const data::Dataset& dataset
   SequentialTrainer trainer(motor, dataset, train, settings, warm);
   const nlohmann::json id = identity(settings, dataset, train, trainer.free(), warm);
   Td3Outcome out;
-  RunState& s = trainer.state();
+  SequentialRunState& s = trainer.state();
   const auto t0 = Clock::now();
   if (resume) {
     load_checkpoint(trainer, checkpoint_dir, id);
