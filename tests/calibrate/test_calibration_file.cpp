@@ -6,8 +6,9 @@
 #include <fstream>
 #include <string>
 
-#include "lptn_testing/temp_dir.hpp"
+#include "lptn_testing/error_metrics.hpp"
 #include "lptn_testing/sample_result.hpp"
+#include "lptn_testing/temp_dir.hpp"
 #include "trainer/calibrate/calibration_file.hpp"
 
 namespace lptn {
@@ -15,22 +16,14 @@ namespace {
 
 const std::string kMotorText = "name = \"m\"\n# ünïcode, \"quotes\", \\backslash\\ and a tab\t\n";
 
-void expect_metrics_eq(const ErrorMetrics& a, const ErrorMetrics& b, const std::string& what) {
-  EXPECT_EQ(a.rmse_k, b.rmse_k) << what;
-  EXPECT_EQ(a.mean_abs_k, b.mean_abs_k) << what;
-  EXPECT_EQ(a.max_abs_k, b.max_abs_k) << what;
-  EXPECT_EQ(a.bias_k, b.bias_k) << what;
-  EXPECT_EQ(a.samples, b.samples) << what;
-}
-
 void expect_split_eq(const SplitMetrics& a, const SplitMetrics& b) {
-  expect_metrics_eq(a.stator, b.stator, "stator");
-  expect_metrics_eq(a.rotor, b.rotor, "rotor");
+  testing::expect_same_metrics(a.stator, b.stator, "stator");
+  testing::expect_same_metrics(a.rotor, b.rotor, "rotor");
   ASSERT_EQ(a.cycles.size(), b.cycles.size());
   for (std::size_t i = 0; i < a.cycles.size(); ++i) {
     EXPECT_EQ(a.cycles[i].name, b.cycles[i].name);
-    expect_metrics_eq(a.cycles[i].stator, b.cycles[i].stator, a.cycles[i].name);
-    expect_metrics_eq(a.cycles[i].rotor, b.cycles[i].rotor, a.cycles[i].name);
+    testing::expect_same_metrics(a.cycles[i].stator, b.cycles[i].stator, a.cycles[i].name);
+    testing::expect_same_metrics(a.cycles[i].rotor, b.cycles[i].rotor, a.cycles[i].name);
   }
 }
 

@@ -1,26 +1,18 @@
 // evaluate_cycle compares as the model runs, without storing the simulation; its metrics must be
-// simulate_and_evaluate's to the bit (the drift's factors, TD3's scores and every reported error
-// come from one or the other).
+// simulate_and_evaluate's to the bit (the drift's factors and every calibration's split metrics
+// come from evaluate_cycle).
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <limits>
 
+#include "lptn_testing/error_metrics.hpp"
 #include "lptn_testing/fleet_dump.hpp"
 #include "trainer/calibrate/problem.hpp"
 #include "trainer/model/simulate.hpp"
 
 namespace lptn {
 namespace {
-
-void expect_same_bits(const ErrorMetrics& streamed, const ErrorMetrics& stored, const std::string& what) {
-  EXPECT_EQ(streamed.samples, stored.samples) << what;
-  // EXPECT_EQ on doubles: equal bits, not close ones.
-  EXPECT_EQ(streamed.rmse_k, stored.rmse_k) << what;
-  EXPECT_EQ(streamed.mean_abs_k, stored.mean_abs_k) << what;
-  EXPECT_EQ(streamed.max_abs_k, stored.max_abs_k) << what;
-  EXPECT_EQ(streamed.bias_k, stored.bias_k) << what;
-}
 
 TEST(EvaluateCycle, MetricsAreSimulateAndEvaluatesToTheBit) {
   testing::Dump d;
@@ -58,8 +50,8 @@ TEST(EvaluateCycle, MetricsAreSimulateAndEvaluatesToTheBit) {
       for (const PreparedCycle* with : {static_cast<const PreparedCycle*>(nullptr), &prepared}) {
         const CycleMetrics streamed = evaluate_cycle(model, *p, cycle, with);
         EXPECT_EQ(streamed.name, cycle.name);
-        expect_same_bits(streamed.stator, stored.stator, cycle.name + ", stator");
-        expect_same_bits(streamed.rotor, stored.rotor, cycle.name + ", rotor");
+        testing::expect_same_metrics(streamed.stator, stored.stator, cycle.name + ", stator");
+        testing::expect_same_metrics(streamed.rotor, stored.rotor, cycle.name + ", rotor");
       }
     }
   EXPECT_EQ(rotor_cycles, 2u * 3u);  // every cycle but the one without the rotor, at both sets
