@@ -10,11 +10,20 @@
 #include "lptn_testing/sample_result.hpp"
 #include "lptn_testing/temp_dir.hpp"
 #include "trainer/calibrate/calibration_file.hpp"
+#include "trainer/model/motor_file.hpp"
 
 namespace lptn {
 namespace {
 
+// The motor file's text as kept (provenance only from format 3 on): escaped and read back whole.
 const std::string kMotorText = "name = \"m\"\n# ünïcode, \"quotes\", \\backslash\\ and a tab\t\n";
+
+CalibrationResult sample() {
+  CalibrationResult r = testing::sample_result();
+  r.motor.text = kMotorText;
+  r.motor.effects = effect_bit(effect_index("airgap"));  // the file's own, beside the calibration's two
+  return r;
+}
 
 void expect_split_eq(const SplitMetrics& a, const SplitMetrics& b) {
   testing::expect_same_metrics(a.stator, b.stator, "stator");
@@ -46,7 +55,7 @@ std::string error_for(const nlohmann::json& j) {
 
 TEST(CalibrationFile, RoundTripKeepsEveryField) {
   testing::TempDir t;
-  const CalibrationResult a = testing::sample_result(kMotorText);
+  const CalibrationResult a = sample();
   const auto path = t.path() / "calibration.json";
   save_calibration(a, path);
   const CalibrationResult b = load_calibration(path);
@@ -54,9 +63,12 @@ TEST(CalibrationFile, RoundTripKeepsEveryField) {
   EXPECT_EQ(b.format_version, kCalibrationFormatVersion);
   EXPECT_EQ(b.created_utc, a.created_utc);
   EXPECT_EQ(b.lptn_version, a.lptn_version);
-  EXPECT_EQ(b.motor_name, a.motor_name);
-  EXPECT_EQ(b.motor_file, a.motor_file);
-  EXPECT_EQ(b.motor_text, a.motor_text);
+  EXPECT_EQ(b.motor.name, a.motor.name);
+  EXPECT_EQ(b.motor.path, a.motor.path);
+  EXPECT_EQ(b.motor.text, a.motor.text);
+  // The motor whole: constants to the bit, parameter settings and effects, as its file would say.
+  EXPECT_EQ(format_motor_file(b.motor), format_motor_file(a.motor));
+  EXPECT_EQ(b.motor.effects, a.motor.effects);
   EXPECT_EQ(b.effects, a.effects);
   ASSERT_EQ(b.parameters.size(), static_cast<std::size_t>(kNumParams));
   for (int i = 0; i < kNumParams; ++i) {
@@ -112,7 +124,7 @@ TEST(CalibrationFile, RoundTripKeepsEveryField) {
 
 TEST(CalibrationFile, LayoutAsDocumented) {
   testing::TempDir t;
-  CalibrationResult a = testing::sample_result(kMotorText);
+  CalibrationResult a = sample();
   const auto path = t.path() / "calibration.json";
   save_calibration(a, path);
   const std::string text = slurp(path);
@@ -151,7 +163,7 @@ TEST(CalibrationFile, BadJsonNamesTheLine) {
   EXPECT_EQ(e2.rfind(path.string() + ": line 3: ", 0), 0u) << e2;
 
   // A truncated real file: the line is where the text ends.
-  save_calibration(testing::sample_result(kMotorText), path);
+  save_calibration(sample(), path);
   std::string text = slurp(path);
   text.resize(text.size() / 2);
   std::ofstream(path, std::ios::trunc) << text;
@@ -164,23 +176,23 @@ TEST(CalibrationFile, BadJsonNamesTheLine) {
 }
 
 TEST(CalibrationFile, WrongTypeNamesTheField) {
-  nlohmann::json j = to_json(testing::sample_result(kMotorText));
+  nlohmann::json j = to_json(sample());
   j["metrics"]["test"]["rmse_stator_k"] = "0.5";
   EXPECT_EQ(error_for(j), "cal.json: field 'metrics.test.rmse_stator_k': expected a number");
 
-  j = to_json(testing::sample_result(kMotorText));
+  j = to_json(sample());
   j["metrics"]["train"]["cycles"][0].erase("samples_stator");
   EXPECT_EQ(error_for(j), "cal.json: field 'metrics.train.cycles[0].samples_stator': missing");
 
-  j = to_json(testing::sample_result(kMotorText));
+  j = to_json(sample());
   j["parameters"][3]["calibrated"] = 1;
   EXPECT_EQ(error_for(j), "cal.json: field 'parameters[3].calibrated': expected true or false");
 
-  j = to_json(testing::sample_result(kMotorText));
+  j = to_json(sample());
   j["data"]["files"][1]["sha256"] = nullptr;
   EXPECT_EQ(error_for(j), "cal.json: field 'data.files[1].sha256': expected a string");
 
-  j = to_json(testing::sample_result(kMotorText));
+  j = to_json(sample());
   j["parameters"][0]["value"] = nullptr;  // only std_error may be null
   EXPECT_EQ(error_for(j), "cal.json: field 'parameters[0].value': expected a number");
 
@@ -188,19 +200,94 @@ TEST(CalibrationFile, WrongTypeNamesTheField) {
 }
 
 TEST(CalibrationFile, OtherVersionIsRefused) {
-  nlohmann::json j = to_json(testing::sample_result(kMotorText));
-  j["format_version"] = 3;
+  nlohmann::json j = to_json(sample());
   j.erase("parameters");  // the version is checked before anything else
-  EXPECT_EQ(error_for(j), "cal.json: field 'format_version': version 3, this lptn reads 1 to 2");
+  j["format_version"] = kCalibrationFormatVersion + 1;
+  EXPECT_EQ(error_for(j), "cal.json: field 'format_version': version 4, this lptn reads 1 to 3");
   j["format_version"] = 0;
-  EXPECT_EQ(error_for(j), "cal.json: field 'format_version': version 0, this lptn reads 1 to 2");
+  EXPECT_EQ(error_for(j), "cal.json: field 'format_version': version 0, this lptn reads 1 to 3");
+}
+
+// calibration.json before format 3: the motor as its TOML text alone.
+nlohmann::json with_motor_as_text(nlohmann::json j, const std::string& text, int version) {
+  j["format_version"] = version;
+  j["motor"] = {{"name", j["motor"]["name"]}, {"file", j["motor"]["file"]}, {"text", text}};
+  return j;
+}
+
+// Format 2's files (every calibration.json until format 3) still read: the motor parsed from its
+// text, to the same constants, settings and effects as the structured copy.
+TEST(CalibrationFile, VersionTwoReadsTheMotorText) {
+  CalibrationResult a = sample();
+  a.motor.text = format_motor_file(a.motor);
+  const CalibrationResult b = calibration_from_json(with_motor_as_text(to_json(a), a.motor.text, 2), "old.json");
+  EXPECT_EQ(b.format_version, 2);
+  EXPECT_EQ(b.status, a.status);
+  EXPECT_EQ(format_motor_file(b.motor), a.motor.text);
+  EXPECT_EQ(b.motor.effects, a.motor.effects);
+  EXPECT_EQ(b.motor.path, a.motor.path);
+  EXPECT_EQ(b.motor.text, a.motor.text);
+  EXPECT_GT(b.motor.constants.rated_power_w, 0.0);
+
+  // A text that is no motor file: one line naming the field, the text's line and key.
+  std::string bad = a.motor.text;
+  bad.replace(bad.find("pole_pairs = 2"), 14, "pole_pairs = \"two\"");
+  EXPECT_EQ(error_for(with_motor_as_text(to_json(a), bad, 2)),
+            "cal.json: field 'motor.text': line 5: key 'nameplate.pole_pairs': must be a finite number");
+}
+
+// The structured motor is read by the motor file's rules: a hand-edited value is refused with the
+// field that holds it.
+TEST(CalibrationFile, MotorFieldsAreCheckedAsInTheMotorFile) {
+  const nlohmann::json good = to_json(sample());
+  EXPECT_EQ(good["motor"]["constants"]["nameplate"]["pole_pairs"], 2);
+  EXPECT_EQ(good["motor"]["constants"]["losses"]["harmonic_frequency_hz"].size(), 5u);
+  EXPECT_EQ(good["motor"]["parameters"]["lambda_1s"]["initial"], 40.0);
+  EXPECT_EQ(good["motor"]["effects"], nlohmann::json({"airgap"}));
+
+  nlohmann::json j = good;
+  j["motor"]["constants"]["thermal"]["capacitance_rotor_core_j_per_k"] = -1.0;
+  EXPECT_EQ(error_for(j), "cal.json: field 'motor.constants.thermal.capacitance_rotor_core_j_per_k': must be greater than zero");
+
+  j = good;
+  j["motor"]["constants"]["thermal"].erase("nominal_airflow_m3s");
+  EXPECT_EQ(error_for(j), "cal.json: field 'motor.constants.thermal.nominal_airflow_m3s': missing");
+
+  j = good;
+  j["motor"]["constants"]["thermal"]["nominal_airflow"] = 1.0;
+  EXPECT_EQ(error_for(j), "cal.json: field 'motor.constants.thermal.nominal_airflow': unknown key");
+
+  j = good;
+  j["motor"]["constants"]["nameplate"]["pole_pairs"] = 2.5;
+  EXPECT_EQ(error_for(j), "cal.json: field 'motor.constants.nameplate.pole_pairs': expected a whole number");
+
+  j = good;
+  j["motor"]["constants"]["losses"]["harmonic_frequency_hz"][2] = 5.0;
+  EXPECT_EQ(error_for(j), "cal.json: field 'motor.constants.losses.harmonic_frequency_hz[2]': must increase strictly");
+
+  j = good;
+  j["motor"]["constants"]["losses"]["harmonic_loss_w"].erase(1);
+  EXPECT_EQ(error_for(j), "cal.json: field 'motor.constants.losses.harmonic_loss_w': must have as many entries as "
+                          "motor.constants.losses.harmonic_frequency_hz");
+
+  j = good;
+  j["motor"]["parameters"]["lambda_2s"]["min"] = 3000.0;
+  EXPECT_EQ(error_for(j), "cal.json: field 'motor.parameters.lambda_2s.max': must be greater than min (bounds swapped?)");
+
+  j = good;
+  j["motor"]["parameters"]["lambda_9"] = good["motor"]["parameters"]["lambda_1s"];
+  EXPECT_EQ(error_for(j), "cal.json: field 'motor.parameters.lambda_9': unknown parameter");
+
+  j = good;
+  j["motor"]["effects"][0] = "windage_x";
+  EXPECT_EQ(error_for(j), "cal.json: field 'motor.effects[0]': unknown effect 'windage_x'");
 }
 
 // A file of the format before outcomes were judged is read, but never as "ok": its parameters
 // marked calibrated may be a motor file's guesses.
 TEST(CalibrationFile, VersionOneIsReadAsUnchecked) {
-  nlohmann::json j = to_json(testing::sample_result(kMotorText));
-  j["format_version"] = 1;
+  CalibrationResult a = sample();
+  nlohmann::json j = with_motor_as_text(to_json(a), format_motor_file(a.motor), 1);
   j.erase("status");
   j.erase("warnings");
   for (auto& p : j["parameters"]) {
@@ -216,7 +303,7 @@ TEST(CalibrationFile, VersionOneIsReadAsUnchecked) {
 
 // Status, warnings and identifiability survive a round trip; an unknown status is refused.
 TEST(CalibrationFile, OutcomeRoundTrips) {
-  CalibrationResult a = testing::sample_result(kMotorText);
+  CalibrationResult a = sample();
   a.status = kStatusWarnings;
   a.warnings.push_back({"not_identifiable", "lambda_1r is not identifiable", {"lambda_1r"}});
   a.parameters[3].calibrated = false;
@@ -235,31 +322,31 @@ TEST(CalibrationFile, OutcomeRoundTrips) {
 }
 
 TEST(CalibrationFile, UnknownNamesAreRefused) {
-  nlohmann::json j = to_json(testing::sample_result(kMotorText));
+  nlohmann::json j = to_json(sample());
   j["parameters"][2]["name"] = "lambda_99";
   EXPECT_EQ(error_for(j), "cal.json: field 'parameters[2].name': unknown parameter 'lambda_99'");
 
-  j = to_json(testing::sample_result(kMotorText));
+  j = to_json(sample());
   j["effects"][1] = "flux_capacitor";
   EXPECT_EQ(error_for(j), "cal.json: field 'effects[1]': unknown effect 'flux_capacitor'");
 
-  j = to_json(testing::sample_result(kMotorText));
+  j = to_json(sample());
   j["correlated"][1]["b"] = "k_nope";
   EXPECT_EQ(error_for(j), "cal.json: field 'correlated[1].b': unknown parameter 'k_nope'");
 
-  j = to_json(testing::sample_result(kMotorText));
+  j = to_json(sample());
   j["actor"]["param_names"][0] = "k_nope";
   EXPECT_EQ(error_for(j), "cal.json: field 'actor.param_names[0]': unknown parameter 'k_nope'");
 
-  j = to_json(testing::sample_result(kMotorText));
+  j = to_json(sample());
   j["parameters"].erase(4);
   EXPECT_NE(error_for(j).find("cal.json: field 'parameters': 'lambda_2r' is missing"), std::string::npos);
 
-  j = to_json(testing::sample_result(kMotorText));
+  j = to_json(sample());
   j["parameters"][1]["name"] = "lambda_1s";
   EXPECT_EQ(error_for(j), "cal.json: field 'parameters[1].name': 'lambda_1s' appears twice");
 
-  j = to_json(testing::sample_result(kMotorText));
+  j = to_json(sample());
   j["parameters"][0]["unit"] = "W";
   EXPECT_EQ(error_for(j), "cal.json: field 'parameters[0].unit': 'W', but this lptn has lambda_1s in 'W/K'");
 }
@@ -267,7 +354,7 @@ TEST(CalibrationFile, UnknownNamesAreRefused) {
 // A file written before an effect was appended to the library lacks that effect's parameters; it
 // stays readable as long as it does not enable the effect (docs/effects.md, "Writing a new effect").
 TEST(CalibrationFile, ParametersOfEffectsItDoesNotEnableMayBeAbsent) {
-  const CalibrationResult sample = testing::sample_result(kMotorText);
+  const CalibrationResult sample = lptn::sample();
   int absent_effect = kNumEffects - 1;  // the last effect the sample leaves off
   while (absent_effect >= 0 && (sample.effects & effect_bit(absent_effect))) --absent_effect;
   ASSERT_GE(absent_effect, 0);
@@ -295,20 +382,20 @@ TEST(CalibrationFile, ParametersOfEffectsItDoesNotEnableMayBeAbsent) {
 }
 
 TEST(CalibrationFile, InconsistentActorIsRefused) {
-  nlohmann::json j = to_json(testing::sample_result(kMotorText));
+  nlohmann::json j = to_json(sample());
   j["actor"]["layers"][1]["weight"].erase(0);
   EXPECT_EQ(error_for(j), "cal.json: field 'actor.layers[1].weight': 8 numbers, expected in x out = 9");
 
-  j = to_json(testing::sample_result(kMotorText));
+  j = to_json(sample());
   j["actor"]["layers"][1]["in"] = 4;
   EXPECT_EQ(error_for(j), "cal.json: field 'actor.layers[1].in': 4, but the layer before gives 3");
 
-  j = to_json(testing::sample_result(kMotorText));
+  j = to_json(sample());
   j["actor"]["param_indices"][1] = 3;
   EXPECT_EQ(error_for(j), "cal.json: field 'actor.param_indices[1]': 3, but param_names[1] 'airgap_lambda' is parameter " +
                               std::to_string(param_index("airgap_lambda")));
 
-  j = to_json(testing::sample_result(kMotorText));
+  j = to_json(sample());
   j["actor"]["check_actions"].erase(0);
   EXPECT_EQ(error_for(j), "cal.json: field 'actor.check_actions': 3 numbers, expected 2 checks x 2 outputs");
 }

@@ -40,7 +40,7 @@ int files_in(const std::filesystem::path& dir) {
 class ExportCli : public ::testing::Test {
  protected:
   void SetUp() override {
-    CalibrationResult c = testing::sample_result(slurp(LPTN_MOTOR_EXAMPLE));
+    CalibrationResult c = testing::sample_result();
     save_calibration(c, with_actor_);
     c.has_actor = false;
     save_calibration(c, without_actor_);
@@ -52,7 +52,7 @@ class ExportCli : public ::testing::Test {
 
 // A failed calibration: exit 2, one line naming the file and why, nothing written.
 TEST_F(ExportCli, RefusesAFailedCalibration) {
-  CalibrationResult c = testing::sample_result(slurp(LPTN_MOTOR_EXAMPLE));
+  CalibrationResult c = testing::sample_result();
   c.has_actor = false;
   c.status = kStatusFailed;
   c.warnings = {{"not_converged", "the fit did not converge", {}}};
@@ -67,7 +67,7 @@ TEST_F(ExportCli, RefusesAFailedCalibration) {
 
 // Warnings: each printed on a line of its own, the header written with them as comments.
 TEST_F(ExportCli, PrintsEachWarning) {
-  CalibrationResult c = testing::sample_result(slurp(LPTN_MOTOR_EXAMPLE));
+  CalibrationResult c = testing::sample_result();
   c.has_actor = false;
   c.status = kStatusWarnings;
   c.warnings = {{"at_bound", "lambda_1s ended at its lower bound", {"lambda_1s"}},

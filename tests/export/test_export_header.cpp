@@ -19,11 +19,6 @@
 namespace lptn {
 namespace {
 
-std::string example_motor_text() {
-  std::ifstream in(LPTN_MOTOR_EXAMPLE);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
 template <class F>
 std::string error_of(F&& f) {
   try {
@@ -71,7 +66,7 @@ TEST(CppLiterals, StringsAndComments) {
 }
 
 TEST(ExportHeader, HasEverySection) {
-  const CalibrationResult c = testing::sample_result(example_motor_text());
+  const CalibrationResult c = testing::sample_result();
   const std::string h = export_header(c, {"cal.json", true});
   for (const char* s : {"#pragma once", "#include \"lptn/model.hpp\"", "#include \"lptn/motor_constants.hpp\"",
                         "#include \"lptn/actor.hpp\"", "namespace lptn::calibration {", "kMethod[] = \"lm\"",
@@ -93,7 +88,7 @@ TEST(ExportHeader, HasEverySection) {
 
 // A failed calibration is refused, on one line that says why (its warnings' messages).
 TEST(ExportHeader, RefusesAFailedCalibration) {
-  CalibrationResult c = testing::sample_result(example_motor_text());
+  CalibrationResult c = testing::sample_result();
   c.status = kStatusFailed;
   c.warnings = {{"not_converged", "the fit did not converge in 60 iterations", {}},
                 {"at_bound", "lambda_1s ended at its lower bound 1 W/K", {"lambda_1s"}}};
@@ -107,7 +102,7 @@ TEST(ExportHeader, RefusesAFailedCalibration) {
 // Warnings are comments in the header; a parameter the data could not pin says so, and carries
 // no standard error; a calibrated one its standard error.
 TEST(ExportHeader, CarriesWarningsAndEachParametersSpread) {
-  CalibrationResult c = testing::sample_result(example_motor_text());
+  CalibrationResult c = testing::sample_result();
   c.status = kStatusWarnings;
   c.warnings = {{"not_identifiable", "lambda_1r is not identifiable from this data: no rotor readings", {"lambda_1r"}}};
   ParameterResult& r = c.parameters[3];
@@ -131,9 +126,9 @@ TEST(ExportHeader, CarriesWarningsAndEachParametersSpread) {
 // Every constant in the field list is in motor_constants(), with its value; a table's rows up to
 // its size (the tail stays zero).
 TEST(ExportHeader, WritesEveryMotorConstant) {
-  MotorFile motor = parse_motor_file(example_motor_text(), "motor.toml");
+  MotorFile motor = testing::example_motor();
   motor.constants = testing::distinct_motor_constants();
-  const std::string h = export_header(testing::sample_result(format_motor_file(motor)), {});
+  const std::string h = export_header(testing::sample_result(motor), {});
   int rows = 0;
   for_each_motor_constant(
       [&](const MotorField& f, const auto& v) {
@@ -156,39 +151,31 @@ TEST(ExportHeader, WritesEveryMotorConstant) {
 }
 
 TEST(ExportHeader, NoEffectsIsZero) {
-  CalibrationResult c = testing::sample_result(example_motor_text());
+  CalibrationResult c = testing::sample_result();
   c.effects = 0;
   EXPECT_NE(export_header(c, {}).find("kEffects = 0;  // the paper's model only"), std::string::npos);
 }
 
 TEST(ExportHeader, Refusals) {
-  CalibrationResult c = testing::sample_result(example_motor_text());
+  CalibrationResult c = testing::sample_result();
   c.has_actor = false;
   EXPECT_EQ(error_of([&] { export_header(c, {"cal.json", true}); }),
             "cal.json: --actor: this calibration has no actor (method 'lm'; only td3-paper and td3-episode keep one: their actor maps speed and torque to parameters)");
 
-  c = testing::sample_result(example_motor_text());
+  c = testing::sample_result();
   c.actor.layers.pop_back();
   EXPECT_NE(error_of([&] { export_header(c, {"cal.json", true}); }).find("cal.json: field 'actor.layers'"), std::string::npos);
 
-  c = testing::sample_result(example_motor_text());
+  c = testing::sample_result();
   c.actor.check_obs.clear();
   c.actor.check_actions.clear();
   EXPECT_NE(error_of([&] { export_header(c, {"cal.json", true}); }).find("cal.json: field 'actor.check_obs': empty"),
             std::string::npos);
 
-  c = testing::sample_result(example_motor_text());
+  c = testing::sample_result();
   c.parameters[2].value = std::nan("");
   EXPECT_EQ(error_of([&] { export_header(c, {"cal.json", false}); }),
             "cal.json: parameters.lambda_12s.value: nan has no C++ literal");
-
-  c = testing::sample_result("[nameplate]\npole_pairs = \"two\"\n");
-  try {
-    export_header(c, {"cal.json", false});
-    ADD_FAILURE() << "a bad motor text was exported";
-  } catch (const MotorFileError& e) {
-    EXPECT_EQ(std::string(e.what()).rfind("cal.json: motor.text:", 0), 0u) << e.what();
-  }
 }
 
 }  // namespace

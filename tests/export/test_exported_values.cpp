@@ -26,7 +26,7 @@ TEST(ExportedHeader, Provenance) {
   EXPECT_EQ(calibration::kMethod, c.method);
   EXPECT_EQ(calibration::kCreatedUtc, c.created_utc);
   EXPECT_EQ(calibration::kLptnVersion, c.lptn_version);
-  EXPECT_EQ(calibration::kMotorName, c.motor_name);  // quotes and UTF-8 survive the escaping
+  EXPECT_EQ(calibration::kMotorName, c.motor.name);  // quotes and UTF-8 survive the escaping
   EXPECT_EQ(calibration::kDataSha256, c.data_sha256);
   EXPECT_EQ(calibration::kTrainRmseStatorK, c.train.stator.rmse_k);
   EXPECT_EQ(calibration::kTestRmseStatorK, c.test.stator.rmse_k);
@@ -47,7 +47,7 @@ TEST(ExportedHeader, EffectsAndParameters) {
 }
 
 TEST(ExportedHeader, MotorConstantsEqualTheMotorFile) {
-  const MotorConstants<double> a = parse_motor_file(fixture().motor_text, "motor.text").constants;
+  const MotorConstants<double>& a = fixture().motor.constants;
   constexpr MotorConstants<double> b = calibration::motor_constants();
   int compared = 0;
   for_each_motor_constant(

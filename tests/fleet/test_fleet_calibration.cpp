@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -104,6 +105,32 @@ TEST(FleetCalibration, FindsEveryMotorsCoolingAndNamesTheWeakMotorAlone) {
       EXPECT_DOUBLE_EQ(values[static_cast<std::size_t>(i)], c->fit.motors[m].parameters[static_cast<std::size_t>(i)]);
   }
   EXPECT_THROW(motor_calibration(file, "motor_99"), std::invalid_argument);
+  EXPECT_EQ(file.rounds, c->fit.rounds);
+  EXPECT_EQ(file.motors[2].cooling_factor, c->fit.motors[2].cooling_factor);  // bit for bit
+  EXPECT_EQ(file.motors[2].t, c->fit.motors[2].verdict.t);
+
+  // A hand-edited fleet.json: one line naming the file and the field.
+  const std::string id = c->fit.motors[2].id;
+  auto error_after = [&](const std::function<void(nlohmann::json&)>& edit) {
+    nlohmann::json j = nlohmann::json::parse(testing::slurp(path));
+    edit(j);
+    const auto edited = c->dir.path() / "edited.json";
+    std::ofstream(edited) << j.dump(2);
+    try {
+      load_fleet_file(edited);
+    } catch (const CalibrationFileError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  const std::string edited = (c->dir.path() / "edited.json").string();
+  EXPECT_EQ(error_after([&](nlohmann::json& j) { j["motors"][id]["cooling_factor"] = "1.1"; }),
+            edited + ": field 'motors." + id + ".cooling_factor': expected a number");
+  EXPECT_EQ(error_after([&](nlohmann::json& j) { j["fleet"].erase("rounds"); }), edited + ": field 'fleet.rounds': missing");
+  EXPECT_EQ(error_after([&](nlohmann::json& j) { j["motors"][id]["parameters"][0]["name"] = "lambda_9"; }),
+            edited + ": field 'motors." + id + ".parameters[0].name': unknown parameter 'lambda_9'");
+  EXPECT_EQ(error_after([&](nlohmann::json& j) { j["format_version"] = 7; }),
+            edited + ": field 'format_version': version 7, this lptn reads 1");
 }
 
 TEST(FleetCalibration, NamesNoMotorOfHealthyFleetsOverSeeds) {

@@ -88,7 +88,7 @@ TEST_F(ReplayGolden, OpenLoopReplayIsTheTrainersSimulationOfTheSameInputs) {
   ASSERT_EQ(ds.cycles.size(), 1u) << "one unbroken cycle";
   const data::Cycle& cycle = ds.cycles[0];
   const CalibrationResult cal = load_calibration(kCalibration);
-  const Model<double> model(parse_motor_file(cal.motor_text, "motor").constants, cal.effects);
+  const Model<double> model(cal.motor.constants, cal.effects);
   const CycleSimulation sim = simulate_cycle(model, cal.values(), cycle);
 
   const auto csv = read_csv(out);

@@ -32,7 +32,7 @@ struct CheckArgs {
 };
 
 bool is_fleet_file(const std::string& path) {
-  const nlohmann::json j = read_json_file(path);
+  const nlohmann::json j = read_lptn_json(path);
   return j.is_object() && j.contains("pooled") && j.contains("motors");
 }
 
@@ -69,7 +69,7 @@ bool check_data(const CheckArgs& a) {
     std::printf("%s\n", j.dump(2).c_str());
   } else {
     std::printf("checking %s (%s, %s, motor %s) on %zu cycles\n", a.calibration.c_str(), calibration.method.c_str(),
-                calibration.created_utc.c_str(), calibration.motor_name.c_str(), dataset.cycles.size());
+                calibration.created_utc.c_str(), calibration.motor.name.c_str(), dataset.cycles.size());
     std::printf("%s", check::describe(c).c_str());
   }
   return c.holds;

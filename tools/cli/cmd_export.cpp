@@ -49,7 +49,7 @@ void add_export(CLI::App& app) {
         std::fprintf(stderr, "lptn: warning: %s: %s\n", options.source_name.c_str(), w.message.c_str());
       write_file_atomically(args->out, header);
       std::printf("wrote %s (%s calibration of %s%s)\n", args->out.c_str(), calibration.method.c_str(),
-                  calibration.motor_name.c_str(), args->actor ? ", with the actor" : "");
+                  calibration.motor.name.c_str(), args->actor ? ", with the actor" : "");
     } catch (const CalibrationFileError& e) {
       throw BadInput(e.what());
     } catch (const ExportError& e) {

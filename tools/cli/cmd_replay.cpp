@@ -51,10 +51,9 @@ std::vector<std::string> log_against_motor(const std::string& log, const std::st
     c.name = std::filesystem::path(log).filename().string();
     c.file = log;
   }
-  const MotorFile motor = parse_motor_file(cal.motor_text, source + ": motor.text");
   std::vector<std::string> out_lines;
-  for (const data::Finding& f : data::check_against_nameplate(replayed, motor.constants))
-    out_lines.push_back(f.message + " (the motor of " + source + ": " + cal.motor_name + ")");
+  for (const data::Finding& f : data::check_against_nameplate(replayed, cal.motor.constants))
+    out_lines.push_back(f.message + " (the motor of " + source + ": " + cal.motor.name + ")");
   return out_lines;
 }
 

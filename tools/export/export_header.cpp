@@ -63,7 +63,7 @@ std::string provenance(const CalibrationResult& c, const ExportOptions& o) {
   s += cat("// `lptn export` from ", source, "; do not edit: export again instead.\n");
   s += "//\n";
   s += cat("//   calibration  ", source, " (format ", str(c.format_version), ")\n");
-  s += cat("//   motor        ", comment_text(c.motor_name), " (", comment_text(c.motor_file), ")\n");
+  s += cat("//   motor        ", comment_text(c.motor.name), " (", comment_text(c.motor.path.string()), ")\n");
   s += cat("//   method       ", comment_text(c.method), ", ", fmt("%.1f s", c.seconds), "\n");
   s += cat("//   created      ", comment_text(c.created_utc), " by ", comment_text(c.lptn_version), "\n");
   s += cat("//   data         sha256 ", comment_text(c.data_sha256), ", ", str(static_cast<long long>(c.data.size())), " files\n");
@@ -95,7 +95,7 @@ std::string constants(const CalibrationResult& c, const ExportOptions& o) {
   s += text("kMethod", c.method);
   s += text("kCreatedUtc", c.created_utc);
   s += text("kLptnVersion", c.lptn_version);
-  s += text("kMotorName", c.motor_name);
+  s += text("kMotorName", c.motor.name);
   s += text("kDataSha256", c.data_sha256);
   s += "\n// How well it fits (RMSE of model minus sensor, K). The test cycles took no part in the fit.\n";
   s += number("kTrainRmseStatorK", c.train.stator.rmse_k, "train cycles, stator winding");
@@ -167,9 +167,9 @@ std::string parameters_source(const CalibrationResult& c, const ExportOptions& o
 
 // Every constant as an assignment, in the order of their list (lptn/motor_constant_fields.hpp); a
 // table's columns row by row.
-std::string motor_constants_source(const CalibrationResult& c, const ExportOptions& o) {
-  const MotorConstants<double> m = parse_motor_file(c.motor_text, o.source_name + ": motor.text").constants;
-  std::string s = cat("// The motor file's constants (", comment_text(c.motor_file), ", kept whole in the calibration).\n");
+std::string motor_constants_source(const CalibrationResult& c) {
+  const MotorConstants<double>& m = c.motor.constants;
+  std::string s = cat("// The motor file's constants (", comment_text(c.motor.path.string()), ", kept whole in the calibration).\n");
   s += "constexpr MotorConstants<double> motor_constants() {\n";
   s += "  MotorConstants<double> m{};\n";
   auto put = [&](const std::string& field, double v, const std::string& note = "") {
@@ -298,7 +298,7 @@ std::string header(const CalibrationResult& c, const ExportOptions& o) {
   s += constants(c, o) + "\n";
   s += effects_source(c) + "\n";
   s += parameters_source(c, o) + "\n";
-  s += motor_constants_source(c, o);
+  s += motor_constants_source(c);
   if (o.actor) s += "\n" + actor;
   s += "\n}  // namespace lptn::calibration\n";
   return s;

@@ -8,8 +8,7 @@ namespace lptn {
 std::unique_ptr<CalibratedEstimatorConfig> estimator_config_from(const CalibrationResult& c, const std::string& shown_as,
                                                                   const fw::BusDecoder& bus) {
   auto out = std::make_unique<CalibratedEstimatorConfig>();
-  const MotorConstants<double> motor = parse_motor_file(c.motor_text, shown_as + ": motor.text").constants;
-  out->config = fw::default_config<double>(motor, c.effects, c.values(), bus);
+  out->config = fw::default_config<double>(c.motor.constants, c.effects, c.values(), bus);
   double ln_std[kNumParams];
   for (int j = 0; j < kNumParams; ++j) {
     ln_std[j] = 0.0;

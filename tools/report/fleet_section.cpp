@@ -14,7 +14,7 @@ nlohmann::json number_or_null(double v) { return std::isfinite(v) ? nlohmann::js
 nlohmann::json fleet_section(const std::filesystem::path& fleet_file) {
   const FleetFile f = load_fleet_file(fleet_file);
   nlohmann::json j = {{"file", fleet_file.string()},
-                      {"motor", f.pooled.motor_name},
+                      {"motor", f.pooled.motor.name},
                       {"created_utc", f.pooled.created_utc},
                       {"rounds", f.rounds},
                       {"family_alpha", f.family_alpha},

@@ -106,8 +106,7 @@ std::vector<std::string> effect_names(EffectSet effects) {
 }
 
 CalibratedModel calibrated_model(const CalibrationResult& cal) {
-  const MotorFile motor = parse_motor_file(cal.motor_text, cal.motor_file);
-  return {Model<double>(motor.constants, cal.effects), cal.values()};
+  return {Model<double>(cal.motor.constants, cal.effects), cal.values()};
 }
 
 // Never by name alone: a drive of another motor, or of the same motor a month later, may carry the
@@ -414,7 +413,7 @@ json combined_rmse(const ErrorMetrics& stator, const ErrorMetrics& rotor) {
 json history_entry(const std::filesystem::path& file, const CalibrationResult& cal, bool current) {
   const bool test = !cal.test.cycles.empty();
   json e = {{"file", file.filename().string()}, {"created_utc", cal.created_utc}, {"method", cal.method},
-            {"effects", effect_names(cal.effects)}, {"motor", cal.motor_name}, {"current", current},
+            {"effects", effect_names(cal.effects)}, {"motor", cal.motor.name}, {"current", current},
             {"train_rmse_stator_k", number(cal.train.stator.rmse_k)},
             {"test_rmse_stator_k", test ? number(cal.test.stator.rmse_k) : json(nullptr)},
             {"train_rmse_combined_k", combined_rmse(cal.train.stator, cal.train.rotor)},
@@ -462,7 +461,7 @@ json meta_json(const ReportOptions& o, const CalibrationResult& cal, const data:
   double hours = 0;
   for (const auto& c : ds.cycles) hours += c.duration_s() / 3600;
   return {{"calibration", o.calibration.string()}, {"data", o.data.string()}, {"method", cal.method},
-          {"created_utc", cal.created_utc}, {"motor", cal.motor_name}, {"effects", effect_names(cal.effects)},
+          {"created_utc", cal.created_utc}, {"motor", cal.motor.name}, {"effects", effect_names(cal.effects)},
           {"cycles", ds.cycles.size()}, {"hours", hours}, {"generated_utc", utc_now()},
           {"train_rmse_stator_k", number(cal.train.stator.rmse_k)},
           {"test_rmse_stator_k", cal.test.cycles.empty() ? json(nullptr) : number(cal.test.stator.rmse_k)},

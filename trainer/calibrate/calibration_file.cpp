@@ -9,16 +9,15 @@
 #include <fstream>
 #include <iterator>
 
-#include "trainer/calibrate/internal/json_reader.hpp"
 #include "hostio/atomic_file.hpp"
 #include "trainer/model/motor_file.hpp"
+#include "trainer/model/motor_json.hpp"
 #include "trainer/data/sensor_fault.hpp"
 
 namespace lptn {
 namespace {
 
 using nlohmann::ordered_json;
-using internal::JsonField;
 
 // ---- writing ---------------------------------------------------------------------------------
 // The document is built in ordered_json so that the file reads top-down in the documented order
@@ -99,7 +98,9 @@ ordered_json build(const CalibrationResult& r) {
   j["warnings"] = ordered_json::array();
   for (const CalibrationWarning& w : r.warnings)
     j["warnings"].push_back({{"code", w.code}, {"message", w.message}, {"parameters", w.parameters}});
-  j["motor"] = {{"name", r.motor_name}, {"file", r.motor_file}, {"text", r.motor_text}};
+  j["motor"] = motor_json(r.motor);
+  j["motor"]["file"] = r.motor.path.string();
+  j["motor"]["text"] = r.motor.text;
   j["effects"] = ordered_json::array();
   for (int e = 0; e < kNumEffects; ++e)
     if (r.effects & effect_bit(e)) j["effects"].push_back(std::string(EffectLibrary::kNames[e]));
@@ -329,9 +330,19 @@ CalibrationResult calibration_from_json(const nlohmann::json& j, const std::stri
   r.lptn_version = root["lptn_version"].string();
 
   const JsonField motor = root["motor"];
-  r.motor_name = motor["name"].string();
-  r.motor_file = motor["file"].string();
-  r.motor_text = motor["text"].string();
+  if (r.format_version >= 3) {
+    r.motor = motor_from_json(motor);
+  } else {
+    // Before format 3 the motor was its TOML text alone.
+    try {
+      r.motor = parse_motor_file(motor["text"].string(), "motor.text");
+    } catch (const MotorFileError& e) {
+      // "motor.text:LINE: key 'K': reason" -> "FILE: field 'motor.text': line LINE: key 'K': reason".
+      motor["text"].fail("line " + std::string(e.what()).substr(std::string("motor.text:").size()));
+    }
+  }
+  r.motor.path = motor["file"].string();
+  r.motor.text = motor["text"].string();
 
   const JsonField effects = root["effects"];
   for (std::size_t i = 0; i < effects.size(); ++i) {
@@ -391,11 +402,9 @@ void save_calibration(const CalibrationResult& result, const std::filesystem::pa
   write_file_atomically(path, build(result).dump(2) + "\n");
 }
 
-nlohmann::json read_json_file(const std::filesystem::path& path) {
+nlohmann::json read_lptn_json(const std::filesystem::path& path) {
   const std::string shown = path.string();
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw CalibrationFileError(shown + ": cannot read (missing or not readable)");
-  const std::string text(std::istreambuf_iterator<char>(in), {});
+  const std::string text = read_text_file(path);
   // A file of another kind (a motor file, a cycle CSV) is named as such, not as a JSON syntax error.
   const InputKind kind = input_kind(text);
   const std::size_t first = text.find_first_not_of(" \t\r\n\xEF\xBB\xBF");
@@ -404,26 +413,11 @@ nlohmann::json read_json_file(const std::filesystem::path& path) {
   if ((kind == InputKind::motor_toml && looks_toml) || kind == InputKind::cycle_csv)
     throw CalibrationFileError(shown + ": " + std::string(input_kind_words(kind)) + ", not a calibration (JSON)" +
                                (kind == InputKind::motor_toml ? ": give it as --motor" : ": give it as --data"));
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
-    // e.byte is the 1-based position of the character that failed; the line is what a user needs.
-    const std::size_t end = std::min<std::size_t>(e.byte == 0 ? 0 : e.byte - 1, text.size());
-    const auto line = 1 + std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(end), '\n');
-    // nlohmann's message starts "[json.exception.parse_error.101] parse error at line 3, column 5: ";
-    // keep only the reason after it.
-    std::string why = e.what();
-    const auto column = why.find(", column ");
-    const auto colon = column == std::string::npos ? std::string::npos : why.find(": ", column);
-    if (colon != std::string::npos) why = why.substr(colon + 2);
-    throw CalibrationFileError(shown + ": line " + std::to_string(line) + ": " + why);
-  }
-  return j;
+  return parse_json_text(text, shown);
 }
 
 CalibrationResult load_calibration(const std::filesystem::path& path) {
-  return calibration_from_json(read_json_file(path), path.string());
+  return calibration_from_json(read_lptn_json(path), path.string());
 }
 
 }  // namespace lptn

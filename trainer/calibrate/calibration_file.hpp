@@ -11,22 +11,21 @@
 #include <string>
 #include <vector>
 
+#include "hostio/json_file.hpp"
 #include "lptn/model.hpp"
 #include "trainer/calibrate/metrics.hpp"
+#include "trainer/model/motor_file.hpp"
 
 namespace lptn {
 
-// Bumped whenever a key changes meaning; a reader refuses any other version but the one before,
-// which it reads as "unchecked" (version 1 had no status and marked every free parameter
-// calibrated, pinned by the data or not).
-inline constexpr int kCalibrationFormatVersion = 2;
+// Bumped whenever a key changes meaning; a reader refuses versions it does not know. Version 1 is
+// read as "unchecked" (it had no status and marked every free parameter calibrated, pinned by the
+// data or not); versions 1 and 2 carried the motor as its TOML text only, which the reader parses.
+inline constexpr int kCalibrationFormatVersion = 3;
 inline constexpr int kOldestReadCalibrationFormatVersion = 1;
 
-// A bad calibration file; one line: "FILE: field 'a.b[3].c': reason".
-class CalibrationFileError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
+// A bad calibration file; one line: "FILE: field 'a.b[3].c': reason" or "FILE: line N: reason".
+using CalibrationFileError = JsonFileError;
 
 struct ParameterResult {
   std::string name;  // as in param_spec(); the vector below is in the model's fixed parameter order
@@ -98,11 +97,11 @@ struct CalibrationResult {
   std::string created_utc;   // ISO 8601, e.g. "2026-11-21T10:00:00Z"
   std::string lptn_version;  // "lptn 0.1.0"
 
-  // The motor file the calibration started from, whole, so that the result alone rebuilds the model.
-  std::string motor_name;
-  std::string motor_file;  // path as given
-  std::string motor_text;  // its full TOML text
-  EffectSet effects = 0;
+  // The motor file the calibration started from, whole, so that the result alone rebuilds the
+  // model: its constants, parameter settings and effects (motor.json in the file), its path as given
+  // and its text as read (provenance only: from format 3 on, nothing parses it).
+  MotorFile motor;
+  EffectSet effects = 0;  // the model's: the motor file's and those added since (calibrate --add, diagnose)
 
   std::vector<ParameterResult> parameters;  // kNumParams entries, model order
   std::vector<CorrelatedPair> correlated;   // LM only
@@ -139,8 +138,8 @@ CalibrationResult calibration_from_json(const nlohmann::json& j, const std::stri
 // Atomic: a temporary beside `path`, renamed over it.
 void save_calibration(const CalibrationResult& result, const std::filesystem::path& path);
 CalibrationResult load_calibration(const std::filesystem::path& path);
-// A JSON file (calibration.json, fleet.json); throws CalibrationFileError: "FILE: cannot read (...)"
-// or "FILE: line N: reason".
-nlohmann::json read_json_file(const std::filesystem::path& path);
+// A JSON file lptn wrote (calibration.json, fleet.json); throws CalibrationFileError: "FILE: cannot
+// read (...)", "FILE: line N: reason", or, for a motor file or a cycle given in its place, what it is.
+nlohmann::json read_lptn_json(const std::filesystem::path& path);
 
 }  // namespace lptn

@@ -27,9 +27,8 @@ CalibrationResult new_calibration(const MotorFile& motor, const std::string& mot
   CalibrationResult r;
   r.created_utc = utc_now();
   r.lptn_version = kNameAndVersion;
-  r.motor_name = motor.name;
-  r.motor_file = motor_path;
-  r.motor_text = motor.text;
+  r.motor = motor;
+  r.motor.path = motor_path;
   r.effects = motor.effects;
   for (int i = 0; i < kNumParams; ++i) r.parameters.push_back(parameter_result(motor, i));
   // The files behind the cycles, hashed, and one hash over them all (in cycle order).
@@ -56,8 +55,7 @@ void score_calibration(CalibrationResult& result, const MotorFile& motor, const 
 }
 
 MotorFile motor_of(const CalibrationResult& calibration) {
-  MotorFile motor = parse_motor_file(calibration.motor_text, calibration.motor_file + " (as kept in the calibration)");
-  motor.path = calibration.motor_file;
+  MotorFile motor = calibration.motor;
   motor.effects = calibration.effects;
   for (int i = 0; i < kNumParams; ++i) {
     const int effect = effect_of_param(i);

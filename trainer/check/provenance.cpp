@@ -101,9 +101,8 @@ Provenance provenance(const CalibrationResult& calibration, const data::Dataset&
     p.cycles.push_back(std::move(cp));
   }
   if (data_motor) {
-    const MotorFile motor = parse_motor_file(calibration.motor_text, calibration.motor_file);
     for_each_motor_constant([&](const MotorField& f, const auto& data, const auto& cal) { compare_member(f.name, data, cal, p.constants); },
-                            data_motor->constants, motor.constants);
+                            data_motor->constants, calibration.motor.constants);
   }
   return p;
 }

@@ -8,7 +8,8 @@ namespace lptn::diagnose {
 CalibrationResult updated_calibration(const CalibrationResult& calibration, const MotorFile& motor, const LmReport& fit,
                                       const data::Dataset& dataset, const Split& split, const std::string& note) {
   CalibrationResult r = calibration;
-  r.motor_text = motor.text;
+  r.motor = motor;
+  r.motor.path = calibration.motor.path;
   r.effects = motor.effects;
   // The parameters of an effect added since take the motor's settings; the others keep theirs.
   for (int i = 0; i < kNumParams; ++i) {

@@ -51,67 +51,46 @@ void save_fleet(const std::filesystem::path& path, const CalibrationResult& pool
   write_file_atomically(path, fleet_json(pooled, fit, settings).dump(2) + "\n");
 }
 
-namespace {
-
-[[noreturn]] void bad(const std::string& file, const std::string& field, const std::string& why) {
-  throw CalibrationFileError(file + ": field '" + field + "': " + why);
-}
-
-double number(const nlohmann::json& j, const std::string& file, const std::string& field) {
-  if (!j.is_number()) bad(file, field, j.is_null() ? "missing" : "not a number");
-  const double v = j.get<double>();
-  if (!std::isfinite(v)) bad(file, field, "not finite");
-  return v;
-}
-
-}  // namespace
-
 FleetFile load_fleet_file(const std::filesystem::path& path) {
   const std::string shown = path.string();
-  const nlohmann::json j = read_json_file(path);
+  const nlohmann::json j = read_lptn_json(path);
   if (j.is_object() && j.contains("parameters") && j.contains("motor") && !j.contains("pooled"))
     throw CalibrationFileError(shown + ": a single motor's calibration (calibration.json), not a fleet calibration: give "
                                        "it as --calibration");
-  if (!j.is_object() || !j.contains("format_version")) bad(shown, "format_version", "missing: is this a fleet.json?");
-  if (j["format_version"] != kFleetFormatVersion)
-    bad(shown, "format_version", "version " + j["format_version"].dump() + ", this lptn reads " +
-                                     std::to_string(kFleetFormatVersion));
-  if (!j.contains("pooled")) bad(shown, "pooled", "missing");
+  const JsonField root(j, "", shown);
+  if (!root.has("format_version")) throw CalibrationFileError(shown + ": not a fleet calibration (no format_version)");
+  const JsonField version = root["format_version"];
+  if (version.integer() != kFleetFormatVersion)
+    version.fail("version " + j["format_version"].dump() + ", this lptn reads " + std::to_string(kFleetFormatVersion));
   FleetFile out;
-  out.pooled = calibration_from_json(j["pooled"], shown + " (pooled)");
-  if (!j.contains("fleet") || !j["fleet"].is_object()) bad(shown, "fleet", "missing or not an object");
-  const nlohmann::json& f = j["fleet"];
-  out.rounds = static_cast<int>(number(f.value("rounds", nlohmann::json()), shown, "fleet.rounds"));
-  if (!f.contains("outlier_test") || !f["outlier_test"].is_object()) bad(shown, "fleet.outlier_test", "missing");
-  out.family_alpha = number(f["outlier_test"].value("family_alpha", nlohmann::json()), shown, "fleet.outlier_test.family_alpha");
-  if (f["outlier_test"].contains("threshold_t") && !f["outlier_test"]["threshold_t"].is_null())
-    out.threshold_t = number(f["outlier_test"]["threshold_t"], shown, "fleet.outlier_test.threshold_t");
-  if (!j.contains("motors") || !j["motors"].is_object()) bad(shown, "motors", "missing or not an object");
+  out.pooled = calibration_from_json(root["pooled"].json(), shown + " (pooled)");
+  const JsonField fleet = root["fleet"];
+  out.rounds = static_cast<int>(fleet["rounds"].count());
+  const JsonField outlier_test = fleet["outlier_test"];
+  out.family_alpha = outlier_test["family_alpha"].number();
+  if (outlier_test.has("threshold_t")) out.threshold_t = outlier_test["threshold_t"].number_or_null();
+  const JsonField motors = root["motors"];
+  motors.expect_object();
   for (const auto& [id, m] : j["motors"].items()) {
-    const std::string at = "motors." + id;
+    const JsonField motor_field = motors[id.c_str()];
     FleetFileMotor motor;
     motor.id = id;
     motor.parameters = out.pooled.values();
-    if (!m.is_object()) bad(shown, at, "not an object");
-    motor.cooling_factor = number(m.value("cooling_factor", nlohmann::json()), shown, at + ".cooling_factor");
-    motor.cooling_factor_std = number(m.value("cooling_factor_std", nlohmann::json()), shown, at + ".cooling_factor_std");
-    if (!m.contains("outlier") || !m["outlier"].is_boolean()) bad(shown, at + ".outlier", "missing or not true/false");
-    motor.outlier = m["outlier"].get<bool>();
-    motor.reason = m.value("reason", "");
-    if (m.contains("t") && !m["t"].is_null()) motor.t = number(m["t"], shown, at + ".t");
-    motor.cycles = static_cast<std::size_t>(number(m.value("cycles", nlohmann::json()), shown, at + ".cycles"));
-    if (!m.contains("metrics") || !m["metrics"].is_object()) bad(shown, at + ".metrics", "missing or not an object");
-    motor.rmse_stator_k = number(m["metrics"].value("rmse_stator_k", nlohmann::json()), shown, at + ".metrics.rmse_stator_k");
-    if (m["metrics"].contains("rmse_rotor_k"))
-      motor.rmse_rotor_k = number(m["metrics"]["rmse_rotor_k"], shown, at + ".metrics.rmse_rotor_k");
-    if (!m.contains("parameters") || !m["parameters"].is_array()) bad(shown, at + ".parameters", "missing or not a list");
-    for (std::size_t k = 0; k < m["parameters"].size(); ++k) {
-      const auto& p = m["parameters"][k];
-      const std::string field = at + ".parameters[" + std::to_string(k) + "]";
-      if (!p.is_object() || !p.contains("name") || !p["name"].is_string()) bad(shown, field + ".name", "missing");
-      const int i = param_index(p["name"].get<std::string>());
-      if (i < 0) bad(shown, field + ".name", "unknown parameter '" + p["name"].get<std::string>() + "'");
-      motor.parameters[static_cast<std::size_t>(i)] = number(p.value("value", nlohmann::json()), shown, field + ".value");
+    motor.cooling_factor = motor_field["cooling_factor"].number();
+    motor.cooling_factor_std = motor_field["cooling_factor_std"].number();
+    motor.outlier = motor_field["outlier"].boolean();
+    if (motor_field.has("reason")) motor.reason = motor_field["reason"].string();
+    if (motor_field.has("t")) motor.t = motor_field["t"].number_or_null();
+    motor.cycles = motor_field["cycles"].count();
+    const JsonField metrics = motor_field["metrics"];
+    motor.rmse_stator_k = metrics["rmse_stator_k"].number();
+    if (metrics.has("rmse_rotor_k")) motor.rmse_rotor_k = metrics["rmse_rotor_k"].number_or_null();
+    const JsonField parameters = motor_field["parameters"];
+    for (std::size_t k = 0; k < parameters.size(); ++k) {
+      const JsonField name = parameters.at(k)["name"];
+      const int i = param_index(name.string());
+      if (i < 0) name.fail("unknown parameter '" + name.string() + "'");
+      motor.parameters[static_cast<std::size_t>(i)] = parameters.at(k)["value"].number();
     }
     out.motors.push_back(motor);
   }

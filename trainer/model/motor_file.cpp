@@ -14,9 +14,14 @@
 #include <vector>
 
 #include "trainer/data/did_you_mean.hpp"
+#include "trainer/model/internal/motor_rules.hpp"
 
 namespace lptn {
 namespace {
+
+using internal::constant_named;
+using internal::constant_sections;
+using internal::rule_broken;
 
 // The error is one line (motor_file.hpp), but toml++'s descriptions quote the character they
 // stopped at, a newline too, and a quoted key may hold one.
@@ -153,18 +158,6 @@ class TableReader {
   std::vector<std::string> expected_;
 };
 
-// The motor file's sections that hold constants, in the order of their list.
-std::vector<std::string_view> constant_sections() {
-  std::vector<std::string_view> sections;
-  const MotorConstants<double> c;
-  for_each_motor_constant(
-      [&](const MotorField& f, const auto&) {
-        if (sections.empty() || sections.back() != f.section) sections.push_back(f.section);
-      },
-      c);
-  return sections;
-}
-
 // Every key of a constants section (the loss-split factors of [losses] included).
 std::vector<std::string> section_keys(std::string_view section) {
   std::vector<std::string> keys;
@@ -182,30 +175,6 @@ std::vector<std::string> section_keys(std::string_view section) {
   if (section == "losses")
     for (int i = kKStemp; i <= kKPfe; ++i) keys.emplace_back(param_spec(i).name);
   return keys;
-}
-
-// What `rule` says about v (the previous row's value given for a table column), or nullptr.
-const char* rule_broken(FieldRule rule, double v, const double* previous) {
-  switch (rule) {
-    case FieldRule::finite: return nullptr;
-    case FieldRule::positive: return v > 0 ? nullptr : "must be greater than zero";
-    case FieldRule::non_negative: return v < 0 ? "must not be negative" : nullptr;
-    case FieldRule::increasing: return previous && !(v > *previous) ? "must increase strictly" : nullptr;
-  }
-  return nullptr;
-}
-
-// The constant `full_key` ("section.key") as read so far.
-double constant_named(const MotorConstants<double>& c, std::string_view full_key) {
-  double value = 0.0;
-  for_each_motor_constant(
-      [&](const MotorField& f, const auto& member) {
-        if constexpr (std::is_same_v<std::remove_cvref_t<decltype(member)>, double>) {
-          if (std::string(f.section) + "." + std::string(f.name) == full_key) value = member;
-        }
-      },
-      c);
-  return value;
 }
 
 // Reads the constants of one section into c, each checked as its field says.
@@ -379,14 +348,8 @@ MotorFile parse_motor_file(const std::string& text, const std::filesystem::path&
       s.calibrate = t.boolean("calibrate", true);
       s.in_file = true;
       t.refuse_unknown();
-      if (!(s.min < s.max)) fail(shown_as, t.where("max"), "parameters." + name + ".max", "must be greater than min (bounds swapped?)");
-      if (s.initial < s.min || s.initial > s.max)
-        fail(shown_as, t.where("initial"), "parameters." + name + ".initial", "must lie within [min, max]");
-      const ParamSpec& spec = param_spec(index);
-      if (spec.min > 0 && s.min <= 0)
-        fail(shown_as, t.where("min"), "parameters." + name + ".min", "must be greater than zero (" + std::string(spec.unit) + ", log scale)");
-      if (index >= kKStray && index <= kKPfe && (s.min < 0 || s.max > 1))
-        fail(shown_as, t.where("max"), "parameters." + name, "a share must stay within [0, 1]");
+      if (const internal::SettingProblem p = internal::setting_problem(index, s); !p.reason.empty())
+        fail(shown_as, t.where(p.at), "parameters." + name + (p.key.empty() ? "" : "." + std::string(p.key)), p.reason);
     }
   }
   if (const toml::table* effects = top.optional_table("effects")) {
@@ -557,4 +520,49 @@ std::string format_motor_file(const MotorFile& motor) {
   return o.str();
 }
 
+namespace internal {
+
+std::vector<std::string_view> constant_sections() {
+  std::vector<std::string_view> sections;
+  const MotorConstants<double> c;
+  for_each_motor_constant(
+      [&](const MotorField& f, const auto&) {
+        if (sections.empty() || sections.back() != f.section) sections.push_back(f.section);
+      },
+      c);
+  return sections;
+}
+
+const char* rule_broken(FieldRule rule, double v, const double* previous) {
+  switch (rule) {
+    case FieldRule::finite: return nullptr;
+    case FieldRule::positive: return v > 0 ? nullptr : "must be greater than zero";
+    case FieldRule::non_negative: return v < 0 ? "must not be negative" : nullptr;
+    case FieldRule::increasing: return previous && !(v > *previous) ? "must increase strictly" : nullptr;
+  }
+  return nullptr;
+}
+
+double constant_named(const MotorConstants<double>& c, std::string_view full_key) {
+  double value = 0.0;
+  for_each_motor_constant(
+      [&](const MotorField& f, const auto& member) {
+        if constexpr (std::is_same_v<std::remove_cvref_t<decltype(member)>, double>) {
+          if (std::string(f.section) + "." + std::string(f.name) == full_key) value = member;
+        }
+      },
+      c);
+  return value;
+}
+
+SettingProblem setting_problem(int index, const ParameterSetting& s) {
+  if (!(s.min < s.max)) return {"max", "max", "must be greater than min (bounds swapped?)"};
+  if (s.initial < s.min || s.initial > s.max) return {"initial", "initial", "must lie within [min, max]"};
+  const ParamSpec& spec = param_spec(index);
+  if (spec.min > 0 && s.min <= 0) return {"min", "min", "must be greater than zero (" + std::string(spec.unit) + ", log scale)"};
+  if (index >= kKStray && index <= kKPfe && (s.min < 0 || s.max > 1)) return {"max", "", "a share must stay within [0, 1]"};
+  return {};
+}
+
+}  // namespace internal
 }  // namespace lptn

@@ -6,16 +6,20 @@
 #include <string>
 
 #include "trainer/calibrate/calibration_file.hpp"
+#include "trainer/model/motor_file.hpp"
 
 namespace lptn::testing {
 
-inline CalibrationResult sample_result(const std::string& motor_text) {
+// docs/motor.example.toml, the motor file the documentation shows.
+inline MotorFile example_motor() { return load_motor_file(LPTN_MOTOR_EXAMPLE); }
+
+inline CalibrationResult sample_result(const MotorFile& motor = example_motor()) {
   CalibrationResult r;
   r.created_utc = "2026-11-21T10:00:00Z";
   r.lptn_version = "lptn 0.1.0";
-  r.motor_name = "example 4-pole \"traction\" motor";
-  r.motor_file = "motors/example.toml";
-  r.motor_text = motor_text;
+  r.motor = motor;
+  r.motor.name = "example 4-pole \"traction\" motor";
+  r.motor.path = "motors/example.toml";
   r.effects = effect_bit(effect_index("airgap")) | effect_bit(effect_index("sensor_lag"));
   for (int i = 0; i < kNumParams; ++i) {
     const ParamSpec& s = param_spec(i);
