@@ -6,14 +6,21 @@
 #include <iterator>
 
 namespace lptn {
+namespace {
+
+std::size_t line_at(const std::string& text, std::size_t offset) {
+  const std::size_t end = std::min(offset, text.size());
+  return 1 + static_cast<std::size_t>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(end), '\n'));
+}
+
+}  // namespace
 
 nlohmann::json parse_json_text(const std::string& text, const std::string& shown) {
   try {
     return nlohmann::json::parse(text);
   } catch (const nlohmann::json::parse_error& e) {
     // e.byte is the 1-based position of the character that failed; the line is what a user needs.
-    const std::size_t end = std::min<std::size_t>(e.byte == 0 ? 0 : e.byte - 1, text.size());
-    const auto line = 1 + std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(end), '\n');
+    const std::size_t line = line_at(text, e.byte == 0 ? 0 : e.byte - 1);
     // nlohmann's message starts "[json.exception.parse_error.101] parse error at line 3, column 5: ";
     // keep only the reason after it.
     std::string why = e.what();
@@ -21,6 +28,15 @@ nlohmann::json parse_json_text(const std::string& text, const std::string& shown
     const auto colon = column == std::string::npos ? std::string::npos : why.find(": ", column);
     if (colon != std::string::npos) why = why.substr(colon + 2);
     throw JsonFileError(shown + ": line " + std::to_string(line) + ": " + why);
+  } catch (const nlohmann::json::exception& e) {
+    // A number beyond a double ("[json.exception.out_of_range.406] number overflow parsing '1e400'"):
+    // no position comes with it, so the line is where its text first stands.
+    std::string why = e.what();
+    if (const auto bracket = why.find("] "); why.rfind("[json.exception.", 0) == 0 && bracket != std::string::npos)
+      why = why.substr(bracket + 2);
+    const auto open = why.find('\''), close = why.rfind('\'');
+    const std::size_t at = open < close ? text.find(why.substr(open + 1, close - open - 1)) : std::string::npos;
+    throw JsonFileError(shown + (at == std::string::npos ? "" : ": line " + std::to_string(line_at(text, at))) + ": " + why);
   }
 }
 

@@ -33,9 +33,10 @@ declare -A MAX_LEN=(
   [fuzz_cycle_csv]=4096
   [fuzz_data_map]=4096
   [fuzz_motor_toml]=4096
+  [fuzz_motor_json]=4096
   [fuzz_estimator_frames]=4093
 )
-TARGETS=(fuzz_can_codecs fuzz_candump_line fuzz_can_log fuzz_mdf4 fuzz_cycle_csv fuzz_data_map fuzz_motor_toml fuzz_estimator_frames)
+TARGETS=(fuzz_can_codecs fuzz_candump_line fuzz_can_log fuzz_mdf4 fuzz_cycle_csv fuzz_data_map fuzz_motor_toml fuzz_motor_json fuzz_estimator_frames)
 
 # UBSan aborts on the first report anyway (-fno-sanitize-recover); the stack says where.
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1

@@ -195,6 +195,16 @@ TEST(ReportDiagnosis, ASensorFaultOpensThePageWithTheCommandThatCalibratesAround
     EXPECT_NE(r.code, 0);
     EXPECT_NE(r.err.find("newer.json: format_version 99"), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(d / "newer.html"));
+    // One cut short: the file and the line, in one line.
+    std::ofstream(d / "cut.json") << "{\n  \"candidates\": [\n";
+    const auto cut = run("report " + data + " --diagnosis " + (d / "cut.json").string() + " --out " +
+                             (d / "cut.html").string(), d);
+    EXPECT_EQ(cut.code, 2);
+    EXPECT_NE(cut.err.find((d / "cut.json").string() + ": not JSON (expected `lptn diagnose --json` output): line 3: "),
+              std::string::npos) << cut.err;
+    EXPECT_EQ(cut.err.find("json.exception"), std::string::npos) << cut.err;
+    EXPECT_EQ(std::count(cut.err.begin(), cut.err.end(), '\n'), 1) << cut.err;
+    EXPECT_FALSE(fs::exists(d / "cut.html"));
   }
   nlohmann::json& f = diagnosis["sensor_faults"][0];
   EXPECT_EQ(f["sensor"], "stator");

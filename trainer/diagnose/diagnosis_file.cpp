@@ -4,6 +4,7 @@
 #include <fstream>
 #include <iterator>
 
+#include "hostio/json_file.hpp"
 #include "trainer/diagnose/diagnose.hpp"
 #include "trainer/diagnose/internal/json_number.hpp"
 
@@ -57,13 +58,19 @@ SavedCandidate parse_candidate(const json& j, const std::string& where) {
 }  // namespace
 
 SavedDiagnosis load_diagnosis(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw DiagnosisFileError(path.string() + ": cannot be read");
+  const std::string shown = path.string();
   json j;
   try {
-    j = json::parse(std::string(std::istreambuf_iterator<char>(in), {}));
-  } catch (const json::parse_error& e) {
-    throw DiagnosisFileError(path.string() + ": not JSON (expected `lptn diagnose --json` output): " + e.what());
+    const std::string text = read_text_file(path);
+    try {
+      j = parse_json_text(text, shown);
+    } catch (const JsonFileError& e) {
+      // "FILE: line N: reason" -> "FILE: not JSON (...): line N: reason"
+      throw DiagnosisFileError(shown + ": not JSON (expected `lptn diagnose --json` output): " +
+                               std::string(e.what()).substr(shown.size() + 2));
+    }
+  } catch (const JsonFileError& e) {
+    throw DiagnosisFileError(e.what());
   }
   if (!j.is_object() || !j.contains("candidates") || !j["candidates"].is_array())
     throw DiagnosisFileError(path.string() + ": no 'candidates' array (expected `lptn diagnose --json` output)");
