@@ -112,9 +112,9 @@ TEST_F(BusRoutes, TheForeignMapAtRunTimeAndAtBuildTimeGiveTheSameEstimates) {
   const auto runtime = replay(path("foreign.log"), kForeignBus, path("foreign-runtime.csv"));
   ASSERT_EQ(runtime.code, 0) << runtime.err;
   // The build-time route: the estimator with the glue generated from the same map.
-  const auto cal = estimator_config_from(load_calibration(LPTN_DEFAULT_CALIBRATION), "default_calibration.json",
+  const auto cal = replay::estimator_config_from(load_calibration(LPTN_DEFAULT_CALIBRATION), "default_calibration.json",
                                          lptn::bus::test::decoder());
-  const ReplaySummary s = replay_to_csv(path("foreign.log").string(), cal->config, path("foreign-compiled.csv").string(), true);
+  const replay::ReplaySummary s = replay::replay_to_csv(path("foreign.log").string(), cal->config, path("foreign-compiled.csv").string(), true);
   EXPECT_EQ(s.stats.bad_records, 0u);
   const std::string compiled = slurp(path("foreign-compiled.csv"));
   ASSERT_GT(std::count(compiled.begin(), compiled.end(), '\n'), 11000);
@@ -263,7 +263,7 @@ TEST_F(BusRoutes, ProtectedInputFramesAreDroppedAndReported) {
     cases.push_back({"two lost frames", lines, true});
   }
 
-  const auto cal = estimator_config_from(load_calibration(LPTN_DEFAULT_CALIBRATION), "default_calibration.json",
+  const auto cal = replay::estimator_config_from(load_calibration(LPTN_DEFAULT_CALIBRATION), "default_calibration.json",
                                          lptn::bus::test::decoder());
   for (const Case& c : cases) {
     SCOPED_TRACE(c.name);
@@ -272,7 +272,7 @@ TEST_F(BusRoutes, ProtectedInputFramesAreDroppedAndReported) {
     fs::remove(runtime_csv);
     const auto r = replay(log, kForeignBus, runtime_csv);
     ASSERT_EQ(r.code, 0) << r.err;
-    replay_to_csv(log.string(), cal->config, compiled_csv.string(), true);
+    replay::replay_to_csv(log.string(), cal->config, compiled_csv.string(), true);
     EXPECT_TRUE(slurp(runtime_csv) == slurp(compiled_csv)) << "the two routes disagree";
     const Table est = read_csv(runtime_csv);
     const int stale = est.column("stale_inputs"), events = est.column("bus_events"), time = est.column("time_s");

@@ -23,7 +23,7 @@ template <class F>
 std::string error_of(F&& f) {
   try {
     f();
-  } catch (const ExportError& e) {
+  } catch (const exporter::ExportError& e) {
     return e.what();
   }
   return "";
@@ -67,7 +67,7 @@ TEST(CppLiterals, StringsAndComments) {
 
 TEST(ExportHeader, HasEverySection) {
   const CalibrationResult c = testing::sample_result();
-  const std::string h = export_header(c, {"cal.json", true});
+  const std::string h = exporter::export_header(c, {"cal.json", true});
   for (const char* s : {"#pragma once", "#include \"lptn/model.hpp\"", "#include \"lptn/motor_constants.hpp\"",
                         "#include \"lptn/actor.hpp\"", "namespace lptn::calibration {", "kMethod[] = \"lm\"",
                         "kSourceFile[] = \"cal.json\"",
@@ -81,7 +81,7 @@ TEST(ExportHeader, HasEverySection) {
   EXPECT_NE(h.find("// [1] lambda_2s [W/K] (calibrated)"), std::string::npos);  // NaN std_error: none shown
   EXPECT_NE(h.find("// [0] lambda_1s [W/K] +- 0.00143 (calibrated)"), std::string::npos);
 
-  const std::string without = export_header(c, {"cal.json", false});
+  const std::string without = exporter::export_header(c, {"cal.json", false});
   EXPECT_EQ(without.find("actor"), std::string::npos);
   EXPECT_EQ(without.find("kActor"), std::string::npos);
 }
@@ -92,11 +92,11 @@ TEST(ExportHeader, RefusesAFailedCalibration) {
   c.status = kStatusFailed;
   c.warnings = {{"not_converged", "the fit did not converge in 60 iterations", {}},
                 {"at_bound", "lambda_1s ended at its lower bound 1 W/K", {"lambda_1s"}}};
-  const std::string e = error_of([&] { export_header(c, {"cal.json", false}); });
+  const std::string e = error_of([&] { exporter::export_header(c, {"cal.json", false}); });
   EXPECT_EQ(e, "cal.json: status 'failed', not exported: the fit did not converge in 60 iterations; lambda_1s ended at "
                "its lower bound 1 W/K");
   c.status = kStatusWarnings;
-  EXPECT_EQ(error_of([&] { export_header(c, {"cal.json", false}); }), "");
+  EXPECT_EQ(error_of([&] { exporter::export_header(c, {"cal.json", false}); }), "");
 }
 
 // Warnings are comments in the header; a parameter the data could not pin says so, and carries
@@ -112,7 +112,7 @@ TEST(ExportHeader, CarriesWarningsAndEachParametersSpread) {
   c.parameters[0].calibrated = true;
   c.parameters[0].std_error = 0.25;
   c.parameters[0].value = 25.0;
-  const std::string h = export_header(c, {"cal.json", false});
+  const std::string h = exporter::export_header(c, {"cal.json", false});
   EXPECT_NE(h.find("//   status       warnings, read these warnings first:\n"), std::string::npos);
   EXPECT_NE(h.find("//   warning      not_identifiable: lambda_1r is not identifiable from this data: no rotor readings\n"),
             std::string::npos);
@@ -128,7 +128,7 @@ TEST(ExportHeader, CarriesWarningsAndEachParametersSpread) {
 TEST(ExportHeader, WritesEveryMotorConstant) {
   MotorFile motor = testing::example_motor();
   motor.constants = testing::distinct_motor_constants();
-  const std::string h = export_header(testing::sample_result(motor), {});
+  const std::string h = exporter::export_header(testing::sample_result(motor), {});
   int rows = 0;
   for_each_motor_constant(
       [&](const MotorField& f, const auto& v) {
@@ -153,28 +153,28 @@ TEST(ExportHeader, WritesEveryMotorConstant) {
 TEST(ExportHeader, NoEffectsIsZero) {
   CalibrationResult c = testing::sample_result();
   c.effects = 0;
-  EXPECT_NE(export_header(c, {}).find("kEffects = 0;  // the paper's model only"), std::string::npos);
+  EXPECT_NE(exporter::export_header(c, {}).find("kEffects = 0;  // the paper's model only"), std::string::npos);
 }
 
 TEST(ExportHeader, Refusals) {
   CalibrationResult c = testing::sample_result();
   c.has_actor = false;
-  EXPECT_EQ(error_of([&] { export_header(c, {"cal.json", true}); }),
+  EXPECT_EQ(error_of([&] { exporter::export_header(c, {"cal.json", true}); }),
             "cal.json: --actor: this calibration has no actor (method 'lm'; only td3-paper and td3-episode keep one: their actor maps speed and torque to parameters)");
 
   c = testing::sample_result();
   c.actor.layers.pop_back();
-  EXPECT_NE(error_of([&] { export_header(c, {"cal.json", true}); }).find("cal.json: field 'actor.layers'"), std::string::npos);
+  EXPECT_NE(error_of([&] { exporter::export_header(c, {"cal.json", true}); }).find("cal.json: field 'actor.layers'"), std::string::npos);
 
   c = testing::sample_result();
   c.actor.check_obs.clear();
   c.actor.check_actions.clear();
-  EXPECT_NE(error_of([&] { export_header(c, {"cal.json", true}); }).find("cal.json: field 'actor.check_obs': empty"),
+  EXPECT_NE(error_of([&] { exporter::export_header(c, {"cal.json", true}); }).find("cal.json: field 'actor.check_obs': empty"),
             std::string::npos);
 
   c = testing::sample_result();
   c.parameters[2].value = std::nan("");
-  EXPECT_EQ(error_of([&] { export_header(c, {"cal.json", false}); }),
+  EXPECT_EQ(error_of([&] { exporter::export_header(c, {"cal.json", false}); }),
             "cal.json: parameters.lambda_12s.value: nan has no C++ literal");
 }
 

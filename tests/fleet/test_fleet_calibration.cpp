@@ -21,7 +21,7 @@
 #include "trainer/fleet/fleet_file.hpp"
 #include "trainer/fleet/outlier_test.hpp"
 
-namespace lptn {
+namespace lptn::fleet {
 namespace {
 
 struct FleetCase {
@@ -147,4 +147,4 @@ TEST(FleetCalibration, NamesNoMotorOfHealthyFleetsOverSeeds) {
 }
 
 }  // namespace
-}  // namespace lptn
+}  // namespace lptn::fleet

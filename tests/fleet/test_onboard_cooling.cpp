@@ -29,7 +29,7 @@ using lptn::testing::run;
 // The factors' median as the fleet fit normalizes: that of their logarithms.
 double median_factor(std::vector<double> factors) {
   for (double& f : factors) f = std::log(f);
-  return std::exp(median(factors));
+  return std::exp(fleet::median(factors));
 }
 
 TEST(OnboardCooling, EachMotorsFactorWithin5PercentAfterAnHourAndTheAlarmOnTheWeakMotorAlone) {

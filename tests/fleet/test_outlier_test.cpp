@@ -9,7 +9,7 @@
 #include "trainer/fleet/internal/student_t.hpp"
 #include "trainer/fleet/outlier_test.hpp"
 
-namespace lptn {
+namespace lptn::fleet {
 namespace {
 
 TEST(StudentT, MatchesTabulatedQuantiles) {
@@ -102,4 +102,4 @@ TEST(FleetOutliers, AMotorWithLittleDataIsJudgedByItsOwnLargerError) {
 }
 
 }  // namespace
-}  // namespace lptn
+}  // namespace lptn::fleet

@@ -8,7 +8,7 @@
 #include "trainer/calibrate/lm.hpp"
 #include "trainer/search/search.hpp"
 
-namespace lptn {
+namespace lptn::search {
 namespace {
 
 const testing::Dump& generated() {
@@ -46,4 +46,4 @@ TEST(Search, BothMethodsBeatTheGuessAndCmaEsComesCloseToLm) {
 }
 
 }  // namespace
-}  // namespace lptn
+}  // namespace lptn::search

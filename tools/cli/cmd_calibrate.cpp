@@ -49,12 +49,12 @@ void run_lm(const CalibrateArgs& a, const MotorFile& motor, const data::Dataset&
 // Random search or CMA-ES: the benchmark's baselines beside TD3 (no libtorch).
 void run_search(const CalibrateArgs& a, const MotorFile& motor, const data::Dataset& dataset, const Split& split,
                 CalibrationResult& r) {
-  const SearchMethod method = a.method == "cma-es" ? SearchMethod::cma_es : SearchMethod::random;
-  SearchSettings settings;
+  const search::SearchMethod method = a.method == "cma-es" ? search::SearchMethod::cma_es : search::SearchMethod::random;
+  search::SearchSettings settings;
   settings.seed = a.seed;
   if (a.budget_steps > 0) settings.budget_steps = a.budget_steps;
   ProgressLine line(a.quiet);
-  const SearchOutcome o = search_calibration(method, motor, dataset, split.train, settings,
+  const search::SearchOutcome o = search::search_calibration(method, motor, dataset, split.train, settings,
                                              [&](std::size_t steps, std::size_t budget, double best, double seconds) {
                                                const double done = std::min(1.0, double(steps) / double(budget));
                                                char buf[200];
@@ -129,7 +129,7 @@ BadInput not_simulable(const std::string& path, const MotorFile& motor, const Mo
 
 // --fleet: the motor type over every motor, each motor's cooling factor, the outliers (fleet.json).
 void run_fleet(const CalibrateArgs& a, const MotorFile& motor, const ProcessGroup& group) {
-  const FleetDump fleet = load_shared_fleet(a.fleet, group, with_map(a.map));
+  const fleet::FleetDump fleet = fleet::load_shared_fleet(a.fleet, group, with_map(a.map));
   const Split split = split_cycles(fleet.dataset, a.test_cycles, a.test_fraction, a.seed);
   CalibrationResult r = new_calibration(motor, a.motor, fleet.dataset, split);
   if (!a.quiet)
@@ -137,12 +137,12 @@ void run_fleet(const CalibrateArgs& a, const MotorFile& motor, const ProcessGrou
                 "cooling on all of its own\n",
                 motor.name.c_str(), fleet.motor_ids.size(), split.train.size(), split.test.size(), split.rule.c_str());
   std::fflush(stdout);
-  FleetSettings settings;
+  fleet::FleetSettings settings;
   settings.lm.judge_identifiability = true;
   ProgressLine line(a.quiet);
-  FleetFit fit;
+  fleet::FleetFit fit;
   try {
-    fit = fit_fleet(motor, fleet, split.train, settings, [&](const std::string& s) { line.update(s, true); });
+    fit = fleet::fit_fleet(motor, fleet, split.train, settings, [&](const std::string& s) { line.update(s, true); });
   } catch (const ModelNotSimulable& e) {
     throw not_simulable(a.motor, motor, e);
   }
@@ -155,11 +155,11 @@ void run_fleet(const CalibrateArgs& a, const MotorFile& motor, const ProcessGrou
   judge_outcome(r, inspected);
   set_exit_code(exit_code_of(r));
   if (!group.leads()) return;
-  save_fleet(a.out, r, fit, settings);
+  fleet::save_fleet(a.out, r, fit, settings);
   print_outcome_warnings(r);
   if (a.quiet) return;
   std::vector<ErrorMetrics> stator, rotor;
-  for (const FleetMotorResult& m : fit.motors) {
+  for (const fleet::FleetMotorResult& m : fit.motors) {
     stator.push_back(m.metrics.stator);
     rotor.push_back(m.metrics.rotor);
   }
@@ -171,7 +171,7 @@ void run_fleet(const CalibrateArgs& a, const MotorFile& motor, const ProcessGrou
   print_metrics("train", r.train);
   if (!r.test.cycles.empty()) print_metrics("test", r.test);
   std::printf("%-10s %8s %8s %7s %10s  %s\n", "motor", "cooling", "+-", "cycles", "stator", "verdict");
-  for (const FleetMotorResult& m : fit.motors)
+  for (const fleet::FleetMotorResult& m : fit.motors)
     std::printf("%-10s %8.3f %8.4f %7zu %8.3f K  %s%s\n", m.id.c_str(), m.cooling_factor, m.cooling_factor_std,
                 m.metrics.cycles.size(), m.metrics.stator.rmse_k, m.verdict.outlier ? "OUTLIER: " : "",
                 m.verdict.reason.c_str());

@@ -38,7 +38,7 @@ bool is_fleet_file(const std::string& path) {
 
 // One motor's cycles as a dataset of their own (names stay "<motor_id>/<cycle>", as fleet.json's
 // data lists them); the loader's reports come along for the sensors' reading periods.
-data::Dataset motor_dataset(const FleetDump& fleet, std::size_t m) {
+data::Dataset motor_dataset(const fleet::FleetDump& fleet, std::size_t m) {
   data::Dataset d;
   for (std::size_t i : fleet.motor_cycles[m]) d.cycles.push_back(fleet.dataset.cycles[i]);
   d.reports = fleet.dataset.reports;
@@ -77,16 +77,16 @@ bool check_data(const CheckArgs& a) {
 
 // One motor checked: with fleet.json against the type and its own cooling factor; a motor the
 // fleet calibration does not know, and every motor under a calibration.json, against that calibration.
-nlohmann::json check_motor(const CheckArgs& a, const std::optional<FleetFile>& fleet_file, const CalibrationResult& single,
-                           const FleetDump& fleet, std::size_t m, const std::optional<MotorFile>& data_motor) {
+nlohmann::json check_motor(const CheckArgs& a, const std::optional<fleet::FleetFile>& fleet_file, const CalibrationResult& single,
+                           const fleet::FleetDump& fleet, std::size_t m, const std::optional<MotorFile>& data_motor) {
   const std::string& id = fleet.motor_ids[m];
   std::string against = fleet_file ? "the type (not in " + a.calibration + ")" : a.calibration;
   CalibrationResult calibration = single;
   if (fleet_file) {
     calibration = fleet_file->pooled;
-    for (const FleetFileMotor& fm : fleet_file->motors)
+    for (const fleet::FleetFileMotor& fm : fleet_file->motors)
       if (fm.id == id) {
-        calibration = motor_calibration(*fleet_file, id);
+        calibration = fleet::motor_calibration(*fleet_file, id);
         char factor[96];
         std::snprintf(factor, sizeof factor, "the type with its own cooling factor %.3f", fm.cooling_factor);
         against = factor;
@@ -108,11 +108,11 @@ bool check_fleet(const CheckArgs& given) {
     a.quiet = true;
     if (std::freopen("/dev/null", "w", stdout) == nullptr) throw std::runtime_error("cannot silence rank " + std::to_string(group.rank()));
   }
-  std::optional<FleetFile> fleet_file;
+  std::optional<fleet::FleetFile> fleet_file;
   CalibrationResult single;
-  if (is_fleet_file(a.calibration)) fleet_file = load_fleet_file(a.calibration);
+  if (is_fleet_file(a.calibration)) fleet_file = fleet::load_fleet_file(a.calibration);
   else single = load_calibration(a.calibration);
-  const FleetDump fleet = load_shared_fleet(a.fleet, group, with_map(a.map));
+  const fleet::FleetDump fleet = fleet::load_shared_fleet(a.fleet, group, with_map(a.map));
   const std::optional<MotorFile> data_motor = check::motor_beside({a.fleet});
   nlohmann::json mine = nlohmann::json::object();  // motor index -> its verdict, for this rank's motors
   {

@@ -38,12 +38,12 @@ void add_export(CLI::App& app) {
     try {
       const CalibrationResult calibration = args->fleet.empty()
                                                 ? load_calibration(args->calibration)
-                                                : motor_calibration(load_fleet_file(args->fleet), args->motor_id);
-      ExportOptions options;
+                                                : fleet::motor_calibration(fleet::load_fleet_file(args->fleet), args->motor_id);
+      exporter::ExportOptions options;
       options.source_name = std::filesystem::path(args->fleet.empty() ? args->calibration : args->fleet).filename().string();
       if (!args->fleet.empty()) options.source_name += ", motor " + args->motor_id;
       options.actor = args->actor;
-      const std::string header = export_header(calibration, options);  // refuses a failed calibration
+      const std::string header = exporter::export_header(calibration, options);  // refuses a failed calibration
       // Each warning on a line of its own (the header carries them too, as comments).
       for (const CalibrationWarning& w : calibration.warnings)
         std::fprintf(stderr, "lptn: warning: %s: %s\n", options.source_name.c_str(), w.message.c_str());
@@ -52,7 +52,7 @@ void add_export(CLI::App& app) {
                   calibration.motor.name.c_str(), args->actor ? ", with the actor" : "");
     } catch (const CalibrationFileError& e) {
       throw BadInput(e.what());
-    } catch (const ExportError& e) {
+    } catch (const exporter::ExportError& e) {
       throw BadInput(e.what());
     } catch (const std::invalid_argument& e) {
       throw BadInput(e.what());

@@ -38,7 +38,7 @@ namespace {
 // finding names the log.
 // `inputs_csv`: the CSV's fleet-dump columns as written (ReplaySummary::inputs_csv), loaded as the
 // CSV `out` would be.
-std::vector<std::string> log_against_motor(const std::string& log, const std::string& out, const ReplaySummary& r,
+std::vector<std::string> log_against_motor(const std::string& log, const std::string& out, const replay::ReplaySummary& r,
                                            const CalibrationResult& cal, const std::string& source) {
   if (r.stats.rows == 0) return {};  // the estimator never started: no inputs to check
   data::Dataset replayed;
@@ -79,7 +79,7 @@ std::vector<fs::path> logs_in(const fs::path& dir) {
 
 // One log of a directory: its summary and warnings, or the bad input that stopped it.
 struct DirectoryItem {
-  ReplaySummary summary;
+  replay::ReplaySummary summary;
   std::vector<std::string> warnings;
   std::exception_ptr failure;
 };
@@ -101,7 +101,7 @@ void replay_directory(const fs::path& dir, const std::string& out_dir, bool forc
       DirectoryItem& item = items[i];
       const fs::path csv = out.path() / (logs[i].stem().string() + ".csv");
       try {
-        item.summary = replay_to_csv(logs[i].string(), config, csv.string(), true, select);
+        item.summary = replay::replay_to_csv(logs[i].string(), config, csv.string(), true, select);
         item.warnings = log_against_motor(logs[i].string(), csv.string(), item.summary, calibrated, source);
         item.summary.inputs_csv = std::string();  // done with: not nine logs' worth held at once
       } catch (...) {
@@ -121,7 +121,7 @@ void replay_directory(const fs::path& dir, const std::string& out_dir, bool forc
   }
   std::size_t frames = 0, rows = 0;
   for (std::size_t i = 0; i < logs.size(); ++i) {
-    const ReplaySummary& r = items[i].summary;
+    const replay::ReplaySummary& r = items[i].summary;
     frames += r.stats.frames;
     rows += r.stats.rows;
     std::printf("[%zu/%zu] %s (%s): %zu frames, %zu estimates%s", i + 1, logs.size(), logs[i].filename().string().c_str(),
@@ -207,8 +207,8 @@ void add_replay(CLI::App& app) {
       throw BadInput("replay: --calibration or --fleet is required (see --help)");
     const std::string& source = args->fleet.empty() ? args->calibration : args->fleet;
     const CalibrationResult calibrated =
-        args->fleet.empty() ? load_calibration(args->calibration) : load_fleet_file(args->fleet).pooled;
-    const auto cal = estimator_config_from(calibrated, source, map ? map->decoder() : lptn::bus::decoder());
+        args->fleet.empty() ? load_calibration(args->calibration) : fleet::load_fleet_file(args->fleet).pooled;
+    const auto cal = replay::estimator_config_from(calibrated, source, map ? map->decoder() : lptn::bus::decoder());
     if (args->use_actor && !cal->config.actor.actor)
       throw BadInput(source + ": --use-actor: this calibration has no actor");
     // A type's pooled calibration: this motor may differ from the type by the fleet's scatter.
@@ -226,9 +226,9 @@ void add_replay(CLI::App& app) {
       }
       return;
     }
-    ReplaySummary r;
+    replay::ReplaySummary r;
     try {
-      r = replay_to_csv(args->log, cal->config, args->out, args->quiet, select);
+      r = replay::replay_to_csv(args->log, cal->config, args->out, args->quiet, select);
     } catch (const std::invalid_argument& e) {
       throw BadInput(e.what());
     }
@@ -246,7 +246,7 @@ void add_replay(CLI::App& app) {
       std::printf("  rotor winding estimate vs rotor telemetry (never fused): rmse %.3f K\n", r.rmse_rotor_k);
     // The spread's honesty: how often the +-2 sigma band (widened by the telemetry's own noise)
     // holds the reading. Fused, the stator estimate follows its sensor, so its figure says less.
-    auto coverage = [](const char* what, const BandCoverage& c) {
+    auto coverage = [](const char* what, const replay::BandCoverage& c) {
       if (c.ticks == 0) return;
       std::printf("  %s: +-2 sigma covers the telemetry on %.1f %% of %zu ticks (|estimate - reading| <= "
                   "2 sqrt(sigma^2 + noise^2), noise %.2f K from the log)\n",

@@ -13,7 +13,7 @@
 #include "tools/export/cpp_literals.hpp"
 #include "trainer/model/motor_file.hpp"
 
-namespace lptn {
+namespace lptn::exporter {
 namespace {
 
 using exporter::comment_text;
@@ -314,4 +314,4 @@ std::string export_header(const CalibrationResult& c, const ExportOptions& o) {
   }
 }
 
-}  // namespace lptn
+}  // namespace lptn::exporter

@@ -7,7 +7,7 @@
 
 #include "trainer/calibrate/calibration_file.hpp"
 
-namespace lptn {
+namespace lptn::exporter {
 
 // A calibration that cannot become a header (no actor where one was asked for, a value with no
 // literal, an actor shape the firmware's forward pass does not take). One line, naming the file.
@@ -25,4 +25,4 @@ struct ExportOptions {
 // parse (named "SOURCE: motor.text:LINE").
 std::string export_header(const CalibrationResult& calibration, const ExportOptions& options);
 
-}  // namespace lptn
+}  // namespace lptn::exporter

@@ -3,7 +3,7 @@
 #include "lptn/firmware/parameter_uncertainty.hpp"
 #include "trainer/model/motor_file.hpp"
 
-namespace lptn {
+namespace lptn::replay {
 
 std::unique_ptr<CalibratedEstimatorConfig> estimator_config_from(const CalibrationResult& c, const std::string& shown_as,
                                                                   const fw::BusDecoder& bus) {
@@ -53,4 +53,4 @@ std::unique_ptr<CalibratedEstimatorConfig> estimator_config_from(const Calibrati
   return out;
 }
 
-}  // namespace lptn
+}  // namespace lptn::replay

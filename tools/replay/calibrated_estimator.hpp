@@ -9,7 +9,7 @@
 #include "lptn/firmware/estimator_config.hpp"
 #include "trainer/calibrate/calibration_file.hpp"
 
-namespace lptn {
+namespace lptn::replay {
 
 // The configuration and what its actor view points into (the weights live here, not in a header).
 struct CalibratedEstimatorConfig {
@@ -27,4 +27,4 @@ std::unique_ptr<CalibratedEstimatorConfig> estimator_config_from(const Calibrati
                                                                   const std::string& shown_as,
                                                                   const fw::BusDecoder& bus = lptn::bus::decoder());
 
-}  // namespace lptn
+}  // namespace lptn::replay

@@ -12,7 +12,7 @@
 #include "firmware/linux/estimate_csv.hpp"
 #include "hostio/progress_line.hpp"
 
-namespace lptn {
+namespace lptn::replay {
 namespace {
 
 // One node's track: the estimate, its spread and the fresh reading (NaN: none) per tick.
@@ -144,4 +144,4 @@ ReplaySummary replay_to_csv(const std::string& log_path, const fw::EstimatorConf
   return summary;
 }
 
-}  // namespace lptn
+}  // namespace lptn::replay

@@ -11,7 +11,7 @@
 #include "firmware/linux/replay.hpp"
 #include "tools/canfile/can_log.hpp"
 
-namespace lptn {
+namespace lptn::replay {
 
 // How often a node's reported spread covers its telemetry: the share of ticks with a fresh reading
 // where |estimate - reading| <= 2 sqrt(sigma^2 + noise^2). sigma is the estimate's spread about the
@@ -54,4 +54,4 @@ struct ReplaySummary {
 ReplaySummary replay_to_csv(const std::string& log, const fw::EstimatorConfig<double>& config, const std::string& csv,
                               bool quiet, const canfile::LogSelection& select = {});
 
-}  // namespace lptn
+}  // namespace lptn::replay

@@ -12,7 +12,7 @@ nlohmann::json number_or_null(double v) { return std::isfinite(v) ? nlohmann::js
 }  // namespace
 
 nlohmann::json fleet_section(const std::filesystem::path& fleet_file) {
-  const FleetFile f = load_fleet_file(fleet_file);
+  const fleet::FleetFile f = fleet::load_fleet_file(fleet_file);
   nlohmann::json j = {{"file", fleet_file.string()},
                       {"motor", f.pooled.motor.name},
                       {"created_utc", f.pooled.created_utc},
@@ -21,7 +21,7 @@ nlohmann::json fleet_section(const std::filesystem::path& fleet_file) {
                       {"threshold_t", number_or_null(f.threshold_t)},
                       {"motors", nlohmann::json::array()},
                       {"outliers", nlohmann::json::array()}};
-  for (const FleetFileMotor& m : f.motors) {
+  for (const fleet::FleetFileMotor& m : f.motors) {
     j["motors"].push_back({{"id", m.id},
                            {"cooling_factor", m.cooling_factor},
                            {"cooling_factor_std", m.cooling_factor_std},

@@ -223,9 +223,9 @@ void add_options(CLI::App& app) {
     // The daemon filters the map's messages, candump the estimator's outputs.
     const std::size_t filters =
         (map ? map->messages().size() : std::size(lptn::bus::kFilterIds)) + static_cast<std::size_t>(fw::kMaxOutputFrames);
-    std::unique_ptr<CalibratedEstimatorConfig> cal;
+    std::unique_ptr<replay::CalibratedEstimatorConfig> cal;
     try {
-      cal = estimator_config_from(load_calibration(args->calibration), args->calibration,
+      cal = replay::estimator_config_from(load_calibration(args->calibration), args->calibration,
                                   map ? map->decoder() : lptn::bus::decoder());
     } catch (const CalibrationFileError& e) {
       throw BadInput(e.what());
@@ -252,7 +252,7 @@ void add_options(CLI::App& app) {
     const fs::path replay_csv = out / "replay.csv";
     fw::ReplayStats stats;
     try {
-      stats = replay_to_csv(log.string(), cal->config, replay_csv.string(), true).stats;
+      stats = replay::replay_to_csv(log.string(), cal->config, replay_csv.string(), true).stats;
     } catch (const std::invalid_argument& e) {
       throw BadInput(e.what());
     }

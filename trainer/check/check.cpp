@@ -136,7 +136,7 @@ Check check(const CalibrationResult& calibration, const data::Dataset& dataset, 
       sc.beyond = bound > 0 && sc.rmse_k > bound;
     }
     try {
-      const CoolingFactorFit f = fit_cooling_factor(model, params, dataset, {i}, 1);
+      const fleet::CoolingFactorFit f = fleet::fit_cooling_factor(model, params, dataset, {i}, 1);
       cc.cooling_factor = f.factor;
       cc.cooling_log_std_error = f.log_std_error;
       const double y = std::abs(std::log(f.factor));

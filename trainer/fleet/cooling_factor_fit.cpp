@@ -14,7 +14,7 @@
 #include "trainer/model/cooling_factor.hpp"
 #include "trainer/model/initial_offsets.hpp"
 
-namespace lptn {
+namespace lptn::fleet {
 namespace {
 
 // One cycle's grid residuals, uncompressed: three columns (ln factor, two offsets) leave the
@@ -159,4 +159,4 @@ CoolingFactorFit fit_cooling_factor(const Model<double>& model, const ParamVecto
   return out;
 }
 
-}  // namespace lptn
+}  // namespace lptn::fleet

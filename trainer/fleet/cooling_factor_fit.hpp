@@ -9,7 +9,7 @@
 #include "trainer/data/dataset.hpp"
 #include "trainer/model/simulate.hpp"
 
-namespace lptn {
+namespace lptn::fleet {
 
 struct CoolingFactorFit {
   double factor = 1;
@@ -31,4 +31,4 @@ CoolingFactorFit fit_cooling_factor(const Model<double>& model, const ParamVecto
                                     const data::Dataset& dataset, const std::vector<std::size_t>& cycles,
                                     int threads);
 
-}  // namespace lptn
+}  // namespace lptn::fleet

@@ -9,7 +9,7 @@
 #include "trainer/calibrate/shared_dataset.hpp"
 #include "trainer/model/cooling_factor.hpp"
 
-namespace lptn {
+namespace lptn::fleet {
 
 namespace {
 // Each motor's cooling factor against the shared parameters, fitted by the process that holds the
@@ -102,4 +102,4 @@ FleetFit fit_fleet(const MotorFile& motor, const FleetDump& fleet, const std::ve
   return out;
 }
 
-}  // namespace lptn
+}  // namespace lptn::fleet

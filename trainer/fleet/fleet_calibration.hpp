@@ -20,7 +20,7 @@
 #include "trainer/fleet/fleet_dump.hpp"
 #include "trainer/fleet/outlier_test.hpp"
 
-namespace lptn {
+namespace lptn::fleet {
 
 struct FleetSettings {
   LmSettings lm;
@@ -52,4 +52,4 @@ struct FleetFit {
 FleetFit fit_fleet(const MotorFile& motor, const FleetDump& fleet, const std::vector<std::size_t>& train,
                    const FleetSettings& settings, const std::function<void(const std::string&)>& progress = {});
 
-}  // namespace lptn
+}  // namespace lptn::fleet

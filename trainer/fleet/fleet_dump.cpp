@@ -5,7 +5,7 @@
 
 #include "trainer/calibrate/shared_dataset.hpp"
 
-namespace lptn {
+namespace lptn::fleet {
 namespace {
 
 std::vector<std::filesystem::path> motor_directories(const std::filesystem::path& dir) {
@@ -61,4 +61,4 @@ FleetDump load_shared_fleet(const std::filesystem::path& dir, const ProcessGroup
   return fleet;
 }
 
-}  // namespace lptn
+}  // namespace lptn::fleet

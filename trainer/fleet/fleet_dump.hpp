@@ -9,7 +9,7 @@
 #include "hostio/process_group.hpp"
 #include "trainer/data/dataset.hpp"
 
-namespace lptn {
+namespace lptn::fleet {
 
 struct FleetDump {
   data::Dataset dataset;  // every motor's cycles, named "<motor_id>/<cycle>", motor by motor
@@ -28,4 +28,4 @@ FleetDump load_fleet(const std::filesystem::path& dir, const data::LoadOptions& 
 FleetDump load_shared_fleet(const std::filesystem::path& dir, const ProcessGroup& group,
                             const data::LoadOptions& options = {});
 
-}  // namespace lptn
+}  // namespace lptn::fleet

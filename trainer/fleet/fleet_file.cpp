@@ -5,7 +5,7 @@
 
 #include "hostio/atomic_file.hpp"
 
-namespace lptn {
+namespace lptn::fleet {
 
 nlohmann::ordered_json fleet_json(const CalibrationResult& pooled, const FleetFit& fit, const FleetSettings& settings) {
   nlohmann::ordered_json j;
@@ -113,4 +113,4 @@ CalibrationResult motor_calibration(const FleetFile& fleet, const std::string& i
   throw std::invalid_argument("--motor-id: no motor '" + id + "' in the fleet (its motors: " + known + ")");
 }
 
-}  // namespace lptn
+}  // namespace lptn::fleet

@@ -16,7 +16,7 @@
 #include "trainer/calibrate/calibration_file.hpp"
 #include "trainer/fleet/fleet_calibration.hpp"
 
-namespace lptn {
+namespace lptn::fleet {
 
 inline constexpr int kFleetFormatVersion = 1;
 
@@ -52,4 +52,4 @@ FleetFile load_fleet_file(const std::filesystem::path& path);
 // motor's parameters. Throws std::invalid_argument naming the known ids for an unknown one.
 CalibrationResult motor_calibration(const FleetFile& fleet, const std::string& id);
 
-}  // namespace lptn
+}  // namespace lptn::fleet

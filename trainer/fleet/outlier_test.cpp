@@ -7,7 +7,7 @@
 
 #include "trainer/fleet/internal/student_t.hpp"
 
-namespace lptn {
+namespace lptn::fleet {
 
 double median(std::vector<double> values) {
   std::sort(values.begin(), values.end());
@@ -70,4 +70,4 @@ std::vector<OutlierVerdict> fleet_outliers(const std::vector<MotorFactor>& motor
   return out;
 }
 
-}  // namespace lptn
+}  // namespace lptn::fleet

@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-namespace lptn {
+namespace lptn::fleet {
 
 inline constexpr int kMinMotorsForOutlierTest = 4;  // n - 2 >= 2 degrees of freedom
 
@@ -42,4 +42,4 @@ double median(std::vector<double> values);
 // The |t| beyond which a fleet of `motors` motors names an outlier.
 double outlier_threshold(int motors, double family_alpha);
 
-}  // namespace lptn
+}  // namespace lptn::fleet

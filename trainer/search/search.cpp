@@ -10,7 +10,7 @@
 #include "trainer/data/coarse_grid.hpp"
 #include "trainer/search/internal/cma_es.hpp"
 
-namespace lptn {
+namespace lptn::search {
 
 const char* to_string(SearchMethod m) { return m == SearchMethod::random ? "random-search" : "cma-es"; }
 
@@ -100,4 +100,4 @@ SearchOutcome search_calibration(SearchMethod method, const MotorFile& motor, co
   return out;
 }
 
-}  // namespace lptn
+}  // namespace lptn::search

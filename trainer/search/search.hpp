@@ -14,7 +14,7 @@
 #include "hostio/worker_threads.hpp"
 #include "trainer/calibrate/problem.hpp"
 
-namespace lptn {
+namespace lptn::search {
 
 enum class SearchMethod {
   random,  // `--method random-search`: sets drawn uniformly around the guess (as TD3's episodes start)
@@ -50,4 +50,4 @@ SearchOutcome search_calibration(SearchMethod method, const MotorFile& motor, co
                                  const std::vector<std::size_t>& train, const SearchSettings& settings,
                                  const SearchProgress& progress = {});
 
-}  // namespace lptn
+}  // namespace lptn::search

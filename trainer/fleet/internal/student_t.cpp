@@ -3,7 +3,7 @@
 #include <cmath>
 #include <stdexcept>
 
-namespace lptn::internal {
+namespace lptn::fleet::internal {
 namespace {
 
 // The continued fraction of the regularized incomplete beta function (modified Lentz), which
@@ -67,4 +67,4 @@ double student_t_quantile(double p, double dof) {
   return 0.5 * (lo + hi);
 }
 
-}  // namespace lptn::internal
+}  // namespace lptn::fleet::internal
