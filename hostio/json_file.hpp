@@ -9,12 +9,14 @@
 #include <stdexcept>
 #include <string>
 
+#include "hostio/bad_input.hpp"
+
 namespace lptn {
 
 // A bad JSON file; one line: "FILE: line N: reason" or "FILE: field 'a.b[3].c': reason".
-class JsonFileError : public std::runtime_error {
+class JsonFileError : public BadInput {
  public:
-  using std::runtime_error::runtime_error;
+  using BadInput::BadInput;
 };
 
 // The document in `text`; throws JsonFileError "SHOWN: line N: reason" (the reason without

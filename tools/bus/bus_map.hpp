@@ -14,15 +14,16 @@
 #include <string>
 #include <vector>
 
+#include "hostio/bad_input.hpp"
 #include "lptn/firmware/bus_decoder.hpp"
 #include "tools/dbc/dbc.hpp"
 
 namespace lptn::bus {
 
 // Bad input: "FILE:LINE: reason", naming the map's table and key.
-class MapError : public std::runtime_error {
+class MapError : public BadInput {
  public:
-  using std::runtime_error::runtime_error;
+  using BadInput::BadInput;
 };
 
 struct MappedInput {

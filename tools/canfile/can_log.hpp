@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "firmware/linux/frame_source.hpp"
+#include "hostio/bad_input.hpp"
 #include "lptn/firmware/can_frame.hpp"
 #include "lptn/firmware/input.hpp"
 
@@ -37,9 +38,9 @@ std::string record_message(const std::filesystem::path& file, const fw::FrameSou
                            std::string_view reason);
 
 // A log that cannot be opened or is in no format lptn reads: one line naming the file.
-class LogError : public std::runtime_error {
+class LogError : public BadInput {
  public:
-  using std::runtime_error::runtime_error;
+  using BadInput::BadInput;
 };
 
 // What the file holds, by its content first (BLF's "LOGG"; MDF4's identification block; a candump line; ASC's header or event

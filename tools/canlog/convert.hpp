@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "hostio/bad_input.hpp"
 #include "lptn/firmware/input.hpp"
 #include "tools/bus/bus_map.hpp"
 #include "tools/canfile/can_log.hpp"
@@ -17,9 +18,9 @@
 namespace lptn::canlog {
 
 // Bad input: one line naming the file (and line, column and signal where there are such).
-class ConvertError : public std::runtime_error {
+class ConvertError : public BadInput {
  public:
-  using std::runtime_error::runtime_error;
+  using BadInput::BadInput;
 };
 
 struct Converted {

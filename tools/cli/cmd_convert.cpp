@@ -118,24 +118,19 @@ canfile::LogFormat output_format(const ConvertArgs& args, const fs::path& out) {
   return given_format(args).value_or(canfile::format_from_extension(out).value_or(canfile::LogFormat::candump));
 }
 
+// Bad input throws the readers' own kinds (canlog::ConvertError, canfile::LogError): BadInput.
 canlog::Converted convert(const fs::path& in, const fs::path& out, bool from_log, const ConvertArgs& args) {
-  try {
-    // A log to a log's name: the frames again in that format (never a CSV under a log's name).
-    if (from_log && canfile::format_from_extension(out))
-      return canlog::log_from_log(in, {std::nullopt, args.channel}, *canfile::format_from_extension(out), args.interface);
-    if (from_log) return canlog::csv_from_log(in, {given_format(args), args.channel}, args.map.get());
-    canlog::LogOptions options;
-    options.format = output_format(args, out);
-    options.interface = args.interface;
-    options.start_us = std::llround(args.start_time_s * 1e6);
-    options.bus = args.map.get();
-    options.load = args.load;
-    return canlog::log_from_csv(in, options);
-  } catch (const canlog::ConvertError& e) {
-    throw BadInput(e.what());
-  } catch (const canfile::LogError& e) {
-    throw BadInput(e.what());
-  }
+  // A log to a log's name: the frames again in that format (never a CSV under a log's name).
+  if (from_log && canfile::format_from_extension(out))
+    return canlog::log_from_log(in, {std::nullopt, args.channel}, *canfile::format_from_extension(out), args.interface);
+  if (from_log) return canlog::csv_from_log(in, {given_format(args), args.channel}, args.map.get());
+  canlog::LogOptions options;
+  options.format = output_format(args, out);
+  options.interface = args.interface;
+  options.start_us = std::llround(args.start_time_s * 1e6);
+  options.bus = args.map.get();
+  options.load = args.load;
+  return canlog::log_from_csv(in, options);
 }
 
 void print_warnings(const canlog::Converted& c) {

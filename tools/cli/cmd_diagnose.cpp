@@ -213,12 +213,7 @@ void run(const DiagnoseArgs& given) {
   check_output_path(a.out, a.force);
   check_output_path(a.json_out, a.force, "--json-out");
   if (!(a.level > 0 && a.level < 0.5)) throw BadInput("--level: must be in (0, 0.5), got " + std::to_string(a.level));
-  CalibrationResult calibration;
-  try {
-    calibration = load_calibration(a.calibration);
-  } catch (const CalibrationFileError& e) {
-    throw BadInput(e.what());
-  }
+  const CalibrationResult calibration = load_calibration(a.calibration);
   const MotorFile motor = motor_of(calibration);
   std::vector<std::filesystem::path> paths(a.data.begin(), a.data.end());
   data::Dataset dataset = data::load_fleet_dump(paths, with_map(a.map));

@@ -50,10 +50,6 @@ void add_export(CLI::App& app) {
       write_file_atomically(args->out, header);
       std::printf("wrote %s (%s calibration of %s%s)\n", args->out.c_str(), calibration.method.c_str(),
                   calibration.motor.name.c_str(), args->actor ? ", with the actor" : "");
-    } catch (const CalibrationFileError& e) {
-      throw BadInput(e.what());
-    } catch (const exporter::ExportError& e) {
-      throw BadInput(e.what());
     } catch (const std::invalid_argument& e) {
       throw BadInput(e.what());
     }

@@ -84,14 +84,7 @@ void add_inspect(CLI::App& app) {
       std::optional<canfile::LogFormat> format;
       if (!args->format.empty()) format = canfile::format_from_name(args->format);
       for (const std::string& log : args->logs) {
-        canlog::Converted converted;
-        try {
-          converted = canlog::csv_from_log(log, {format, ""}, bus.get());
-        } catch (const canlog::ConvertError& e) {
-          throw BadInput(e.what());
-        } catch (const canfile::LogError& e) {
-          throw BadInput(e.what());
-        }
+        const canlog::Converted converted = canlog::csv_from_log(log, {format, ""}, bus.get());
         data::LoadOptions from_log = options;
         from_log.map = nullptr;  // decoded into lptn's own columns
         from_log.map_beside = false;

@@ -12,6 +12,7 @@
 #include <string_view>
 #include <vector>
 
+#include "hostio/bad_input.hpp"
 #include "tools/cli/calibrate_args.hpp"
 
 namespace lptn::cli {
@@ -34,13 +35,10 @@ void add_check(CLI::App& app);
 std::vector<std::string>& invocation();
 
 // Parses and runs `app` as every lptn program does: one line per failure, exit code 2 for bad input
-// (with the subcommand it did not know named), 1 for any other failure.
+// (BadInput, hostio/bad_input.hpp, which every module's own kind derives from; with the subcommand
+// it did not know named), 1 for any other failure.
 int run_cli(CLI::App& app, int argc, char** argv);
 
-// A bad-input failure: reported as one line, exit code 2.
-struct BadInput : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
 
 // An output that is there already is replaced only with --force (empty: no such output asked for).
 inline void refuse_overwrite(const std::string& path, bool force) {

@@ -73,12 +73,6 @@ int parse_and_run(CLI::App& app, int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     std::fprintf(stderr, "%s: error: %s (see --help)\n", program.c_str(), e.what());
     return 2;
-  } catch (const data::DataError& e) {
-    return bad_input(program.c_str(), e);
-  } catch (const MotorFileError& e) {
-    return bad_input(program.c_str(), e);
-  } catch (const CalibrationFileError& e) {
-    return bad_input(program.c_str(), e);
   } catch (const BadInput& e) {
     return bad_input(program.c_str(), e);
   } catch (const std::invalid_argument& e) {

@@ -83,11 +83,7 @@ void run_td3(const CalibrateArgs& a, const MotorFile& motor, const data::Dataset
              CalibrationResult& r) {
   const td3::Formulation formulation = td3::formulation_from_method(a.method);
   td3::TrainingSettings settings = td3::default_settings(formulation);
-  try {
-    if (!a.config.empty()) settings = td3::load_settings(a.config, formulation);
-  } catch (const td3::SettingsError& e) {
-    throw BadInput(e.what());
-  }
+  if (!a.config.empty()) settings = td3::load_settings(a.config, formulation);
   if (a.config.empty() || a.seed_given) settings.seed = settings.agent.seed = a.seed;  // --seed wins over the file
   if (a.episodes > 0) settings.max_episodes = a.episodes;
   bool rotor = false;

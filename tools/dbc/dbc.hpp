@@ -14,12 +14,14 @@
 #include <utility>
 #include <vector>
 
+#include "hostio/bad_input.hpp"
+
 namespace lptn::dbc {
 
 // "FILE:LINE: reason" for what would make a frame undecodable.
-class Error : public std::runtime_error {
+class Error : public BadInput {
  public:
-  using std::runtime_error::runtime_error;
+  using BadInput::BadInput;
 };
 
 struct Signal {

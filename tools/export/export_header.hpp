@@ -5,15 +5,16 @@
 #include <stdexcept>
 #include <string>
 
+#include "hostio/bad_input.hpp"
 #include "trainer/calibrate/calibration_file.hpp"
 
 namespace lptn::exporter {
 
 // A calibration that cannot become a header (no actor where one was asked for, a value with no
 // literal, an actor shape the firmware's forward pass does not take). One line, naming the file.
-class ExportError : public std::runtime_error {
+class ExportError : public BadInput {
  public:
-  using std::runtime_error::runtime_error;
+  using BadInput::BadInput;
 };
 
 struct ExportOptions {

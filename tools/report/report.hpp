@@ -12,15 +12,16 @@
 #include <utility>
 #include <vector>
 
+#include "hostio/bad_input.hpp"
 #include "trainer/diagnose/diagnosis_file.hpp"
 
 namespace lptn::report {
 
 // Bad input the report itself finds (a diagnosis file that is not `lptn diagnose --json`);
 // one line. An invalid_argument, so that the command line reports it as bad input (exit 2).
-class ReportInputError : public std::invalid_argument {
+class ReportInputError : public BadInput {
  public:
-  using std::invalid_argument::invalid_argument;
+  using BadInput::BadInput;
 };
 
 struct ReportOptions {

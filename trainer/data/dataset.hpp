@@ -10,6 +10,7 @@
 #include <string_view>
 #include <vector>
 
+#include "hostio/bad_input.hpp"
 #include "trainer/data/channels.hpp"
 
 namespace lptn::data {
@@ -103,9 +104,9 @@ struct Dataset {
 // Message is one line: "FILE:LINE: column 'NAME': reason" (the column part is left out when no
 // column is involved, e.g. a row with the wrong number of cells). Problems of a whole column (missing,
 // duplicate, entirely empty) and of the whole file (empty, header only) point at the header line.
-class DataError : public std::runtime_error {
+class DataError : public BadInput {
  public:
-  using std::runtime_error::runtime_error;
+  using BadInput::BadInput;
 };
 
 // The files load_fleet_dump reads for `paths`, in its order: each path a CSV file or a directory

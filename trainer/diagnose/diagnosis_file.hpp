@@ -12,13 +12,15 @@
 #include <utility>
 #include <vector>
 
+#include "hostio/bad_input.hpp"
+
 namespace lptn::diagnose {
 
 // A diagnosis file that is not one: one line naming the file. An invalid_argument, so that the
 // command line reports it as bad input (exit 2).
-class DiagnosisFileError : public std::invalid_argument {
+class DiagnosisFileError : public BadInput {
  public:
-  using std::invalid_argument::invalid_argument;
+  using BadInput::BadInput;
 };
 
 // A diagnosis as lptn diagnose --json-out saved it.

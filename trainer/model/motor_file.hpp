@@ -8,14 +8,15 @@
 #include <string>
 #include <string_view>
 
+#include "hostio/bad_input.hpp"
 #include "lptn/model.hpp"
 
 namespace lptn {
 
 // A bad motor file; the message is one line: "FILE:LINE: key 'KEY': reason".
-class MotorFileError : public std::runtime_error {
+class MotorFileError : public BadInput {
  public:
-  using std::runtime_error::runtime_error;
+  using BadInput::BadInput;
 };
 
 struct ParameterSetting {

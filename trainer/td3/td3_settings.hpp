@@ -11,6 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "hostio/bad_input.hpp"
 #include "trainer/td3/td3_agent.hpp"
 
 namespace lptn::td3 {
@@ -84,9 +85,9 @@ struct TrainingSettings {
   SequentialSettings sequential;
 };
 
-class SettingsError : public std::runtime_error {
+class SettingsError : public BadInput {
  public:
-  using std::runtime_error::runtime_error;
+  using BadInput::BadInput;
 };
 
 // The defaults above for a formulation (the episode formulation needs fewer gradient steps per
