@@ -24,7 +24,7 @@ import sys
 MODULES = [
     "common", "can-dbc", "hostio",
     "firmware/include", "firmware/linux", "firmware/baremetal", "firmware/calibration", "firmware/bench",
-    "trainer/data", "trainer/model", "trainer/calibrate", "trainer/calibrate/lm*", "trainer/td3", "trainer/search", "trainer/diagnose",
+    "trainer/data", "trainer/model", "trainer/calibrate", "trainer/lm", "trainer/td3", "trainer/search", "trainer/diagnose",
     "trainer/fleet", "trainer/check",
     "tools/plant", "tools/generate", "tools/export", "tools/dbc", "tools/bus", "tools/canfile", "tools/canlog",
     "tools/replay", "tools/report",
@@ -48,12 +48,12 @@ DEPENDS = {
     "trainer/model": ["trainer/data"],
     "trainer/calibrate": ["trainer/model"],
     # LM (Ceres) sits above what every calibrator shares, so that reading a calibration needs no Ceres.
-    "trainer/calibrate/lm*": ["trainer/calibrate"],
+    "trainer/lm": ["trainer/calibrate"],
     "trainer/td3": ["trainer/calibrate"],
     # Random search and CMA-ES: the baselines that show what TD3's learning adds (no libtorch).
     "trainer/search": ["trainer/calibrate"],
-    "trainer/diagnose": ["trainer/calibrate/lm*"],
-    "trainer/fleet": ["trainer/calibrate/lm*"],
+    "trainer/diagnose": ["trainer/lm"],
+    "trainer/fleet": ["trainer/lm"],
     # Does a calibration still hold on new data: diagnose's adequacy and the fleet's cooling factor.
     "trainer/check": ["trainer/diagnose", "trainer/fleet"],
     "tools/plant": ["common"],
@@ -73,7 +73,7 @@ DEPENDS = {
 }
 
 # Internal headers the tests of a module may reach (its own tests, beside the code).
-INTERNAL_FOR_TESTS = {"common", "trainer/calibrate", "trainer/diagnose", "trainer/data", "trainer/td3", "trainer/search",
+INTERNAL_FOR_TESTS = {"common", "trainer/diagnose", "trainer/data", "trainer/td3", "trainer/search",
                       "trainer/fleet", "tools/canfile", "hostio"}
 
 # Module roots a quoted include may be relative to, and headers generated into the build tree.
@@ -85,10 +85,8 @@ INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"')
 
 
 def module_of(path):
-    """The module a path belongs to; "dir/name*" is a module of the files in dir named name*."""
+    """The module a path belongs to: the longest module directory it is in."""
     for m in sorted(MODULES, key=len, reverse=True):
-        if m.endswith("*") and path.startswith(m[:-1]) and "/" not in path[len(m) - 1:]:
-            return m
         if path == m or path.startswith(m + "/"):
             return m
     return None
@@ -124,8 +122,6 @@ def resolve(repo, including, name):
 
 def files(repo):
     for top in MODULES:
-        if top.endswith("*"):
-            continue  # inside a directory module's walk
         base = os.path.join(repo, top)
         if not os.path.isdir(base):
             continue
@@ -176,8 +172,8 @@ def self_test():
         "common/lptn/internal/lu.hpp": "",
         "trainer/data/dataset.hpp": '#include "lptn/model.hpp"\n',            # allowed: down a layer
         "trainer/data/internal/raw.hpp": "",
-        "trainer/calibrate/problem.cpp": '#include "trainer/calibrate/lm.hpp"\n',  # LM above the shared part
-        "trainer/calibrate/lm.hpp": '#include "trainer/calibrate/problem.hpp"\n',
+        "trainer/calibrate/problem.cpp": '#include "trainer/lm/lm.hpp"\n',  # LM above the shared part
+        "trainer/lm/lm.hpp": '#include "trainer/calibrate/problem.hpp"\n',
         "trainer/calibrate/problem.hpp": "",
         "firmware/include/lptn/firmware/observer.hpp": '#include "trainer/data/dataset.hpp"\n',  # firmware into trainer
         "firmware/linux/replay.hpp": "",

@@ -16,7 +16,7 @@
 #include "lptn_testing/temp_dir.hpp"
 #include "tools/generate/generate.hpp"
 #include "trainer/calibrate/calibration_result.hpp"
-#include "trainer/calibrate/lm_result.hpp"
+#include "trainer/lm/lm_result.hpp"
 #include "trainer/fleet/fleet_calibration.hpp"
 #include "trainer/fleet/fleet_file.hpp"
 #include "trainer/fleet/outlier_test.hpp"

@@ -8,7 +8,7 @@
 #include <cstring>
 
 #include "lptn_testing/fleet_dump.hpp"
-#include "trainer/calibrate/lm.hpp"
+#include "trainer/lm/lm.hpp"
 #include "trainer/calibrate/set_scorer.hpp"
 #include "trainer/data/coarse_grid.hpp"
 

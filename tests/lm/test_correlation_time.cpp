@@ -6,7 +6,7 @@
 #include <random>
 #include <vector>
 
-#include "trainer/calibrate/correlation_time.hpp"
+#include "trainer/lm/correlation_time.hpp"
 
 namespace lptn {
 namespace {

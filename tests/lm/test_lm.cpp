@@ -10,7 +10,7 @@
 #include "lptn_testing/fleet_dump.hpp"
 #include "tools/generate/generate.hpp"
 #include "tools/generate/plant_truth.hpp"
-#include "trainer/calibrate/lm.hpp"
+#include "trainer/lm/lm.hpp"
 #include "trainer/model/initial_offsets.hpp"
 
 #include <ceres/ceres.h>

@@ -5,7 +5,7 @@
 #include <cstdio>
 
 #include "lptn_testing/fleet_dump.hpp"
-#include "trainer/calibrate/lm.hpp"
+#include "trainer/lm/lm.hpp"
 #include "trainer/search/search.hpp"
 
 namespace lptn::search {

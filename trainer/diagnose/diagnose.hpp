@@ -34,7 +34,7 @@
 #include <vector>
 
 #include "trainer/calibrate/calibration_file.hpp"
-#include "trainer/calibrate/lm.hpp"
+#include "trainer/lm/lm.hpp"
 #include "trainer/calibrate/problem.hpp"
 #include "trainer/calibrate/calibration_result.hpp"
 #include "trainer/diagnose/adequacy.hpp"

@@ -1,6 +1,6 @@
 // A calibration carried forward to the model diagnose settled on.
 #include "trainer/calibrate/calibration_result.hpp"
-#include "trainer/calibrate/lm_result.hpp"
+#include "trainer/lm/lm_result.hpp"
 #include "trainer/diagnose/diagnose.hpp"
 
 namespace lptn::diagnose {

@@ -9,7 +9,7 @@
 #include <utility>
 #include <algorithm>
 
-#include "trainer/calibrate/correlation_time.hpp"
+#include "trainer/lm/correlation_time.hpp"
 #include "trainer/calibrate/grid_residuals.hpp"
 #include "trainer/model/cooling_factor.hpp"
 #include "trainer/model/initial_offsets.hpp"

@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "trainer/calibrate/lm.hpp"
+#include "trainer/lm/lm.hpp"
 #include "trainer/fleet/cooling_factor_fit.hpp"
 #include "trainer/fleet/fleet_dump.hpp"
 #include "trainer/fleet/outlier_test.hpp"

@@ -1,4 +1,4 @@
-#include "trainer/calibrate/correlation_time.hpp"
+#include "trainer/lm/correlation_time.hpp"
 
 #include <algorithm>
 #include <bit>

@@ -1,4 +1,4 @@
-#include "trainer/calibrate/lm.hpp"
+#include "trainer/lm/lm.hpp"
 
 #include <ceres/ceres.h>
 
@@ -14,7 +14,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "trainer/calibrate/correlation_time.hpp"
+#include "trainer/lm/correlation_time.hpp"
 #include "trainer/calibrate/grid_residuals.hpp"
 #include "trainer/calibrate/sensor_noise.hpp"
 #include "trainer/calibrate/shared_dataset.hpp"

@@ -1,4 +1,4 @@
-#include "trainer/calibrate/lm_result.hpp"
+#include "trainer/lm/lm_result.hpp"
 
 #include <utility>
 

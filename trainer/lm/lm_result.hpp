@@ -8,7 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "trainer/calibrate/calibration_file.hpp"
-#include "trainer/calibrate/lm.hpp"
+#include "trainer/lm/lm.hpp"
 
 namespace lptn {
 

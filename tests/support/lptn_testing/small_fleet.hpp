@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "lptn_testing/fleet_dump.hpp"
-#include "trainer/calibrate/lm.hpp"
+#include "trainer/lm/lm.hpp"
 
 namespace lptn::testing {
 

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "trainer/calibrate/lm.hpp"
+#include "trainer/lm/lm.hpp"
 
 namespace lptn::diagnose::internal {
 
