@@ -6,7 +6,7 @@
 # ("trainer/data/dataset.hpp"), through a directory of links in the build tree; TARGET's own
 # sources see those and the module's internal/ headers (unless NO_INTERNAL). Nothing exports the
 # repository root, so an include of a module the target does not link fails to compile, and
-# tools/check-layers.py (a test) holds the links themselves to the layers.
+# scripts/check-layers.py (a test) holds the links themselves to the layers.
 function(lptn_module_headers target)
   cmake_parse_arguments(PARSE_ARGV 1 ARG "NO_INTERNAL" "" "HEADERS")
   if(ARG_HEADERS)

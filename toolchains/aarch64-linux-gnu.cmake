@@ -1,7 +1,7 @@
 # aarch64 Linux (the traction converter's application processor): Debian's cross compiler, tests run
 # under qemu user emulation. binfmt_misc is not mounted on the build machines, so ctest and
 # gtest_discover_tests call qemu explicitly through CMAKE_CROSSCOMPILING_EMULATOR.
-# Needs: tools/setup.sh cross. GoogleTest comes from source: see gtest-from-source.cmake.
+# Needs: scripts/setup.sh cross. GoogleTest comes from source: see gtest-from-source.cmake.
 set(CMAKE_SYSTEM_NAME Linux)
 set(CMAKE_SYSTEM_PROCESSOR aarch64)
 set(CMAKE_C_COMPILER aarch64-linux-gnu-gcc)

@@ -1,5 +1,5 @@
 # Cortex-M7 bare metal (the drive controller's MCU): arm-none-eabi with newlib-nano, hard float
-# on the FPv5 double-precision unit. Needs: tools/setup.sh cross.
+# on the FPv5 double-precision unit. Needs: scripts/setup.sh cross.
 # The memory map is the board's: firmware/baremetal/m7.ld.
 set(CMAKE_SYSTEM_NAME Generic)
 set(CMAKE_SYSTEM_PROCESSOR arm)

@@ -1,7 +1,7 @@
 // The Cortex-M7 image: the estimator with the exported default calibration compiled in, in float,
 // on a minimal main. The CAN controller and the 100 ms timer are stand-ins (volatile mailboxes and
 // a tick flag a timer interrupt would set), so the compiler keeps every path the real port needs:
-// frames in through the DBC's codecs, a tick, frames out. tools/check-m7-image.sh proves the ELF
+// frames in through the DBC's codecs, a tick, frames out. scripts/check-m7-image.sh proves the ELF
 // holds no heap and no exception code.
 #include <cstddef>
 #include <cstdint>

@@ -1,4 +1,4 @@
-// The Cortex-M7 replay image (qemu's mps2-an500, tools/run-m7.sh): a candump log through the float
+// The Cortex-M7 replay image (qemu's mps2-an500, scripts/run-m7.sh): a candump log through the float
 // estimator with the compiled-in calibration, as the product image runs it, reading the log and
 // writing the estimates through semihosting. Command line (qemu's semihosting args):
 //   IMAGE LOG OUT.csv [--open-loop]

@@ -131,7 +131,7 @@ TEST_F(OutcomeCli, RotorReadingsPinEveryConductance) {
 TEST_F(OutcomeCli, AnotherPoleCountIsNeverOk) {
   TempDir out;
   // Its own small dump: the wrong motor file makes the fit refit several times (each parameter it
-  // finds unpinned). The sanitize preset leaves it out (128 s there; tools/run-tests.sh says why).
+  // finds unpinned). The sanitize preset leaves it out (128 s there; scripts/run-tests.sh says why).
   const fs::path d = out.path() / "data";
   {
     TempDir scratch;

@@ -121,7 +121,7 @@ Read read_log(const fs::path& p, LogFormat format) {
 std::vector<std::string> python_can(const std::string& args, const fs::path& scratch) {
   const fs::path out = scratch / "python.out", err = scratch / "python.err";
   const std::string cmd = "/usr/bin/python3 " LPTN_PYTHON_CAN_LOGS " " + args + " >" + out.string() + " 2>" + err.string();
-  EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd << "\n" << testing::slurp(err) << "(tools/setup.sh installs python3-can)";
+  EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd << "\n" << testing::slurp(err) << "(scripts/setup.sh installs python3-can)";
   std::vector<std::string> lines;
   std::ifstream in(out);
   for (std::string line; std::getline(in, line);) lines.push_back(line);

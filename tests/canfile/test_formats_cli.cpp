@@ -48,7 +48,7 @@ class FormatsCli : public ::testing::Test {
   static fs::path python_log(const std::string& name) {
     const std::string cmd = "/usr/bin/python3 " LPTN_PYTHON_CAN_LOGS " convert " + path("lptn.log").string() + " " +
                             path(name).string() + " 2>" + path("python.err").string();
-    EXPECT_EQ(std::system(cmd.c_str()), 0) << slurp(path("python.err")) << "(tools/setup.sh installs python3-can)";
+    EXPECT_EQ(std::system(cmd.c_str()), 0) << slurp(path("python.err")) << "(scripts/setup.sh installs python3-can)";
     return path(name);
   }
 

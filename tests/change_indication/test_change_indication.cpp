@@ -4,7 +4,7 @@
 // them; here any such change fails, and the test writes the fresh outputs over the committed ones
 // (tests/change_indication/expected/), so that the change is in `git diff` for review: commit it
 // if it was intended, `git checkout` the files if not. The commands exist here only;
-// tools/update-change-indication.sh builds lptn and runs this test.
+// scripts/update-change-indication.sh builds lptn and runs this test.
 //
 // Tolerance: |fresh - expected| <= 1e-9 * max(1, |fresh|, |expected|), i.e. absolute 1e-9 for
 // values up to 1 and relative 1e-9 beyond. The same build on the same machine reproduces these

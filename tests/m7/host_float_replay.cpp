@@ -1,6 +1,6 @@
 // The bare-metal replay image's host twin: the same run_float_replay (firmware/baremetal/
 // float_replay.hpp), the same float estimator and compiled-in calibration, reading and writing
-// with stdio instead of semihosting. tools/check-m7-golden.sh holds the image under qemu to it.
+// with stdio instead of semihosting. scripts/check-m7-golden.sh holds the image under qemu to it.
 //   lptn_host_float_replay LOG OUT.csv [--open-loop]
 #include <cstdio>
 #include <cstring>

@@ -1,16 +1,16 @@
 #!/usr/bin/env bash
-# README.md quotes what the demo prints; this holds it to that. It runs tools/demo.sh itself (the
+# README.md quotes what the demo prints; this holds it to that. It runs scripts/demo.sh itself (the
 # same commands and seeds, so they stand in one place) with the lptn under test and without TD3's
 # step (80 s), then builds each figure README quotes from the demo's output, formatted as README
 # writes it, and fails with one line per figure README no longer matches.
 #   check_readme_figures.sh LPTN README.md WORK_DIR
 set -euo pipefail
 lptn=$(realpath "$1") readme=$2 work=$3
-demo=$(dirname "$(realpath "$0")")/../../tools/demo.sh
+demo=$(dirname "$(realpath "$0")")/../../scripts/demo.sh
 rm -rf "$work"
 mkdir -p "$work"
 log=$work/demo.txt
-LPTN=$lptn TD3_ROUNDS=0 "$demo" "$work/demo-out" >"$log" 2>&1 || { echo "tools/demo.sh failed, see $log"; tail -n 20 "$log"; exit 1; }
+LPTN=$lptn TD3_ROUNDS=0 "$demo" "$work/demo-out" >"$log" 2>&1 || { echo "scripts/demo.sh failed, see $log"; tail -n 20 "$log"; exit 1; }
 
 failures=0
 # quote WHAT TEXT: README.md must contain TEXT, made from the demo's output; TEXT empty means the

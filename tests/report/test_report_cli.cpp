@@ -88,7 +88,7 @@ TEST_F(ReportTest, PageRendersInChromiumWithEveryChartDrawnAndNoErrors) {
   const std::string html = slurp(out);
   EXPECT_EQ(html.find("http://"), html.find("http://www.w3.org"));  // nothing to fetch (SVG namespaces aside)
 
-  ASSERT_TRUE(fs::exists("/usr/bin/chromium")) << "run tools/setup.sh report";
+  ASSERT_TRUE(fs::exists("/usr/bin/chromium")) << "run scripts/setup.sh report";
   TempDir profile;
   const fs::path dom = path("dom.html");
   ASSERT_EQ(shell(chromium(profile.path()) + "--virtual-time-budget=10000 --dump-dom file://" + out.string() + " >" +

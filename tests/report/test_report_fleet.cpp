@@ -24,7 +24,7 @@ using testing::slurp;
 TEST(ReportFleet, TheWeakMotorIsNamedOnTheFleetPageAndExportsAlone) {
   testing::TempDir t;
   const fs::path d = t.path();
-  // The demo's fleet (tools/demo.sh, step 9).
+  // The demo's fleet (scripts/demo.sh, step 9).
   const auto g = run("generate --fleet --motors 6 --cycles 2 --seed 5 --minutes-min 40 --minutes-max 50 --out " +
                          (d / "motors").string(), d);
   ASSERT_EQ(g.code, 0) << g.err;

@@ -11,7 +11,7 @@
 # Exit status: run.sh's; 124 if the guest ran out of time; 99 if it produced no result (did not
 # boot, no vcan, crashed). The guest's console is kept as SHARE/console.log and printed on failure.
 # The kernel is fetched once into the cache (Debian's linux-image package, ~80 MB, via apt; needs
-# `tools/setup.sh bench` and apt's package lists).
+# `scripts/setup.sh bench` and apt's package lists).
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 

@@ -165,7 +165,7 @@ void add_options(CLI::App& app) {
       "Boots a throw-away qemu guest (software emulation) with Debian's kernel, loads vcan, plays the log onto vcan0 "
       "with canplayer (time stamps divided by --time-scale), runs lptn-daemon on vcan0 with its timer scaled alike, "
       "records its frames with candump, and compares them tick by tick with `lptn replay` of the same log. Without "
-      "--log, generates --minutes of driving and converts it. Needs tools/setup.sh bench (qemu, busybox, can-utils); "
+      "--log, generates --minutes of driving and converts it. Needs scripts/setup.sh bench (qemu, busybox, can-utils); "
       "the kernel package is fetched once into --cache. Exit 1 when the daemon's estimates differ from the replay's by "
       "more than --tolerance-k plus --tolerance-sigma of the replay's own standard deviation at any tick, or fewer than 95 % of "
       "its ticks could be compared. Why a tolerance at all: the daemon samples the bus at its own timer's phase, so a "

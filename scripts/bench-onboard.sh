@@ -3,12 +3,12 @@
 #  1. the estimator's step time and allocations per step (Google Benchmark: constant parameters
 #     and actor-scheduled, double and float), build/host/firmware/bench/lptn_estimator_benchmark;
 #  2. replay and convert throughput in frames/s per log format (candump, Vector ASC, Vector BLF)
-#     beside python-can's reader of the same file: tools/bench-replay.sh, which says how.
+#     beside python-can's reader of the same file: scripts/bench-replay.sh, which says how.
 #
-#   tools/bench-onboard.sh [WORK_DIR]     LPTN=path/to/lptn: that lptn, and no step benchmark
+#   scripts/bench-onboard.sh [WORK_DIR]     LPTN=path/to/lptn: that lptn, and no step benchmark
 set -euo pipefail
 cd "$(dirname "$0")/.."
-tools/setup.sh bench >/dev/null
+scripts/setup.sh bench >/dev/null
 if [[ -z ${LPTN:-} ]]; then
   cmake --preset host >/dev/null
   cmake --build --preset host -j"$(nproc)" --target lptn lptn_estimator_benchmark >/dev/null
@@ -19,5 +19,5 @@ lptn=${LPTN:-build/host/tools/cli/lptn}
 work=${1:-build/host/bench-onboard}
 mkdir -p "$work"
 
-echo "== replay and convert throughput per log format, beside python-can's readers (tools/bench-replay.sh)"
-LPTN=$lptn WORK=$work/bench-replay tools/bench-replay.sh
+echo "== replay and convert throughput per log format, beside python-can's readers (scripts/bench-replay.sh)"
+LPTN=$lptn WORK=$work/bench-replay scripts/bench-replay.sh

@@ -5,19 +5,19 @@
 # (10 channels of 4-byte floats per 0.1 s step: 14.4 MB per hour), and CPU time should be about
 # twice the wall time (work split over cycles on both cores).
 #
-#   tools/bench-scale.sh [HOURS...]    default: 50 200; work in build/bench-scale (about 1 GB per 100 h);
+#   scripts/bench-scale.sh [HOURS...]    default: 50 200; work in build/bench-scale (about 1 GB per 100 h);
 #                                      then a fleet of FLEET_MOTORS (default 20) motors, 3 cycles each
-#   tools/bench-scale.sh fleet         the fleet alone
-#   tools/bench-scale.sh mpi [HOURS]   the calibration of HOURS (default 200) alone and under
+#   scripts/bench-scale.sh fleet         the fleet alone
+#   scripts/bench-scale.sh mpi [HOURS]   the calibration of HOURS (default 200) alone and under
 #                                      `mpirun -np 2` (Open MPI; lptn built with LPTN_WITH_MPI)
-#   LPTN=build/ci/tools/cli/lptn tools/bench-scale.sh   an lptn already built (the ci preset has
+#   LPTN=build/ci/tools/cli/lptn scripts/bench-scale.sh   an lptn already built (the ci preset has
 #                                                       the host preset's Release flags)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 if [[ -n ${LPTN:-} ]]; then
   lptn=$(realpath "$LPTN")
 else
-  tools/setup.sh >/dev/null
+  scripts/setup.sh >/dev/null
   cmake --preset host >/dev/null
   cmake --build --preset host -j"$(nproc)" --target lptn >/dev/null
   lptn=$PWD/build/host/tools/cli/lptn

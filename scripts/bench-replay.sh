@@ -14,8 +14,8 @@
 # work) and lptn's as a multiple of python-can's.
 # The directory rows' gain from more threads is in their wall time, on a machine otherwise idle.
 #
-#   tools/bench-replay.sh                            builds lptn (host preset), work in build/bench-replay
-#   LPTN=build/ci/tools/cli/lptn tools/bench-replay.sh   an lptn already built
+#   scripts/bench-replay.sh                            builds lptn (host preset), work in build/bench-replay
+#   LPTN=build/ci/tools/cli/lptn scripts/bench-replay.sh   an lptn already built
 #   RUNS=5 ...                                       best of 5 (default 3)
 #   BEFORE=path/to/old/lptn ...                      rows "BEFORE" of that lptn on the same log, its
 #                                                    runs interleaved too (and its CSV compared)

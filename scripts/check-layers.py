@@ -13,7 +13,7 @@ may include everything its dependencies may (the closure). An include fails the 
     module root (the repository root, common/, firmware/include/, tests/support/ (the test-support
     library, lptn_test_support), or the generated headers).
 
-  tools/check-layers.py [REPO]    exit 0 if every include keeps to the layers; else one line each
+  scripts/check-layers.py [REPO]    exit 0 if every include keeps to the layers; else one line each
 """
 import os
 import re

@@ -2,11 +2,11 @@
 # Installs, on Debian 12, the packages that lptn's build, tests and demo need. Idempotent: it asks
 # apt only for what is missing, so a second run costs a second.
 #
-#   tools/setup.sh [GROUP...]   no group: host build, tests and demo
+#   scripts/setup.sh [GROUP...]   no group: host build, tests and demo
 #     cross   aarch64 Linux and Cortex-M7 cross toolchains (+ qemu-user to run aarch64 tests); 530 MB
 #     bench   the vcan bench: a qemu guest with SocketCAN, can-utils, python-can
 #     report  chromium, for lptn report's headless browser test
-#     fuzz    clang-14 with libFuzzer and the sanitizers' runtimes, for tools/run-fuzz.sh
+#     fuzz    clang-14 with libFuzzer and the sanitizers' runtimes, for scripts/run-fuzz.sh
 # The cross toolchains are big, so only the steps that need them ask for them.
 set -euo pipefail
 
@@ -17,7 +17,7 @@ HOST=(
   libgtest-dev libgmock-dev googletest libbenchmark-dev # tests and benchmarks; googletest's sources are built for aarch64
   libcli11-dev libtomlplusplus-dev nlohmann-json3-dev   # command line, motor files, JSON
   libjs-dygraphs                                        # lptn report's charts, embedded at build time
-  time                                                  # GNU time: tools/bench-scale.sh's peak memory
+  time                                                  # GNU time: scripts/bench-scale.sh's peak memory
   zlib1g-dev                                            # Vector BLF logs' containers, MDF4's DZ blocks
   python3-can                                           # tests: ASC and BLF logs written and read by another implementation
   libopenmpi-dev openmpi-bin                            # mpirun -np N lptn calibrate: one calibration over N processes

@@ -1,12 +1,12 @@
 #!/usr/bin/env python3
-"""The calibration benchmark's table (tools/bench-calibration.sh writes the runs it reads).
+"""The calibration benchmark's table (scripts/bench-calibration.sh writes the runs it reads).
 
 For each method over its seeds: the combined test RMSE (stator and rotor residuals pooled) as
 median and worst, its ratio to Levenberg-Marquardt's, how many seeds reached 1.1x LM, wall time,
 model steps simulated and gradient updates, train and test RMSE per sensor (medians), and the
 parameter error against the plant's truth (median over seeds of the largest |ln(value/truth)|).
 
-  tools/bench-calibration-summary.py OUT_DIR
+  scripts/bench-calibration-summary.py OUT_DIR
 """
 import glob
 import json

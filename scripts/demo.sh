@@ -14,7 +14,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 # The time each step takes, printed at the end: where a fresh machine's minutes go.
 step_names=() step_seconds=()
-step_name="set up: packages (tools/setup.sh)" step_started=$SECONDS
+step_name="set up: packages (scripts/setup.sh)" step_started=$SECONDS
 step() {  # step "N. what": prints "== N. what" and starts timing it (the step before ends here)
   step_names+=("$step_name")
   step_seconds+=($((SECONDS - step_started)))
@@ -26,7 +26,7 @@ step() {  # step "N. what": prints "== N. what" and starts timing it (the step b
 if [[ -n ${LPTN:-} ]]; then
   lptn=$(realpath "$LPTN")
 else
-  tools/setup.sh
+  scripts/setup.sh
   step "0. build: configure and build lptn and lptn-daemon (preset host)"
   cmake --preset host >/dev/null
   cmake --build --preset host -j"$(nproc)" --target lptn lptn-daemon

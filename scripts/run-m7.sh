@@ -8,10 +8,10 @@
 # Instructions: qemu runs with -icount shift=0 (one instruction a virtual nanosecond), and the
 # board's SysTick counts its 25 MHz clock: 40 instructions a count. The image counts SysTick around
 # the estimator's own work (receiving frames, ticking), not around parsing and writing.
-# Builds the image (preset cortex-m7) if it is missing; needs tools/setup.sh cross.
+# Builds the image (preset cortex-m7) if it is missing; needs scripts/setup.sh cross.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
-usage() { echo "usage: tools/run-m7.sh LOG OUT.csv [--open-loop]" >&2; exit 2; }
+usage() { echo "usage: scripts/run-m7.sh LOG OUT.csv [--open-loop]" >&2; exit 2; }
 (($# == 2 || $# == 3)) || usage
 log=$1 out=$2 mode=${3:-}
 [[ -z $mode || $mode == --open-loop ]] || usage
@@ -24,7 +24,7 @@ image=$root/build/cortex-m7/firmware/baremetal/lptn_m7_replay.elf
 if [[ ! -f $image ]]; then
   (cd "$root" && cmake --preset cortex-m7 -DLPTN_WERROR=ON >/dev/null && cmake --build --preset cortex-m7 --target lptn_m7_replay >/dev/null)
 fi
-command -v qemu-system-arm >/dev/null || { echo "run-m7: qemu-system-arm missing: run tools/setup.sh cross" >&2; exit 2; }
+command -v qemu-system-arm >/dev/null || { echo "run-m7: qemu-system-arm missing: run scripts/setup.sh cross" >&2; exit 2; }
 # qemu's option syntax doubles a comma inside a value.
 arg() { printf ',arg=%s' "${1//,/,,}"; }
 config="enable=on,target=native$(arg lptn_m7_replay.elf)$(arg "$log")$(arg "$out")${mode:+$(arg "$mode")}"

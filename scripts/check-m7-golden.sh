@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
-# check-m7-golden.sh — the Cortex-M7 replay image under qemu (tools/run-m7.sh) against its host
+# check-m7-golden.sh — the Cortex-M7 replay image under qemu (scripts/run-m7.sh) against its host
 # twin (tests/m7: the same float estimator and replay, built for this machine) on a generated
 # 20-minute drive, closed and open loop: the same rows at the same times, every estimate and
 # standard deviation within float rounding (TOLERANCE_K, default 1e-4 K; the rows print 1e-5 K).
-# Needs the host build (preset ci: lptn and the twin) and tools/setup.sh cross.
+# Needs the host build (preset ci: lptn and the twin) and scripts/setup.sh cross.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 tolerance=${TOLERANCE_K:-1e-4}
@@ -17,7 +17,7 @@ mkdir -p "$work"
 for mode in closed open; do
   flag=$([[ $mode == open ]] && echo --open-loop || true)
   "$twin" "$work/drive.log" "$work/host-$mode.csv" $flag >/dev/null
-  tools/run-m7.sh "$work/drive.log" "$work/m7-$mode.csv" $flag | sed "s/^/[$mode loop] /"
+  scripts/run-m7.sh "$work/drive.log" "$work/m7-$mode.csv" $flag | sed "s/^/[$mode loop] /"
   python3 - "$work/host-$mode.csv" "$work/m7-$mode.csv" "$tolerance" "$mode" <<'PY'
 import csv, sys
 host, m7, tolerance, mode = sys.argv[1], sys.argv[2], float(sys.argv[3]), sys.argv[4]

@@ -12,8 +12,8 @@ jobs=$(nproc)
 step() { printf '\n==== %s (at %d s) ====\n' "$*" "$SECONDS"; }
 
 step "host build (preset ci) and tests"
-tools/setup.sh
-tools/setup.sh report
+scripts/setup.sh
+scripts/setup.sh report
 cmake --preset ci >/dev/null
 cmake --build --preset ci -j"$jobs"
 ctest --preset ci -j"$jobs"
@@ -36,7 +36,7 @@ cmake --build --preset sanitize -j"$jobs"
 ctest --preset sanitize -j"$jobs"
 
 step "fuzz smoke: every libFuzzer target for ${LPTN_FUZZ_SECONDS:=60} s from its seeds"
-tools/run-fuzz.sh "$LPTN_FUZZ_SECONDS"
+scripts/run-fuzz.sh "$LPTN_FUZZ_SECONDS"
 
 step "firmware-only build (preset firmware) and tests"
 cmake --preset firmware -DLPTN_WERROR=ON >/dev/null
@@ -44,7 +44,7 @@ cmake --build --preset firmware -j"$jobs"
 ctest --preset firmware -j"$jobs"
 
 step "aarch64 cross build (preset aarch64) and tests under qemu-aarch64"
-tools/setup.sh cross
+scripts/setup.sh cross
 cmake --preset aarch64 -DLPTN_WERROR=ON >/dev/null
 cmake --build --preset aarch64 -j"$jobs"
 ctest --preset aarch64 -j"$jobs"
@@ -52,12 +52,12 @@ ctest --preset aarch64 -j"$jobs"
 step "Cortex-M7 image (preset cortex-m7): sizes, no heap, no exceptions; the replay image under qemu against the host"
 cmake --preset cortex-m7 -DLPTN_WERROR=ON >/dev/null
 cmake --build --preset cortex-m7 -j"$jobs"
-tools/check-m7-image.sh build/cortex-m7/firmware/baremetal/lptn_m7_image.elf
-tools/check-m7-image.sh build/cortex-m7/firmware/baremetal/lptn_m7_replay.elf
-tools/check-m7-golden.sh
+scripts/check-m7-image.sh build/cortex-m7/firmware/baremetal/lptn_m7_image.elf
+scripts/check-m7-image.sh build/cortex-m7/firmware/baremetal/lptn_m7_replay.elf
+scripts/check-m7-golden.sh
 
 step "vcan bench: lptn-daemon on vcan0 in a qemu guest against the in-process replay"
-tools/setup.sh bench
+scripts/setup.sh bench
 # Open loop only the inputs' sampling phase separates daemon and replay: a tight bound. Closed loop,
 # within a share of the filter's own uncertainty (lptn-vcan-bench --help says why).
 build/ci/tools/vcan-bench/lptn-vcan-bench --out build/ci/vcan-bench/open-loop --open-loop --tolerance-k 0.05 --tolerance-sigma 0

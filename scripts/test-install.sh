@@ -5,7 +5,7 @@
 # program compiled against the installed headers and the exported calibration. Fails if an
 # installed program names a path of the source or build tree (a Release build's: a sanitizer or
 # debug build names its sources by design, in its debug information and UBSan's reports).
-#   tools/test-install.sh BUILD_DIR SOURCE_DIR [--sources-named-by-design]
+#   scripts/test-install.sh BUILD_DIR SOURCE_DIR [--sources-named-by-design]
 set -euo pipefail
 build=$(realpath "$1")
 src=$(realpath "$2")

@@ -5,7 +5,7 @@
 # writes its fresh output over it (the commands and what is kept of their outputs are the test's
 # alone). Run it when a numerical change is intended, then commit the diff: the reviewer sees it.
 #
-#   tools/update-change-indication.sh [--inputs] [BUILD_DIR]
+#   scripts/update-change-indication.sh [--inputs] [BUILD_DIR]
 #     BUILD_DIR  a configured build tree (default build/ci); its lptn and the test are built first
 #     --inputs   first regenerate the committed inputs (log and fleet dump) with lptn generate and
 #                lptn convert. Rarely wanted: new inputs make every expected number change at once.

@@ -2,15 +2,15 @@
 # The calibration benchmark (docs/benchmarks.md): Levenberg-Marquardt and the TD3 formulations on
 # the same nine generated cycles, six train and three test, every TD3 formulation over seeds.
 # Each run's calibration.json stays in OUT_DIR and a run whose output exists is not repeated, so
-# the benchmark resumes where it stopped; tools/bench-calibration-summary.py prints the table.
-#   tools/bench-calibration.sh [OUT_DIR]              every method over SEEDS, then the table
-#   tools/bench-calibration.sh scheduled [OUT_DIR]    the paper's actor scheduling on data whose physics
+# the benchmark resumes where it stopped; scripts/bench-calibration-summary.py prints the table.
+#   scripts/bench-calibration.sh [OUT_DIR]              every method over SEEDS, then the table
+#   scripts/bench-calibration.sh scheduled [OUT_DIR]    the paper's actor scheduling on data whose physics
 #       depends on the operating point (hidden rotor_speed_convection and windage): scheduled, its
 #       constant set and LM, on the test cycles
-#   tools/bench-calibration.sh discovered [OUT_DIR]   the retrain after the loop: the demo's second fleet (an
+#   scripts/bench-calibration.sh discovered [OUT_DIR]   the retrain after the loop: the demo's second fleet (an
 #       eddy-current loss no library effect describes), its model carrying the term diagnose discovers
 #       there (heat_stator_winding_i2f: more parameters, the same TD3 budget); LM and td3 over SEEDS
-#   tools/bench-calibration.sh transfer [OUT_DIR]     a retrain on a second dump of the motor type, its
+#   scripts/bench-calibration.sh transfer [OUT_DIR]     a retrain on a second dump of the motor type, its
 #       conductances shifted by +-15 %: td3 from scratch and --warm-start from the first dump's td3-N
 #       agent; the time until the best set's test RMSE is within 1.1x LM's
 #     METHODS  (default "lm td3 td3-paper td3-episode random-search cma-es")   SEEDS (default "1 2 3 4 5")
@@ -75,7 +75,7 @@ fi
 if [[ $mode == discovered ]]; then
   dir=$out/discovered
   mkdir -p "$dir"
-  # The demo's step 8 fleet and test cycles (tools/demo.sh), and the term its diagnosis recommends.
+  # The demo's step 8 fleet and test cycles (scripts/demo.sh), and the term its diagnosis recommends.
   [[ -f $dir/fleet/motor.toml ]] ||
     "$lptn" generate --out "$dir/fleet" --cycles 8 --seed 3 --plant eddy_loss --minutes-min 20 --minutes-max 25 --force >/dev/null
   split=(--test-cycles cycle_07_regional,cycle_08_intercity --effect heat_stator_winding_i2f)
@@ -148,4 +148,4 @@ for method in $methods; do
     calibrate "$out" "$method-$seed" --method "$method" --seed "$seed" "${extra[@]}"
   done
 done
-python3 tools/bench-calibration-summary.py "$out"
+python3 scripts/bench-calibration-summary.py "$out"

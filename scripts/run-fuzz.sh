@@ -3,7 +3,7 @@
 # runs each one, from its seeds, for a bounded time. Fails on any crash, leak, timeout, memory
 # blow-up or sanitizer report; prints one line per target with the executions it reached.
 #
-#   tools/run-fuzz.sh [SECONDS_PER_TARGET]   default 60
+#   scripts/run-fuzz.sh [SECONDS_PER_TARGET]   default 60
 #
 # The seeds (tests/fuzz/corpus/TARGET) are copied into build/fuzz/run/TARGET/corpus, where the
 # fuzzer adds what it finds, so the repository is never written. A failing input is saved there
@@ -13,12 +13,12 @@ cd "$(dirname "$0")/.."
 
 seconds=${1:-60}
 if ! [[ $seconds =~ ^[1-9][0-9]*$ ]]; then
-  echo "usage: tools/run-fuzz.sh [SECONDS_PER_TARGET]" >&2
+  echo "usage: scripts/run-fuzz.sh [SECONDS_PER_TARGET]" >&2
   exit 2
 fi
 start=$SECONDS
 
-tools/setup.sh fuzz
+scripts/setup.sh fuzz
 cmake --preset fuzz >/dev/null
 cmake --build --preset fuzz -j"$(nproc)"
 
