@@ -26,7 +26,7 @@ MODULES = [
     "firmware/include", "firmware/linux", "firmware/baremetal", "firmware/calibration", "firmware/bench",
     "trainer/data", "trainer/model", "trainer/calibrate", "trainer/lm", "trainer/td3", "trainer/search", "trainer/diagnose",
     "trainer/fleet", "trainer/check",
-    "tools/plant", "tools/generate", "tools/export", "tools/dbc", "tools/bus", "tools/canfile", "tools/canlog",
+    "simulator/plant", "simulator/generate", "tools/export", "tools/dbc", "tools/bus", "tools/canfile", "tools/canlog",
     "tools/replay", "tools/report",
     "tools/cli", "tools/vcan-bench",
     "tests",
@@ -56,8 +56,8 @@ DEPENDS = {
     "trainer/fleet": ["trainer/lm"],
     # Does a calibration still hold on new data: diagnose's adequacy and the fleet's cooling factor.
     "trainer/check": ["trainer/diagnose", "trainer/fleet"],
-    "tools/plant": ["common"],
-    "tools/generate": ["tools/plant", "trainer/model"],
+    "simulator/plant": ["common"],
+    "simulator/generate": ["simulator/plant", "trainer/model"],
     "tools/export": ["trainer/calibrate"],
     "tools/dbc": ["hostio"],
     # A bus map read at run time: the firmware's decoder interface over a DBC read at run time.
@@ -66,7 +66,7 @@ DEPENDS = {
     "tools/canlog": ["trainer/data", "tools/canfile", "tools/bus"],
     "tools/replay": ["trainer/calibrate", "tools/canfile", "firmware/calibration"],
     "tools/report": ["trainer/diagnose", "trainer/fleet", "trainer/check"],
-    "tools/cli": ["tools/generate", "tools/export", "tools/bus", "tools/canfile", "tools/canlog", "tools/replay",
+    "tools/cli": ["simulator/generate", "tools/export", "tools/bus", "tools/canfile", "tools/canlog", "tools/replay",
                   "tools/report", "trainer/td3", "trainer/search", "trainer/diagnose", "trainer/fleet", "trainer/check"],
     "tools/vcan-bench": ["tools/replay", "tools/bus"],
     "tests": [m for m in MODULES if m not in ("tests", "firmware/bench")],

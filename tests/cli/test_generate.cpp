@@ -8,7 +8,7 @@
 #include <sstream>
 
 #include "lptn_testing/temp_dir.hpp"
-#include "tools/generate/generate.hpp"
+#include "simulator/generate/generate.hpp"
 #include "trainer/data/dataset.hpp"
 
 namespace lptn {

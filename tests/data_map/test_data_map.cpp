@@ -16,7 +16,7 @@
 
 #include "lptn_testing/run_lptn.hpp"
 #include "lptn_testing/temp_dir.hpp"
-#include "tools/generate/generate.hpp"
+#include "simulator/generate/generate.hpp"
 #include "trainer/data/data_map.hpp"
 #include "trainer/data/dataset.hpp"
 #include "trainer/data/suggest_map.hpp"

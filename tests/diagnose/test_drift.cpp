@@ -50,7 +50,7 @@ TEST(Drift, EachCyclesFactorIsTheMinimumOfItsErrorNearOneAndFarFromIt) {
   constexpr double h = 2e-4;
   int near_one = 0, far = 0;
   // A clean dump: every factor near 1. Cooling that fouls from the fifth cycle on
-  // (tools/generate/plant_physics.hpp): factors a fifth weaker and more, beyond the step.
+  // (simulator/generate/plant_physics.hpp): factors a fifth weaker and more, beyond the step.
   const auto clean = testing::generate({}, 6, 20, 25, 5);
   const diagnose::Drift d = diagnose::find_drift(clean->motor.model(), clean->calibrated.values, clean->dataset, 2);
   expect_minima(*clean, d, h, near_one, far);

@@ -1,4 +1,4 @@
-// Physics outside the library (tools/generate/plant_physics.hpp): what every real motor has. On
+// Physics outside the library (simulator/generate/plant_physics.hpp): what every real motor has. On
 // each kind the diagnosis must tell the truth: the model is not adequate; a loss with its own
 // operating-point dependence is found as a term of the dictionary on the right node and halves
 // the held-out error; a cooling that weakens over the dump is a drift, named by its cycles, and
@@ -208,7 +208,7 @@ TEST(HiddenPhysics, CleanDataIsAdequateAndNothingIsRecommendedOverSeeds) {
   EXPECT_EQ(drifts, 0);
 }
 
-// A loss that switches on above 50 Hz (tools/generate/plant_physics.hpp: 700 W into the stator
+// A loss that switches on above 50 Hz (simulator/generate/plant_physics.hpp: 700 W into the stator
 // winding). The smooth forms would spread it over every frequency (psi^2 f^k puts heat at 30-50 Hz
 // where there is none); the dictionary's step on frequency finds where it switches on.
 TEST(HiddenPhysics, ALossThatSwitchesOnAboveAFrequencyIsAStepAtItsThreshold) {

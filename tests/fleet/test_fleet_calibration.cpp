@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "lptn_testing/temp_dir.hpp"
-#include "tools/generate/generate.hpp"
+#include "simulator/generate/generate.hpp"
 #include "trainer/calibrate/calibration_result.hpp"
 #include "trainer/lm/lm_result.hpp"
 #include "trainer/fleet/fleet_calibration.hpp"

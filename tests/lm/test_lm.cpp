@@ -8,8 +8,8 @@
 #include <string>
 
 #include "lptn_testing/fleet_dump.hpp"
-#include "tools/generate/generate.hpp"
-#include "tools/generate/plant_truth.hpp"
+#include "simulator/generate/generate.hpp"
+#include "simulator/generate/plant_truth.hpp"
 #include "trainer/lm/lm.hpp"
 #include "trainer/model/initial_offsets.hpp"
 

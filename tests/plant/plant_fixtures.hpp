@@ -7,9 +7,9 @@
 #include <numbers>
 #include <vector>
 
-#include "tools/plant/driving_cycle.hpp"
-#include "tools/plant/motor_spec.hpp"
-#include "tools/plant/train_spec.hpp"
+#include "simulator/plant/driving_cycle.hpp"
+#include "simulator/plant/motor_spec.hpp"
+#include "simulator/plant/train_spec.hpp"
 
 namespace lptn::plant::test {
 

@@ -3,7 +3,7 @@
 #include <cmath>
 
 #include "plant_fixtures.hpp"
-#include "tools/plant/driving_cycle.hpp"
+#include "simulator/plant/driving_cycle.hpp"
 
 namespace lptn::plant {
 namespace {

@@ -1,6 +1,6 @@
 #include <gtest/gtest.h>
 
-#include "tools/plant/cycle_kind.hpp"
+#include "simulator/plant/cycle_kind.hpp"
 
 namespace lptn::plant {
 namespace {

@@ -1,7 +1,7 @@
 #include <gtest/gtest.h>
 
 #include "plant_fixtures.hpp"
-#include "tools/plant/driving_cycle.hpp"
+#include "simulator/plant/driving_cycle.hpp"
 
 namespace lptn::plant {
 namespace {

@@ -4,8 +4,8 @@
 #include <stdexcept>
 
 #include "plant_fixtures.hpp"
-#include "tools/plant/ambient.hpp"
-#include "tools/plant/driving_cycle.hpp"
+#include "simulator/plant/ambient.hpp"
+#include "simulator/plant/driving_cycle.hpp"
 
 namespace lptn::plant {
 namespace {

@@ -1,8 +1,8 @@
 #include <gtest/gtest.h>
 
 #include "plant_fixtures.hpp"
-#include "tools/plant/motor_spec.hpp"
-#include "tools/plant/train_spec.hpp"
+#include "simulator/plant/motor_spec.hpp"
+#include "simulator/plant/train_spec.hpp"
 
 namespace lptn::plant {
 namespace {

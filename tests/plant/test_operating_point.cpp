@@ -4,7 +4,7 @@
 #include <numbers>
 
 #include "plant_fixtures.hpp"
-#include "tools/plant/operating_point.hpp"
+#include "simulator/plant/operating_point.hpp"
 
 namespace lptn::plant {
 namespace {

@@ -9,7 +9,7 @@
 
 #include "hostio/atomic_file.hpp"
 #include "tools/cli/commands.hpp"
-#include "tools/generate/generate.hpp"
+#include "simulator/generate/generate.hpp"
 
 namespace lptn::cli {
 namespace {

@@ -6,7 +6,7 @@
 #include <cstdint>
 
 #include "lptn_testing/temp_dir.hpp"
-#include "tools/generate/generate.hpp"
+#include "simulator/generate/generate.hpp"
 #include "trainer/calibrate/problem.hpp"
 #include "trainer/data/dataset.hpp"
 #include "trainer/model/motor_file.hpp"

@@ -20,7 +20,7 @@ struct Generated : Dump {
 // `cycles` cycles of `minutes_min`..`minutes_max`; the generator rotates blower modes
 // (load following, stepped, fixed 0.5, fixed 1.0), so four or more cycles have every mode.
 // `truth` sets true values the built-in truth lacks (an effect of one's own); `plant` adds physics
-// the model cannot express (tools/generate/plant_physics.hpp).
+// the model cannot express (simulator/generate/plant_physics.hpp).
 // Any dump the generator can write (`options`), calibrated as below.
 inline std::unique_ptr<Generated> generate(const gen::GenerateOptions& options) {
   auto g = std::make_unique<Generated>();

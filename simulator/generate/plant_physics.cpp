@@ -1,4 +1,4 @@
-#include "tools/generate/plant_physics.hpp"
+#include "simulator/generate/plant_physics.hpp"
 
 #include <algorithm>
 #include <cmath>

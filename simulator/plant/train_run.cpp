@@ -1,4 +1,4 @@
-#include "tools/plant/train_run.hpp"
+#include "simulator/plant/train_run.hpp"
 
 #include <algorithm>
 #include <cmath>

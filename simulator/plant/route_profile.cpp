@@ -1,4 +1,4 @@
-#include "tools/plant/route_profile.hpp"
+#include "simulator/plant/route_profile.hpp"
 
 namespace lptn::plant {
 

@@ -4,7 +4,7 @@
 #pragma once
 
 #include "lptn/model.hpp"
-#include "tools/plant/motor_spec.hpp"
+#include "simulator/plant/motor_spec.hpp"
 #include "trainer/model/motor_file.hpp"
 
 namespace lptn::gen {

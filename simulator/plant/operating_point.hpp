@@ -2,7 +2,7 @@
 // Steady-state electrical operating point of the induction motor for a mechanical demand
 // (speed, torque) and the winding temperatures: what the converter would report.
 
-#include "tools/plant/motor_spec.hpp"
+#include "simulator/plant/motor_spec.hpp"
 
 namespace lptn::plant {
 

@@ -1,6 +1,6 @@
 // `lptn generate`: a fleet dump with a known truth, from the synthetic plant.
 //
-// Each cycle: a driving cycle from train dynamics (tools/plant), the motor's operating point at
+// Each cycle: a driving cycle from train dynamics (simulator/plant), the motor's operating point at
 // every step from speed, torque and the TRUE rotor temperature (slip grows as the cage warms),
 // the thermal truth from the project's own model with the true parameters and any hidden effects
 // (integrated at a quarter of the logging step), then measurement: noise, quantization, channels
@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "lptn/model.hpp"
-#include "tools/generate/plant_physics.hpp"
+#include "simulator/generate/plant_physics.hpp"
 #include "trainer/data/sensor_fault.hpp"
 
 namespace lptn::gen {

@@ -2,7 +2,7 @@
 // The train as one motor sees it: its share of the mass and running resistance, and the gear and
 // wheel that turn the motor's torque and speed into force and train speed.
 
-#include "tools/plant/motor_spec.hpp"
+#include "simulator/plant/motor_spec.hpp"
 
 namespace lptn::plant {
 

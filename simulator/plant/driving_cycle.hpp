@@ -5,10 +5,10 @@
 #include <cstdint>
 #include <vector>
 
-#include "tools/plant/blower.hpp"
-#include "tools/plant/cycle_kind.hpp"
-#include "tools/plant/motor_spec.hpp"
-#include "tools/plant/train_spec.hpp"
+#include "simulator/plant/blower.hpp"
+#include "simulator/plant/cycle_kind.hpp"
+#include "simulator/plant/motor_spec.hpp"
+#include "simulator/plant/train_spec.hpp"
 
 namespace lptn::plant {
 

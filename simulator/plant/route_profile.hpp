@@ -2,7 +2,7 @@
 // The numbers that make one kind of service differ from another: stop spacing, line speed,
 // dwell, driving style, gradients, speed restrictions. Everything random is drawn from these ranges.
 
-#include "tools/plant/cycle_kind.hpp"
+#include "simulator/plant/cycle_kind.hpp"
 
 namespace lptn::plant {
 

@@ -1,4 +1,4 @@
-#include "tools/plant/ambient.hpp"
+#include "simulator/plant/ambient.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "tools/generate/generate.hpp"
+#include "simulator/generate/generate.hpp"
 
 #include <algorithm>
 #include <charconv>
@@ -7,14 +7,14 @@
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
-#include "tools/generate/plant_truth.hpp"
+#include "simulator/generate/plant_truth.hpp"
 #include "trainer/model/cooling_factor.hpp"
-#include "tools/plant/blower.hpp"
-#include "tools/plant/cycle_kind.hpp"
-#include "tools/plant/driving_cycle.hpp"
-#include "tools/plant/operating_point.hpp"
-#include "tools/plant/random.hpp"
-#include "tools/plant/train_spec.hpp"
+#include "simulator/plant/blower.hpp"
+#include "simulator/plant/cycle_kind.hpp"
+#include "simulator/plant/driving_cycle.hpp"
+#include "simulator/plant/operating_point.hpp"
+#include "simulator/plant/random.hpp"
+#include "simulator/plant/train_spec.hpp"
 
 namespace lptn::gen {
 namespace {

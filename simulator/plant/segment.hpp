@@ -3,8 +3,8 @@
 
 #include <vector>
 
-#include "tools/plant/random.hpp"
-#include "tools/plant/route_profile.hpp"
+#include "simulator/plant/random.hpp"
+#include "simulator/plant/route_profile.hpp"
 
 namespace lptn::plant {
 

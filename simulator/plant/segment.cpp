@@ -1,4 +1,4 @@
-#include "tools/plant/segment.hpp"
+#include "simulator/plant/segment.hpp"
 
 #include <algorithm>
 #include <cmath>

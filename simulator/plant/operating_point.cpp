@@ -1,4 +1,4 @@
-#include "tools/plant/operating_point.hpp"
+#include "simulator/plant/operating_point.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -3,7 +3,7 @@
 
 #include <cstdint>
 
-#include "tools/plant/random.hpp"
+#include "simulator/plant/random.hpp"
 
 namespace lptn::plant {
 

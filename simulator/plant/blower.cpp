@@ -1,4 +1,4 @@
-#include "tools/plant/blower.hpp"
+#include "simulator/plant/blower.hpp"
 
 #include <algorithm>
 #include <cmath>

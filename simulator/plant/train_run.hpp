@@ -4,13 +4,13 @@
 
 #include <cstdint>
 
-#include "tools/plant/cycle_kind.hpp"
-#include "tools/plant/gradient_profile.hpp"
-#include "tools/plant/motor_spec.hpp"
-#include "tools/plant/random.hpp"
-#include "tools/plant/route_profile.hpp"
-#include "tools/plant/segment.hpp"
-#include "tools/plant/train_spec.hpp"
+#include "simulator/plant/cycle_kind.hpp"
+#include "simulator/plant/gradient_profile.hpp"
+#include "simulator/plant/motor_spec.hpp"
+#include "simulator/plant/random.hpp"
+#include "simulator/plant/route_profile.hpp"
+#include "simulator/plant/segment.hpp"
+#include "simulator/plant/train_spec.hpp"
 
 namespace lptn::plant {
 

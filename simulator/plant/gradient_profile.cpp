@@ -1,4 +1,4 @@
-#include "tools/plant/gradient_profile.hpp"
+#include "simulator/plant/gradient_profile.hpp"
 
 namespace lptn::plant {
 

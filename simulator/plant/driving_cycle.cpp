@@ -1,13 +1,13 @@
-#include "tools/plant/driving_cycle.hpp"
+#include "simulator/plant/driving_cycle.hpp"
 
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
 
-#include "tools/plant/ambient.hpp"
-#include "tools/plant/random.hpp"
-#include "tools/plant/route_profile.hpp"
-#include "tools/plant/train_run.hpp"
+#include "simulator/plant/ambient.hpp"
+#include "simulator/plant/random.hpp"
+#include "simulator/plant/route_profile.hpp"
+#include "simulator/plant/train_run.hpp"
 
 namespace lptn::plant {
 namespace {

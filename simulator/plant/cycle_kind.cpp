@@ -1,4 +1,4 @@
-#include "tools/plant/cycle_kind.hpp"
+#include "simulator/plant/cycle_kind.hpp"
 
 namespace lptn::plant {
 

@@ -1,4 +1,4 @@
-#include "tools/generate/plant_truth.hpp"
+#include "simulator/generate/plant_truth.hpp"
 
 namespace lptn::gen {
 

@@ -1,4 +1,4 @@
-#include "tools/plant/train_spec.hpp"
+#include "simulator/plant/train_spec.hpp"
 
 #include <numbers>
 
