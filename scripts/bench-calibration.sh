@@ -25,7 +25,7 @@ if [[ -z ${LPTN:-} ]]; then  # LPTN=path/to/lptn uses a binary already built
   cmake --preset host >/dev/null
   cmake --build --preset host --target lptn >/dev/null
 fi
-lptn=$(realpath "${LPTN:-build/host/tools/cli/lptn}")
+lptn=$(realpath "${LPTN:-build/host/programs/cli/lptn}")
 out=$(realpath -m "${1:-bench-out}")
 methods=${METHODS:-lm td3 td3-paper td3-episode random-search cma-es}
 seeds=${SEEDS:-1 2 3 4 5}

@@ -15,7 +15,7 @@ if [[ -z ${LPTN:-} ]]; then
   echo "== estimator step (Google Benchmark)"
   build/host/firmware/bench/lptn_estimator_benchmark --benchmark_min_time=2 2>/dev/null | grep -E "^(BM_|Benchmark)"
 fi
-lptn=${LPTN:-build/host/tools/cli/lptn}
+lptn=${LPTN:-build/host/programs/cli/lptn}
 work=${1:-build/host/bench-onboard}
 mkdir -p "$work"
 

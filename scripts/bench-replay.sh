@@ -15,7 +15,7 @@
 # The directory rows' gain from more threads is in their wall time, on a machine otherwise idle.
 #
 #   scripts/bench-replay.sh                            builds lptn (host preset), work in build/bench-replay
-#   LPTN=build/ci/tools/cli/lptn scripts/bench-replay.sh   an lptn already built
+#   LPTN=build/ci/programs/cli/lptn scripts/bench-replay.sh   an lptn already built
 #   RUNS=5 ...                                       best of 5 (default 3)
 #   BEFORE=path/to/old/lptn ...                      rows "BEFORE" of that lptn on the same log, its
 #                                                    runs interleaved too (and its CSV compared)
@@ -26,7 +26,7 @@ if [[ -n ${LPTN:-} ]]; then
 else
   cmake --preset host >/dev/null
   cmake --build --preset host -j"$(nproc)" --target lptn >/dev/null
-  lptn=$PWD/build/host/tools/cli/lptn
+  lptn=$PWD/build/host/programs/cli/lptn
 fi
 runs=${RUNS:-3}
 before=${BEFORE:+$(realpath "$BEFORE")}  # another lptn (an earlier build) measured beside it, one log

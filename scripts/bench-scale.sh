@@ -10,7 +10,7 @@
 #   scripts/bench-scale.sh fleet         the fleet alone
 #   scripts/bench-scale.sh mpi [HOURS]   the calibration of HOURS (default 200) alone and under
 #                                      `mpirun -np 2` (Open MPI; lptn built with LPTN_WITH_MPI)
-#   LPTN=build/ci/tools/cli/lptn scripts/bench-scale.sh   an lptn already built (the ci preset has
+#   LPTN=build/ci/programs/cli/lptn scripts/bench-scale.sh   an lptn already built (the ci preset has
 #                                                       the host preset's Release flags)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -20,7 +20,7 @@ else
   scripts/setup.sh >/dev/null
   cmake --preset host >/dev/null
   cmake --build --preset host -j"$(nproc)" --target lptn >/dev/null
-  lptn=$PWD/build/host/tools/cli/lptn
+  lptn=$PWD/build/host/programs/cli/lptn
 fi
 work=build/bench-scale
 mkdir -p "$work"

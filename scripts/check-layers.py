@@ -28,7 +28,7 @@ MODULES = [
     "trainer/fleet", "trainer/check",
     "simulator/plant", "simulator/generate", "tools/export", "tools/dbc", "tools/bus", "tools/canfile", "tools/canlog",
     "tools/replay", "tools/report",
-    "tools/cli", "tools/vcan-bench",
+    "programs/cli", "programs/vcan-bench",
     "tests",
 ]
 
@@ -66,9 +66,9 @@ DEPENDS = {
     "tools/canlog": ["trainer/data", "tools/canfile", "tools/bus"],
     "tools/replay": ["trainer/calibrate", "tools/canfile", "firmware/calibration"],
     "tools/report": ["trainer/diagnose", "trainer/fleet", "trainer/check"],
-    "tools/cli": ["simulator/generate", "tools/export", "tools/bus", "tools/canfile", "tools/canlog", "tools/replay",
+    "programs/cli": ["simulator/generate", "tools/export", "tools/bus", "tools/canfile", "tools/canlog", "tools/replay",
                   "tools/report", "trainer/td3", "trainer/search", "trainer/diagnose", "trainer/fleet", "trainer/check"],
-    "tools/vcan-bench": ["tools/replay", "tools/bus"],
+    "programs/vcan-bench": ["tools/replay", "tools/bus"],
     "tests": [m for m in MODULES if m not in ("tests", "firmware/bench")],
 }
 
@@ -177,8 +177,8 @@ def self_test():
         "trainer/calibrate/problem.hpp": "",
         "firmware/include/lptn/firmware/observer.hpp": '#include "trainer/data/dataset.hpp"\n',  # firmware into trainer
         "firmware/linux/replay.hpp": "",
-        "tools/replay/run.cpp": '#include "replay.hpp"\n#include "tools/cli/commands.hpp"\n',  # bare; tool into cli
-        "tools/cli/commands.hpp": "",
+        "tools/replay/run.cpp": '#include "replay.hpp"\n#include "programs/cli/commands.hpp"\n',  # bare; tool into cli
+        "programs/cli/commands.hpp": "",
         "tools/canlog/convert.cpp": '#include "trainer/data/internal/raw.hpp"\n',  # another module's internal
         "tests/data/t.cpp": '#include "trainer/data/internal/raw.hpp"\n',  # a module's tests: allowed
     }

@@ -7,7 +7,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 tolerance=${TOLERANCE_K:-1e-4}
-lptn=${LPTN:-build/ci/tools/cli/lptn}
+lptn=${LPTN:-build/ci/programs/cli/lptn}
 twin=${LPTN_TWIN:-build/ci/tests/m7/lptn_host_float_replay}
 work=build/cortex-m7/golden
 rm -rf "$work"

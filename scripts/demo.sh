@@ -30,7 +30,7 @@ else
   step "0. build: configure and build lptn and lptn-daemon (preset host)"
   cmake --preset host >/dev/null
   cmake --build --preset host -j"$(nproc)" --target lptn lptn-daemon
-  lptn=build/host/tools/cli/lptn
+  lptn=build/host/programs/cli/lptn
 fi
 out=${1:-demo-out}
 mkdir -p "$out"

@@ -60,6 +60,6 @@ step "vcan bench: lptn-daemon on vcan0 in a qemu guest against the in-process re
 scripts/setup.sh bench
 # Open loop only the inputs' sampling phase separates daemon and replay: a tight bound. Closed loop,
 # within a share of the filter's own uncertainty (lptn-vcan-bench --help says why).
-build/ci/tools/vcan-bench/lptn-vcan-bench --out build/ci/vcan-bench/open-loop --open-loop --tolerance-k 0.05 --tolerance-sigma 0
-build/ci/tools/vcan-bench/lptn-vcan-bench --out build/ci/vcan-bench/closed-loop
+build/ci/programs/vcan-bench/lptn-vcan-bench --out build/ci/vcan-bench/open-loop --open-loop --tolerance-k 0.05 --tolerance-sigma 0
+build/ci/programs/vcan-bench/lptn-vcan-bench --out build/ci/vcan-bench/closed-loop
 printf '\nevery step passed in %d s\n' "$SECONDS"

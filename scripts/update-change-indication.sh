@@ -23,7 +23,7 @@ for arg in "$@"; do
 done
 [[ -f $build/CMakeCache.txt ]] || { echo "update-change-indication.sh: $build is not a configured build tree (cmake --preset ci)" >&2; exit 2; }
 cmake --build "$build" --target lptn lptn_change_indication_tests >/dev/null
-lptn=$build/tools/cli/lptn
+lptn=$build/programs/cli/lptn
 here=$root/tests/change_indication
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT

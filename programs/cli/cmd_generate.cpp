@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "hostio/atomic_file.hpp"
-#include "tools/cli/commands.hpp"
+#include "programs/cli/commands.hpp"
 #include "simulator/generate/generate.hpp"
 
 namespace lptn::cli {

@@ -13,7 +13,7 @@
 #include "hostio/progress_line.hpp"
 #include "hostio/sha256.hpp"
 #include "lptn/version.hpp"
-#include "tools/cli/commands.hpp"
+#include "programs/cli/commands.hpp"
 #include "trainer/calibrate/calibration_file.hpp"
 #include "trainer/td3/td3_calibration.hpp"
 #include "trainer/td3/td3_settings.hpp"

@@ -84,7 +84,7 @@ cp -a "$kdir/lib" "$root/"
 for b in /bin/busybox candump canplayer cansend; do "$here/copy-with-libs.sh" "$b" "$root"; done
 cat >"$root/init" <<EOF
 #!/bin/busybox sh
-# PID 1 of the bench guest (tools/vcan-bench/run-guest.sh). Any failure before run.sh powers off
+# PID 1 of the bench guest (programs/vcan-bench/run-guest.sh). Any failure before run.sh powers off
 # without a result, which the host reports as 99.
 /bin/busybox --install -s
 mount -t devtmpfs dev /dev

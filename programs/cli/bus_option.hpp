@@ -7,7 +7,7 @@
 #include <string>
 
 #include "tools/bus/bus_map.hpp"
-#include "tools/cli/commands.hpp"
+#include "programs/cli/commands.hpp"
 
 namespace lptn::cli {
 

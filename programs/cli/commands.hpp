@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "hostio/bad_input.hpp"
-#include "tools/cli/calibrate_args.hpp"
+#include "programs/cli/calibrate_args.hpp"
 
 namespace lptn::cli {
 

@@ -9,8 +9,8 @@
 #include <vector>
 
 #include "hostio/atomic_file.hpp"
-#include "tools/cli/commands.hpp"
-#include "tools/cli/data_map_option.hpp"
+#include "programs/cli/commands.hpp"
+#include "programs/cli/data_map_option.hpp"
 #include "trainer/data/dataset.hpp"
 #include "trainer/model/motor_file.hpp"
 #include "trainer/model/motor_plausibility.hpp"

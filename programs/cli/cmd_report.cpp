@@ -5,8 +5,8 @@
 #include <memory>
 #include <string>
 
-#include "tools/cli/commands.hpp"
-#include "tools/cli/data_map_option.hpp"
+#include "programs/cli/commands.hpp"
+#include "programs/cli/data_map_option.hpp"
 #include "hostio/progress_line.hpp"
 #include "tools/report/report.hpp"
 #include "hostio/atomic_file.hpp"

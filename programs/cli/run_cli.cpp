@@ -5,8 +5,8 @@
 #include <string>
 
 #include "hostio/process_group.hpp"
-#include "tools/cli/commands.hpp"
-#include "tools/cli/exit_code.hpp"
+#include "programs/cli/commands.hpp"
+#include "programs/cli/exit_code.hpp"
 #include "trainer/calibrate/calibration_file.hpp"
 #include "trainer/data/dataset.hpp"
 #include "trainer/model/motor_file.hpp"

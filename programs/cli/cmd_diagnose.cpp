@@ -10,9 +10,9 @@
 #include <string>
 #include <vector>
 
-#include "tools/cli/commands.hpp"
+#include "programs/cli/commands.hpp"
 #include "hostio/utc_stamp.hpp"
-#include "tools/cli/data_map_option.hpp"
+#include "programs/cli/data_map_option.hpp"
 #include "trainer/model/motor_plausibility.hpp"
 #include "hostio/process_group.hpp"
 #include "hostio/progress_line.hpp"

@@ -14,9 +14,9 @@
 #include <thread>
 #include <vector>
 
-#include "tools/cli/bus_option.hpp"
-#include "tools/cli/blas_threads.hpp"
-#include "tools/cli/commands.hpp"
+#include "programs/cli/bus_option.hpp"
+#include "programs/cli/blas_threads.hpp"
+#include "programs/cli/commands.hpp"
 #include "hostio/atomic_file.hpp"
 #include "hostio/progress_line.hpp"
 #include "hostio/worker_threads.hpp"

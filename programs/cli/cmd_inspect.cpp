@@ -10,9 +10,9 @@
 
 #include "tools/canfile/can_log.hpp"
 #include "tools/canlog/convert.hpp"
-#include "tools/cli/bus_option.hpp"
-#include "tools/cli/commands.hpp"
-#include "tools/cli/data_map_option.hpp"
+#include "programs/cli/bus_option.hpp"
+#include "programs/cli/commands.hpp"
+#include "programs/cli/data_map_option.hpp"
 #include "trainer/data/dataset.hpp"
 #include "trainer/data/inspection.hpp"
 #include "trainer/data/suggest_map.hpp"

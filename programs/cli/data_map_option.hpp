@@ -6,7 +6,7 @@
 #include <memory>
 #include <string>
 
-#include "tools/cli/commands.hpp"
+#include "programs/cli/commands.hpp"
 #include "trainer/data/data_map.hpp"
 #include "trainer/data/dataset.hpp"
 

@@ -3,7 +3,7 @@
 #include <filesystem>
 #include <string>
 
-#include "tools/cli/commands.hpp"
+#include "programs/cli/commands.hpp"
 #include "tools/export/export_header.hpp"
 #include "trainer/calibrate/calibration_file.hpp"
 #include "trainer/fleet/fleet_file.hpp"

@@ -3,7 +3,7 @@
 // it is built here and never installed: the shipped lptn holds no source or build path.
 //
 // This machine's kernel has no CAN, so the bus lives in a throw-away qemu guest with a Debian
-// kernel (tools/vcan-bench/run-guest.sh): canplayer plays the log onto vcan0 (time stamps scaled
+// kernel (programs/vcan-bench/run-guest.sh): canplayer plays the log onto vcan0 (time stamps scaled
 // by --time-scale), lptn-daemon reads vcan0 through its kernel filters and sends its frames every
 // tick (its timer scaled alike), candump -L records them. Here the recording is decoded through
 // the DBC's codecs and compared, tick by tick, with `lptn replay` of the same log.

@@ -1,7 +1,7 @@
 // lptn: the thermal estimator's command line. One program, one subcommand per user action.
 // libtorch is not in it: `lptn calibrate --method td3*` runs lptn-td3 (td3_main.cpp).
 #include "lptn/version.hpp"
-#include "tools/cli/commands.hpp"
+#include "programs/cli/commands.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{"lptn: lumped-parameter thermal network estimator for traction motors", "lptn"};
