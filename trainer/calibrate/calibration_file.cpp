@@ -6,8 +6,6 @@
 #include <charconv>
 #include <cmath>
 #include <cstring>
-#include <fstream>
-#include <iterator>
 
 #include "hostio/atomic_file.hpp"
 #include "trainer/model/motor_file.hpp"

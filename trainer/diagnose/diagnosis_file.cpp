@@ -1,8 +1,6 @@
 #include "trainer/diagnose/diagnosis_file.hpp"
 
 #include <cmath>
-#include <fstream>
-#include <iterator>
 
 #include "hostio/json_file.hpp"
 #include "trainer/diagnose/diagnose.hpp"

@@ -1,6 +1,5 @@
 #include "trainer/fleet/fleet_file.hpp"
 
-#include <cmath>
 #include <stdexcept>
 
 #include "hostio/atomic_file.hpp"
