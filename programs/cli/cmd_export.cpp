@@ -35,24 +35,20 @@ void add_export(CLI::App& app) {
     if (!args->calibration.empty()) check_input_path(args->calibration, "--calibration", InputPath::file);
     if (!args->fleet.empty()) check_input_path(args->fleet, "--fleet", InputPath::file);
     check_output_path(args->out, args->force);
-    try {
-      const CalibrationResult calibration = args->fleet.empty()
-                                                ? load_calibration(args->calibration)
-                                                : fleet::motor_calibration(fleet::load_fleet_file(args->fleet), args->motor_id);
-      exporter::ExportOptions options;
-      options.source_name = std::filesystem::path(args->fleet.empty() ? args->calibration : args->fleet).filename().string();
-      if (!args->fleet.empty()) options.source_name += ", motor " + args->motor_id;
-      options.actor = args->actor;
-      const std::string header = exporter::export_header(calibration, options);  // refuses a failed calibration
-      // Each warning on a line of its own (the header carries them too, as comments).
-      for (const CalibrationWarning& w : calibration.warnings)
-        std::fprintf(stderr, "lptn: warning: %s: %s\n", options.source_name.c_str(), w.message.c_str());
-      write_file_atomically(args->out, header);
-      std::printf("wrote %s (%s calibration of %s%s)\n", args->out.c_str(), calibration.method.c_str(),
-                  calibration.motor.name.c_str(), args->actor ? ", with the actor" : "");
-    } catch (const std::invalid_argument& e) {
-      throw BadInput(e.what());
-    }
+    const CalibrationResult calibration = args->fleet.empty()
+                                              ? load_calibration(args->calibration)
+                                              : fleet::motor_calibration(fleet::load_fleet_file(args->fleet), args->motor_id);
+    exporter::ExportOptions options;
+    options.source_name = std::filesystem::path(args->fleet.empty() ? args->calibration : args->fleet).filename().string();
+    if (!args->fleet.empty()) options.source_name += ", motor " + args->motor_id;
+    options.actor = args->actor;
+    const std::string header = exporter::export_header(calibration, options);  // refuses a failed calibration
+    // Each warning on a line of its own (the header carries them too, as comments).
+    for (const CalibrationWarning& w : calibration.warnings)
+      std::fprintf(stderr, "lptn: warning: %s: %s\n", options.source_name.c_str(), w.message.c_str());
+    write_file_atomically(args->out, header);
+    std::printf("wrote %s (%s calibration of %s%s)\n", args->out.c_str(), calibration.method.c_str(),
+                calibration.motor.name.c_str(), args->actor ? ", with the actor" : "");
   });
 }
 

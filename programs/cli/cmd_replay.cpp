@@ -111,14 +111,8 @@ void replay_directory(const fs::path& dir, const std::string& out_dir, bool forc
   };
   parallel_for(static_cast<std::size_t>(std::max(1, threads)), threads, work);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  for (const DirectoryItem& item : items) {
-    if (!item.failure) continue;
-    try {
-      std::rethrow_exception(item.failure);
-    } catch (const std::invalid_argument& e) {
-      throw BadInput(e.what());
-    }
-  }
+  for (const DirectoryItem& item : items)
+    if (item.failure) std::rethrow_exception(item.failure);
   std::size_t frames = 0, rows = 0;
   for (std::size_t i = 0; i < logs.size(); ++i) {
     const replay::ReplaySummary& r = items[i].summary;
@@ -217,21 +211,13 @@ void add_replay(CLI::App& app) {
     cal->config.use_actor = args->use_actor;
     const canfile::LogSelection select{args->format.empty() ? std::nullopt : canfile::format_from_name(args->format),
                                        args->channel};
+    // Bad input throws BadInput or std::invalid_argument, which run_cli reports alike (exit 2).
     if (directory) {
-      try {
-        replay_directory(args->log, args->out, args->force, cal->config, select, calibrated, source,
-                         args->threads ? args->threads : worker_threads());
-      } catch (const std::invalid_argument& e) {
-        throw BadInput(e.what());
-      }
+      replay_directory(args->log, args->out, args->force, cal->config, select, calibrated, source,
+                       args->threads ? args->threads : worker_threads());
       return;
     }
-    replay::ReplaySummary r;
-    try {
-      r = replay::replay_to_csv(args->log, cal->config, args->out, args->quiet, select);
-    } catch (const std::invalid_argument& e) {
-      throw BadInput(e.what());
-    }
+    const replay::ReplaySummary r = replay::replay_to_csv(args->log, cal->config, args->out, args->quiet, select);
     const fw::ReplayStats& s = r.stats;
     std::printf("replayed %s (%s): %zu frames, %s of log, %zu estimates%s -> %s\n", args->log.c_str(),
                 canfile::format_name(r.format), s.frames,

@@ -57,18 +57,14 @@ SavedCandidate parse_candidate(const json& j, const std::string& where) {
 
 SavedDiagnosis load_diagnosis(const std::filesystem::path& path) {
   const std::string shown = path.string();
+  const std::string text = read_text_file(path);  // JsonFileError "FILE: cannot read (...)", bad input too
   json j;
   try {
-    const std::string text = read_text_file(path);
-    try {
-      j = parse_json_text(text, shown);
-    } catch (const JsonFileError& e) {
-      // "FILE: line N: reason" -> "FILE: not JSON (...): line N: reason"
-      throw DiagnosisFileError(shown + ": not JSON (expected `lptn diagnose --json` output): " +
-                               std::string(e.what()).substr(shown.size() + 2));
-    }
+    j = parse_json_text(text, shown);
   } catch (const JsonFileError& e) {
-    throw DiagnosisFileError(e.what());
+    // "FILE: line N: reason" -> "FILE: not JSON (...): line N: reason"
+    throw DiagnosisFileError(shown + ": not JSON (expected `lptn diagnose --json` output): " +
+                             std::string(e.what()).substr(shown.size() + 2));
   }
   if (!j.is_object() || !j.contains("candidates") || !j["candidates"].is_array())
     throw DiagnosisFileError(path.string() + ": no 'candidates' array (expected `lptn diagnose --json` output)");

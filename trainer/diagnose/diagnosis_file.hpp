@@ -16,8 +16,8 @@
 
 namespace lptn::diagnose {
 
-// A diagnosis file that is not one: one line naming the file. An invalid_argument, so that the
-// command line reports it as bad input (exit 2).
+// A diagnosis file that is not one: one line naming the file. A BadInput, so that the command line
+// reports it as bad input (exit 2).
 class DiagnosisFileError : public BadInput {
  public:
   using BadInput::BadInput;
@@ -52,7 +52,8 @@ struct SavedDiagnosis {
 };
 // Reads what to_json (diagnose.hpp) wrote, of format 1 to kDiagnosisFormatVersion. Throws
 // DiagnosisFileError, one line naming the file (and the candidate), where it is not JSON, lacks
-// "candidates", is of a newer format, or a candidate is malformed.
+// "candidates", is of a newer format, or a candidate is malformed; JsonFileError where it cannot be
+// read.
 SavedDiagnosis load_diagnosis(const std::filesystem::path& path);
 
 }  // namespace lptn::diagnose
