@@ -25,7 +25,7 @@ MODULES = [
     "common", "can-dbc", "hostio",
     "firmware/include", "firmware/linux", "firmware/baremetal", "firmware/calibration", "firmware/bench",
     "trainer/data", "trainer/model", "trainer/calibrate", "trainer/lm", "trainer/td3", "trainer/search", "trainer/diagnose",
-    "trainer/fleet", "trainer/check",
+    "trainer/fleet", "trainer/check", "trainer/workflow",
     "simulator/plant", "simulator/generate", "tools/export", "tools/dbc", "tools/bus", "tools/canfile", "tools/canlog",
     "tools/replay", "tools/report",
     "programs/cli", "programs/vcan-bench",
@@ -56,6 +56,8 @@ DEPENDS = {
     "trainer/fleet": ["trainer/lm"],
     # Does a calibration still hold on new data: diagnose's adequacy and the fleet's cooling factor.
     "trainer/check": ["trainer/diagnose", "trainer/fleet"],
+    # Request to result: a calibration as every program runs it (TD3 given by the one that links it).
+    "trainer/workflow": ["trainer/search", "trainer/fleet", "trainer/check"],
     "simulator/plant": ["common"],
     "simulator/generate": ["simulator/plant", "trainer/model"],
     "tools/export": ["trainer/calibrate"],
@@ -67,7 +69,7 @@ DEPENDS = {
     "tools/replay": ["trainer/calibrate", "tools/canfile", "firmware/calibration"],
     "tools/report": ["trainer/diagnose", "trainer/fleet", "trainer/check"],
     "programs/cli": ["simulator/generate", "tools/export", "tools/bus", "tools/canfile", "tools/canlog", "tools/replay",
-                  "tools/report", "trainer/td3", "trainer/search", "trainer/diagnose", "trainer/fleet", "trainer/check"],
+                  "tools/report", "trainer/td3", "trainer/workflow"],
     "programs/vcan-bench": ["tools/replay", "tools/bus"],
     "tests": [m for m in MODULES if m not in ("tests", "firmware/bench")],
 }

@@ -40,8 +40,8 @@ bool is_fleet_file(const std::string& path) {
 // data lists them); the loader's reports come along for the sensors' reading periods.
 data::Dataset motor_dataset(const fleet::FleetDump& fleet, std::size_t m) {
   data::Dataset d;
-  for (std::size_t i : fleet.motor_cycles[m]) d.cycles.push_back(fleet.dataset.cycles[i]);
-  d.reports = fleet.dataset.reports;
+  for (std::size_t i : fleet.motor_cycles[m]) d.cycles.push_back(fleet.dataset.data.cycles[i]);
+  d.reports = fleet.dataset.data.reports;
   return d;
 }
 
@@ -119,7 +119,7 @@ bool check_fleet(const CheckArgs& given) {
     ProgressLine line(a.quiet || a.json);
     for (std::size_t m = 0; m < fleet.motor_ids.size(); ++m) {
       const auto& cycles = fleet.motor_cycles[m];
-      if (cycles.empty() || fleet.dataset.cycles[cycles.front()].remote) continue;  // another rank's
+      if (cycles.empty() || DatasetRef(fleet.dataset).remote(cycles.front())) continue;  // another rank's
       line.update("check: " + fleet.motor_ids[m] + " (" + std::to_string(m + 1) + "/" +
                   std::to_string(fleet.motor_ids.size()) + ")", true);
       mine[std::to_string(m)] = check_motor(a, fleet_file, single, fleet, m, data_motor);

@@ -78,7 +78,7 @@ std::vector<data::SensorFault> parse_sensor_faults(const std::vector<std::string
     data::SensorFaultSpec spec;
     try {
       spec = data::parse_sensor_fault(item);
-    } catch (const std::invalid_argument& e) {
+    } catch (const BadInput& e) {
       throw BadInput(std::string("--sensor-fault: ") + e.what());
     }
     int first = 0;

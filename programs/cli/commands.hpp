@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "hostio/bad_input.hpp"
-#include "programs/cli/calibrate_args.hpp"
+#include "trainer/calibrate/calibration_request.hpp"
 
 namespace lptn::cli {
 
@@ -22,7 +22,7 @@ void add_inspect(CLI::App& app);
 void add_simulate(CLI::App& app);
 // `td3`: the TD3 calibrator where this program links it (lptn-td3); without one (lptn), --method
 // td3|td3-episode runs lptn-td3 from beside this program with the same arguments.
-void add_calibrate(CLI::App& app, Td3Calibrator td3 = nullptr);
+void add_calibrate(CLI::App& app, CalibrationMethod td3 = nullptr);
 void add_diagnose(CLI::App& app);
 void add_export(CLI::App& app);
 void add_convert(CLI::App& app);

@@ -27,7 +27,7 @@ TEST(CoarseRefit, EndsWhereTheFineRefitEndsWhereTheDataPinTheEffect) {
   enable_effect(with, windage);
   LmSettings lm;
   lm.threads = 2;
-  const data::Dataset coarse = internal::coarse_dataset(g->dataset, kCoarse);
+  const SharedDataset coarse = internal::coarse_dataset(g->dataset, kCoarse);
   const auto fine = internal::refit_with(with, windage, g->calibrated.values, g->dataset, g->split.train, lm, {});
   const auto staged = internal::refit_with(with, windage, g->calibrated.values, g->dataset, g->split.train, lm, {}, &coarse);
   const int w = param_index("windage_base_w");
@@ -55,7 +55,7 @@ TEST(CoarseRefit, WithoutAReadingOnTheCoarseGridTheFineRefitRunsAlone) {
   LmSettings lm;
   lm.threads = 2;
   lm.max_iterations = 5;
-  const data::Dataset coarse = internal::coarse_dataset(g->dataset, kCoarse);
+  const SharedDataset coarse = internal::coarse_dataset(g->dataset, kCoarse);
   const auto fine = internal::refit_with(with, windage, g->calibrated.values, g->dataset, g->split.train, lm, {});
   internal::Refit staged;
   ASSERT_NO_THROW(staged = internal::refit_with(with, windage, g->calibrated.values, g->dataset, g->split.train, lm, {},
@@ -72,21 +72,21 @@ TEST(CoarseRefit, TheCorrectedGridSeesTheDataGridsMisfitAtTheBaseline) {
   const Model<double> model = g->motor.model();
   const LmReport& at = g->calibrated;
   ASSERT_EQ(at.offsets.size(), g->split.train.size());
-  const data::Dataset coarse = internal::coarse_dataset(g->dataset, kCoarse);
-  data::Dataset corrected = coarse;
+  const SharedDataset coarse = internal::coarse_dataset(g->dataset, kCoarse);
+  SharedDataset corrected = coarse;
   internal::correct_for_grid(corrected, g->dataset, model, at.values, g->split.train, at.offsets, 2);
   double worst_corrected = 0, sum_uncorrected = 0;
   std::size_t readings = 0;
   for (std::size_t i = 0; i < g->split.train.size(); ++i) {
     const std::size_t c = g->split.train[i];
     const CycleSimulation fine = simulate_cycle(model, at.values, g->dataset.cycles[c], at.offsets[i]);
-    const CycleSimulation on_coarse = simulate_cycle(model, at.values, coarse.cycles[c], at.offsets[i]);
-    for (std::size_t k = 0; k < coarse.cycles[c].steps; ++k) {
-      const float reading = coarse.cycles[c].at(data::Channel::stator_winding_c, k);
+    const CycleSimulation on_coarse = simulate_cycle(model, at.values, coarse.data.cycles[c], at.offsets[i]);
+    for (std::size_t k = 0; k < coarse.data.cycles[c].steps; ++k) {
+      const float reading = coarse.data.cycles[c].at(data::Channel::stator_winding_c, k);
       if (std::isnan(reading)) continue;
       const double data_grid = double(fine.stator_sensor[k * kCoarse]) - g->dataset.cycles[c].at(data::Channel::stator_winding_c, k * kCoarse);
       const double uncorrected = double(on_coarse.stator_sensor[k]) - reading;
-      const double with_correction = double(on_coarse.stator_sensor[k]) - corrected.cycles[c].at(data::Channel::stator_winding_c, k);
+      const double with_correction = double(on_coarse.stator_sensor[k]) - corrected.data.cycles[c].at(data::Channel::stator_winding_c, k);
       worst_corrected = std::max(worst_corrected, std::abs(with_correction - data_grid));
       sum_uncorrected += (uncorrected - data_grid) * (uncorrected - data_grid);
       ++readings;

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "hostio/bad_input.hpp"
 #include "lptn_testing/temp_dir.hpp"
 #include "simulator/generate/generate.hpp"
 #include "trainer/calibrate/calibration_result.hpp"
@@ -46,7 +47,7 @@ std::unique_ptr<FleetCase> calibrated_fleet(std::uint64_t seed, int weak) {
   c->truth = gen::generate_fleet(o, c->dir.path());
   c->fleet = load_fleet(c->dir.path());
   c->motor = load_motor_file(c->dir.path() / "motor.toml");
-  c->split = split_cycles(c->fleet.dataset, {}, 1.0 / 3.0, seed);
+  c->split = split_cycles(c->fleet.dataset.data, {}, 1.0 / 3.0, seed);
   c->fit = fit_fleet(c->motor, c->fleet, c->split.train, FleetSettings{},
                      [](const std::string& line) { std::printf("  %s\n", line.c_str()); });
   return c;
@@ -104,7 +105,7 @@ TEST(FleetCalibration, FindsEveryMotorsCoolingAndNamesTheWeakMotorAlone) {
     for (int i = 0; i < kNumParams; ++i)
       EXPECT_DOUBLE_EQ(values[static_cast<std::size_t>(i)], c->fit.motors[m].parameters[static_cast<std::size_t>(i)]);
   }
-  EXPECT_THROW(motor_calibration(file, "motor_99"), std::invalid_argument);
+  EXPECT_THROW(motor_calibration(file, "motor_99"), BadInput);
   EXPECT_EQ(file.rounds, c->fit.rounds);
   EXPECT_EQ(file.motors[2].cooling_factor, c->fit.motors[2].cooling_factor);  // bit for bit
   EXPECT_EQ(file.motors[2].t, c->fit.motors[2].verdict.t);

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <string>
 
+#include "hostio/bad_input.hpp"
 #include "lptn_testing/fleet_dump.hpp"
 #include "simulator/generate/generate.hpp"
 #include "simulator/generate/plant_truth.hpp"
@@ -238,7 +239,7 @@ TEST(Split, SeededFractionIsRepeatableAndNamedCyclesAreHonoured) {
   ASSERT_EQ(named.test.size(), 1u);
   EXPECT_EQ(named.test[0], 2u);
   EXPECT_EQ(named.train.size(), 8u);
-  EXPECT_THROW(split_cycles(f.dataset, {"no-such-cycle"}, 0, 0), std::invalid_argument);
+  EXPECT_THROW(split_cycles(f.dataset, {"no-such-cycle"}, 0, 0), BadInput);
 }
 
 }  // namespace

@@ -382,7 +382,7 @@ CalibrationResult calibration_from_json(const nlohmann::json& j, const std::stri
     // Checked here, once, so that whoever corrects readings with them has only the data to ask.
     for (std::size_t i = 0; i < r.sensor_faults.size(); ++i) try {
         data::parse_sensor_fault(r.sensor_faults[i]);
-      } catch (const std::invalid_argument& e) {
+      } catch (const BadInput& e) {
         data["sensor_faults"].at(i).fail(e.what());
       }
   }

@@ -3,6 +3,7 @@
 #include <map>
 #include <stdexcept>
 
+#include "hostio/bad_input.hpp"
 #include "hostio/sha256.hpp"
 #include "hostio/utc_stamp.hpp"
 #include "lptn/version.hpp"
@@ -22,7 +23,7 @@ ParameterResult parameter_result(const MotorFile& motor, int i) {
   return p;
 }
 
-CalibrationResult new_calibration(const MotorFile& motor, const std::string& motor_path, const data::Dataset& dataset,
+CalibrationResult new_calibration(const MotorFile& motor, const std::string& motor_path, DatasetRef dataset,
                                   const Split& split) {
   CalibrationResult r;
   r.created_utc = utc_now();
@@ -34,9 +35,13 @@ CalibrationResult new_calibration(const MotorFile& motor, const std::string& mot
   // The files behind the cycles, hashed, and one hash over them all (in cycle order).
   std::map<std::string, std::string> hashes;
   std::string all;
-  for (const data::Cycle& c : dataset.cycles) {
+  for (std::size_t i = 0; i < dataset.cycles.size(); ++i) {
+    const data::Cycle& c = dataset.cycles[i];
     const std::string file = c.file.string();
-    if (!hashes.count(file)) hashes[file] = c.file_sha256.empty() ? sha256_file(c.file) : c.file_sha256;
+    if (!hashes.count(file)) {
+      const std::string taken = dataset.file_sha256(i);  // a shared load hashed every file on its process
+      hashes[file] = taken.empty() ? sha256_file(c.file) : taken;
+    }
     r.data.push_back({c.name, c.file.filename().string(), hashes[file]});
     all += hashes[file];
   }
@@ -47,7 +52,7 @@ CalibrationResult new_calibration(const MotorFile& motor, const std::string& mot
   return r;
 }
 
-void score_calibration(CalibrationResult& result, const MotorFile& motor, const data::Dataset& dataset,
+void score_calibration(CalibrationResult& result, const MotorFile& motor, DatasetRef dataset,
                        const Split& split) {
   const Model<double> model = motor.model();
   result.train = evaluate_split(model, result.values(), dataset, split.train);
@@ -74,7 +79,7 @@ Split split_of(const CalibrationResult& calibration, const data::Dataset& datase
   auto find = [&](const std::string& name) {
     for (std::size_t i = 0; i < dataset.cycles.size(); ++i)
       if (dataset.cycles[i].name == name) return i;
-    throw std::invalid_argument("the calibration's cycle '" + name +
+    throw BadInput("the calibration's cycle '" + name +
                                 "' is not in the data (give the data it was made from, or --test-cycles)");
   };
   Split split;

@@ -19,11 +19,11 @@ ParameterResult parameter_result(const MotorFile& motor, int i);
 
 // A calibration before its calibrator has run: created now by this lptn, the motor (`motor_path`
 // as given), every parameter at its start, the data's files and hashes, the split.
-CalibrationResult new_calibration(const MotorFile& motor, const std::string& motor_path, const data::Dataset& dataset,
+CalibrationResult new_calibration(const MotorFile& motor, const std::string& motor_path, DatasetRef dataset,
                                   const Split& split);
 
 // Sets the train and test metrics of `result`'s parameters on its split (model from its motor).
-void score_calibration(CalibrationResult& result, const MotorFile& motor, const data::Dataset& dataset,
+void score_calibration(CalibrationResult& result, const MotorFile& motor, DatasetRef dataset,
                        const Split& split);
 
 // The motor a calibration was made with: its stored text, its effects, and the parameters'
@@ -31,7 +31,7 @@ void score_calibration(CalibrationResult& result, const MotorFile& motor, const 
 MotorFile motor_of(const CalibrationResult& calibration);
 
 // The calibration's own train/test split, found by cycle name in `dataset`; throws
-// std::invalid_argument naming a cycle the data lacks.
+// BadInput naming a cycle the data lacks.
 Split split_of(const CalibrationResult& calibration, const data::Dataset& dataset);
 
 }  // namespace lptn

@@ -10,9 +10,9 @@
 
 namespace lptn {
 
-// How many residuals the first `max_steps` grid steps of `cycle` give.
+// How many residuals the first `max_steps` grid steps of `cycle` give (its samples must be here: a
+// shared dataset's remote cycle has its count in its CycleShare, DatasetRef::residuals).
 inline std::size_t count_grid_residuals(const data::Cycle& cycle, std::size_t max_steps = SIZE_MAX) {
-  if (cycle.remote && max_steps >= cycle.steps) return cycle.remote_residuals;
   std::size_t n = 0;
   const std::size_t steps = max_steps < cycle.steps ? max_steps : cycle.steps;
   for (std::size_t k = 1; k < steps; ++k)

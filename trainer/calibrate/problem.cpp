@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <thread>
 
+#include "hostio/bad_input.hpp"
 #include "trainer/calibrate/shared_dataset.hpp"
 #include "trainer/model/initial_offsets.hpp"
 #include "trainer/model/simulate.hpp"
@@ -51,7 +52,7 @@ Split split_cycles(const data::Dataset& dataset, const std::vector<std::string>&
       if (found == n) {
         std::string known;
         for (const data::Cycle& c : dataset.cycles) known += (known.empty() ? "" : ", ") + c.name;
-        throw std::invalid_argument("--test-cycles: no cycle named '" + name + "' in the data (cycles: " + known + ")");
+        throw BadInput("--test-cycles: no cycle named '" + name + "' in the data (cycles: " + known + ")");
       }
       is_test[found] = true;
     }
@@ -59,7 +60,7 @@ Split split_cycles(const data::Dataset& dataset, const std::vector<std::string>&
     for (const std::string& name : test_names) split.rule += (&name == &test_names.front() ? " " : ",") + name;
   } else {
     if (!(test_fraction >= 0.0 && test_fraction < 1.0))
-      throw std::invalid_argument("--test-fraction: must be in [0, 1), got " + std::to_string(test_fraction));
+      throw BadInput("--test-fraction: must be in [0, 1), got " + std::to_string(test_fraction));
     auto count = static_cast<std::size_t>(std::lround(test_fraction * static_cast<double>(n)));
     if (test_fraction > 0 && n >= 2) count = std::clamp<std::size_t>(count, 1, n - 1);
     std::vector<std::size_t> order(n);
@@ -72,19 +73,18 @@ Split split_cycles(const data::Dataset& dataset, const std::vector<std::string>&
     split.rule = rule;
   }
   for (std::size_t i = 0; i < n; ++i) (is_test[i] ? split.test : split.train).push_back(i);
-  if (split.train.empty()) throw std::invalid_argument("the split leaves no cycle to train on");
+  if (split.train.empty()) throw BadInput("the split leaves no cycle to train on");
   return split;
 }
 
 namespace {
 // Every cycle's metrics on every process of a shared dataset: each slot filled where its cycle is
 // held, zero elsewhere, summed over the processes.
-void join_metrics(std::vector<CycleMetrics>& metrics, const data::Dataset& dataset,
-                  const std::vector<std::size_t>& cycles) {
+void join_metrics(std::vector<CycleMetrics>& metrics, DatasetRef dataset, const std::vector<std::size_t>& cycles) {
   constexpr std::size_t kFields = 5;
   std::vector<double> sums(metrics.size() * 2 * kFields, 0.0);
   for (std::size_t i = 0; i < metrics.size(); ++i) {
-    if (dataset.cycles[cycles[i]].remote) continue;
+    if (dataset.remote(cycles[i])) continue;
     const ErrorMetrics* sides[2] = {&metrics[i].stator, &metrics[i].rotor};
     for (std::size_t s = 0; s < 2; ++s) {
       double* at = sums.data() + (2 * i + s) * kFields;
@@ -95,7 +95,7 @@ void join_metrics(std::vector<CycleMetrics>& metrics, const data::Dataset& datas
       at[4] = static_cast<double>(sides[s]->samples);
     }
   }
-  group_of(dataset).sum(sums);
+  dataset.group().sum(sums);
   for (std::size_t i = 0; i < metrics.size(); ++i) {
     metrics[i].name = dataset.cycles[cycles[i]].name;
     ErrorMetrics* sides[2] = {&metrics[i].stator, &metrics[i].rotor};
@@ -143,16 +143,15 @@ CycleMetrics evaluate_cycle(const Model<double>& model, const ParamVector<double
   return m;
 }
 
-SplitMetrics evaluate_split(const Model<double>& model, const ParamVector<double>& params, const data::Dataset& dataset,
+SplitMetrics evaluate_split(const Model<double>& model, const ParamVector<double>& params, DatasetRef dataset,
                             const std::vector<std::size_t>& cycles, int threads) {
   SplitMetrics out;
   out.cycles.resize(cycles.size());
   // Cycles are independent: each thread writes only its own slots. A remote cycle is its process's.
   parallel_for(cycles.size(), threads, [&](std::size_t i) {
-    const data::Cycle& cycle = dataset.cycles[cycles[i]];
-    if (!cycle.remote) out.cycles[i] = evaluate_cycle(model, params, cycle);
+    if (!dataset.remote(cycles[i])) out.cycles[i] = evaluate_cycle(model, params, dataset.cycles[cycles[i]]);
   });
-  if (dataset.shared) join_metrics(out.cycles, dataset, cycles);
+  if (dataset.shared()) join_metrics(out.cycles, dataset, cycles);
   pool_cycles(out);
   return out;
 }

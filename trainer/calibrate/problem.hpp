@@ -9,6 +9,7 @@
 #include "hostio/worker_threads.hpp"
 #include "lptn/model.hpp"
 #include "trainer/calibrate/metrics.hpp"
+#include "trainer/calibrate/shared_dataset.hpp"
 #include "trainer/data/dataset.hpp"
 #include "trainer/model/motor_file.hpp"
 
@@ -39,7 +40,7 @@ struct Split {
 
 // `test_names` (exact cycle names) if given; otherwise a seeded random `test_fraction` of the
 // cycles (at least one test and one train cycle when there are two or more). Throws
-// std::invalid_argument naming an unknown cycle, or when no cycle is left to train on.
+// BadInput naming an unknown cycle, or when no cycle is left to train on.
 Split split_cycles(const data::Dataset& dataset, const std::vector<std::string>& test_names, double test_fraction,
                    std::uint64_t seed);
 
@@ -63,8 +64,10 @@ CycleMetrics evaluate_cycle(const Model<double>& model, const ParamVector<double
                             const PreparedCycle* prepared = nullptr);
 // Sets m.stator and m.rotor from m.cycles (the rotor over the cycles that measure it).
 void pool_cycles(SplitMetrics& m);
-// Every listed cycle and the pooled figures (cycles simulated in parallel on `threads`).
-SplitMetrics evaluate_split(const Model<double>& model, const ParamVector<double>& params, const data::Dataset& dataset,
+// Every listed cycle and the pooled figures (cycles simulated in parallel on `threads`). Of a shared
+// dataset, each process simulates the cycles it holds and every process gets every cycle's
+// figures (a collective call).
+SplitMetrics evaluate_split(const Model<double>& model, const ParamVector<double>& params, DatasetRef dataset,
                             const std::vector<std::size_t>& cycles, int threads = worker_threads());
 
 }  // namespace lptn

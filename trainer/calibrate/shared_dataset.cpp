@@ -13,29 +13,34 @@
 
 namespace lptn {
 
-data::Dataset join_units(std::size_t units, std::vector<LoadedUnit> mine, const ProcessGroup& group,
+SharedDataset join_units(std::size_t units, std::vector<LoadedUnit> mine, const ProcessGroup& group,
                          std::vector<std::size_t>* unit_of_cycle) {
   // What the other ranks learn of each of this rank's cycles (doubles survive JSON exactly).
   nlohmann::json stubs = nlohmann::json::array();
+  std::map<std::string, std::string> hashes;  // of this rank's files, taken once
   for (LoadedUnit& u : mine) {
     if (owner_of_unit(u.unit, group) != group.rank())
       throw std::logic_error("join_units: unit " + std::to_string(u.unit) + " is not this rank's");
-    std::map<std::string, std::string> hashes;
     for (data::Cycle& c : u.data.cycles) {
       const std::string file = c.file.string();
       if (!hashes.count(file)) hashes[file] = sha256_file(c.file);
-      c.file_sha256 = hashes[file];
       stubs.push_back({{"unit", u.unit}, {"name", c.name}, {"file", file}, {"t0", c.t0_s}, {"dt", c.dt_s},
-                       {"steps", c.steps}, {"residuals", count_grid_residuals(c)}, {"sha256", c.file_sha256}});
+                       {"steps", c.steps}, {"residuals", count_grid_residuals(c)}, {"sha256", hashes[file]}});
     }
   }
-  std::vector<std::vector<data::Cycle>> per_unit(units);
+  // Per unit, its cycles and where each is held.
+  std::vector<std::vector<std::pair<data::Cycle, CycleShare>>> per_unit(units);
   std::vector<bool> local(units, false);
-  data::Dataset out;
+  SharedDataset out;
   for (LoadedUnit& u : mine) {
     local[u.unit] = true;
-    per_unit[u.unit] = std::move(u.data.cycles);
-    for (data::CycleReport& r : u.data.reports) out.reports.push_back(std::move(r));
+    for (data::Cycle& c : u.data.cycles) {
+      CycleShare share;
+      share.residuals = count_grid_residuals(c);
+      share.file_sha256 = hashes[c.file.string()];
+      per_unit[u.unit].emplace_back(std::move(c), std::move(share));
+    }
+    for (data::CycleReport& r : u.data.reports) out.data.reports.push_back(std::move(r));
   }
   for (const std::string& text : group.gather(stubs.dump())) {
     for (const nlohmann::json& s : nlohmann::json::parse(text)) {
@@ -43,22 +48,23 @@ data::Dataset join_units(std::size_t units, std::vector<LoadedUnit> mine, const 
       if (unit >= units) throw std::logic_error("join_units: a rank sent unit " + std::to_string(unit));
       if (local[unit]) continue;
       data::Cycle c;
-      c.remote = true;
       c.name = s.at("name").get<std::string>();
       c.file = s.at("file").get<std::string>();
       c.t0_s = s.at("t0").get<double>();
       c.dt_s = s.at("dt").get<double>();
       c.steps = s.at("steps").get<std::size_t>();
-      c.remote_residuals = s.at("residuals").get<std::size_t>();
-      c.file_sha256 = s.at("sha256").get<std::string>();
-      per_unit[unit].push_back(std::move(c));
+      CycleShare share;
+      share.remote = true;
+      share.residuals = s.at("residuals").get<std::size_t>();
+      share.file_sha256 = s.at("sha256").get<std::string>();
+      per_unit[unit].emplace_back(std::move(c), std::move(share));
     }
   }
-  out.shared = group.shared();
   if (unit_of_cycle != nullptr) unit_of_cycle->clear();
   for (std::size_t u = 0; u < units; ++u)
-    for (data::Cycle& c : per_unit[u]) {
-      out.cycles.push_back(std::move(c));
+    for (auto& [c, share] : per_unit[u]) {
+      out.data.cycles.push_back(std::move(c));
+      if (group.shared()) out.shares.push_back(std::move(share));
       if (unit_of_cycle != nullptr) unit_of_cycle->push_back(u);
     }
   return out;
@@ -96,13 +102,14 @@ void unpack(const std::string& bytes, data::Cycle& c) {
 
 }  // namespace
 
-void balance_training(data::Dataset& dataset, const std::vector<std::size_t>& train, const ProcessGroup& group) {
-  if (!group.shared()) return;
+void balance_training(SharedDataset& dataset, const std::vector<std::size_t>& train, const ProcessGroup& group) {
+  if (!group.shared() || !dataset.shared()) return;
+  const DatasetRef held_here(dataset);
   // Who holds each cycle, from each rank's list of its own.
   std::string mine;
-  for (std::size_t i = 0; i < dataset.cycles.size(); ++i)
-    if (!dataset.cycles[i].remote) mine += std::to_string(i) + " ";
-  std::vector<int> holder(dataset.cycles.size(), -1);
+  for (std::size_t i = 0; i < dataset.data.cycles.size(); ++i)
+    if (!held_here.remote(i)) mine += std::to_string(i) + " ";
+  std::vector<int> holder(dataset.data.cycles.size(), -1);
   const std::vector<std::string> held = group.gather(mine);
   for (int r = 0; r < group.size(); ++r) {
     std::size_t at = 0;
@@ -117,7 +124,7 @@ void balance_training(data::Dataset& dataset, const std::vector<std::size_t>& tr
   std::vector<double> load(static_cast<std::size_t>(group.size()), 0.0);
   std::vector<std::pair<double, std::size_t>> weight;  // (residuals, cycle), in the split's order on every rank
   for (std::size_t c : train) {
-    const auto w = static_cast<double>(count_grid_residuals(dataset.cycles[c]));
+    const auto w = static_cast<double>(held_here.residuals(c));
     load[static_cast<std::size_t>(holder[c])] += w;
     weight.emplace_back(w, c);
   }
@@ -146,33 +153,36 @@ void balance_training(data::Dataset& dataset, const std::vector<std::size_t>& tr
   // Every rank walks the moves in the same order: the earliest unfinished one always has both of
   // its ranks at it, so blocking sends cannot wait on each other in a ring.
   for (const Move& m : moves) {
-    data::Cycle& c = dataset.cycles[m.cycle];
+    data::Cycle& c = dataset.data.cycles[m.cycle];
+    CycleShare& share = dataset.shares[m.cycle];
     if (group.rank() == m.from) {
-      c.remote_residuals = count_grid_residuals(c);
+      share.residuals = count_grid_residuals(c);
       group.send(m.to, pack(c));
       for (auto& channel : c.samples) std::vector<float>().swap(channel);
-      c.remote = true;
+      share.remote = true;
     } else if (group.rank() == m.to) {
       unpack(group.receive(m.from), c);
-      c.remote = false;
+      share.remote = false;
     }
   }
 }
 
-void share_work(data::Dataset& dataset, const ProcessGroup& group) {
-  if (!group.shared()) return;
-  for (std::size_t i = 0; i < dataset.cycles.size(); ++i) {
-    data::Cycle& c = dataset.cycles[i];
-    if (owner_of_unit(i, group) == group.rank()) continue;
-    c.remote_residuals = count_grid_residuals(c);
-    c.remote = true;  // its samples stay: only the shared computations leave it to its rank
+SharedDataset share_work(data::Dataset dataset, const ProcessGroup& group) {
+  SharedDataset out;
+  out.data = std::move(dataset);
+  if (!group.shared()) return out;
+  for (std::size_t i = 0; i < out.data.cycles.size(); ++i) {
+    CycleShare share;
+    share.residuals = count_grid_residuals(out.data.cycles[i]);
+    share.remote = owner_of_unit(i, group) != group.rank();  // its samples stay: only the shared computations leave it to its rank
+    out.shares.push_back(std::move(share));
   }
-  dataset.shared = true;
+  return out;
 }
 
-data::Dataset load_shared_dump(const std::vector<std::filesystem::path>& paths, const ProcessGroup& group,
+SharedDataset load_shared_dump(const std::vector<std::filesystem::path>& paths, const ProcessGroup& group,
                                const data::LoadOptions& options) {
-  if (!group.shared()) return data::load_fleet_dump(paths, options);
+  if (!group.shared()) return {data::load_fleet_dump(paths, options), {}};
   const std::vector<std::filesystem::path> files = data::cycle_files(paths);
   std::vector<std::filesystem::path> own;
   for (std::size_t f = 0; f < files.size(); ++f)

@@ -6,6 +6,7 @@
 #include <numeric>
 #include <stdexcept>
 
+#include "hostio/bad_input.hpp"
 #include "hostio/worker_threads.hpp"
 #include "trainer/calibrate/calibration_result.hpp"
 #include "trainer/calibrate/problem.hpp"
@@ -101,7 +102,7 @@ std::string error_reason(const Check& c, int s) {
 
 Check check(const CalibrationResult& calibration, const data::Dataset& dataset, const std::optional<MotorFile>& data_motor,
             int threads) {
-  if (dataset.cycles.empty()) throw std::invalid_argument("check: the data holds no cycle");
+  if (dataset.cycles.empty()) throw BadInput("check: the data holds no cycle");
   const MotorFile motor = motor_of(calibration);
   const Model<double> model = motor.model();
   const ParamVector<double> params = calibration.values();

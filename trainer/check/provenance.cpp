@@ -90,7 +90,7 @@ Provenance provenance(const CalibrationResult& calibration, const data::Dataset&
       cp.why = "not among the calibration's cycles";
     } else {
       const std::string file = c.file.string();
-      if (!file_hash.count(file)) file_hash[file] = c.file_sha256.empty() ? sha256_file(c.file) : c.file_sha256;
+      if (!file_hash.count(file)) file_hash[file] = sha256_file(c.file);
       cp.seen = file_hash[file] == known->second;
       if (!cp.seen) cp.why = "same name, another file";
     }

@@ -35,7 +35,7 @@ struct Provenance {
 };
 
 // `data_motor`: the motor file found beside the data (DIR/motor.toml), if any. Hashes the cycles'
-// files where the loader has not.
+// files (each once).
 Provenance provenance(const CalibrationResult& calibration, const data::Dataset& dataset,
                       const std::optional<MotorFile>& data_motor = std::nullopt);
 

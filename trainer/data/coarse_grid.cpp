@@ -15,7 +15,6 @@ Cycle coarse_grid(const Cycle& cycle, int factor) {
   out.t0_s = cycle.t0_s;
   out.dt_s = cycle.dt_s * factor;
   out.steps = cycle.steps == 0 ? 0 : (cycle.steps - 1) / f + 1;
-  out.file_sha256 = cycle.file_sha256;
   for (Channel c : kAllChannels) {
     const std::vector<float>& fine = cycle.samples[index_of(c)];
     std::vector<float>& coarse = out.samples[index_of(c)];

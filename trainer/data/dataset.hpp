@@ -48,11 +48,6 @@ struct Cycle {
   // NaN = missing or masked. Either empty (the column is absent from the file) or `steps` long.
   // float rather than double on purpose: fleet dumps hold hundreds of hours.
   std::array<std::vector<float>, kNumChannels> samples;
-  // Held by another process of an MPI job (trainer/calibrate/shared_dataset.hpp): the name, file,
-  // grid and the two figures below are known here, the samples are not (every channel empty).
-  bool remote = false;
-  std::size_t remote_residuals = 0;  // its count_grid_residuals, from the process that holds it
-  std::string file_sha256;  // the file's hash where the loader took it already (remote cycles), else empty
 
   bool has(Channel c) const;  // at least one valid sample
   float at(Channel c, std::size_t k) const;  // NaN for an absent channel; throws past the end
@@ -95,9 +90,6 @@ struct CycleReport {
 struct Dataset {
   std::vector<Cycle> cycles;
   std::vector<CycleReport> reports;  // of the files loaded here
-  // Shared over the processes of an MPI job (trainer/calibrate/shared_dataset.hpp): the cycles are
-  // every rank's, some remote, and whatever reads them joins the ranks' results (a collective call).
-  bool shared = false;
   std::size_t warning_count() const;
 };
 

@@ -53,7 +53,7 @@ struct SensorFaultSpec {
   SensorFault fault;        // `first` unresolved
   std::string first_cycle;  // as written
 };
-// Throws std::invalid_argument with a message naming what is wrong in `text`.
+// Throws BadInput with a message naming what is wrong in `text`.
 SensorFaultSpec parse_sensor_fault(std::string_view text);
 std::string format_sensor_fault(const SensorFault& fault, const std::string& first_cycle);
 
@@ -66,13 +66,13 @@ struct CycleOrder {
 CycleOrder cycle_order(const Dataset& dataset);
 
 // `spec.fault` with `first` resolved against the dataset's cycle names (a segment's name or its
-// file's stem). Throws std::invalid_argument naming the cycle where none has that name.
+// file's stem). Throws BadInput naming the cycle where none has that name.
 SensorFault resolve(const SensorFaultSpec& spec, const Dataset& dataset);
 
 // Every reading of the fault's sensor replaced by what it stands for (corrected()).
 void correct_readings(Dataset& dataset, const SensorFault& fault);
 // The same for each SENSOR:SHAPE:SIZE:FIRST in `specs` (FIRST a cycle's name), in order. Throws
-// std::invalid_argument naming the spec that cannot be parsed or resolved.
+// BadInput naming the spec that cannot be parsed or resolved.
 void correct_readings(Dataset& dataset, const std::vector<std::string>& specs);
 
 }  // namespace lptn::data

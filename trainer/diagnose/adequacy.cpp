@@ -28,7 +28,7 @@ struct CycleFinding {
   internal::WhereSums where[2];
 };
 
-CycleFinding examine(const Model<double>& model, const ParamVector<double>& params, const data::Dataset& dataset,
+CycleFinding examine(const Model<double>& model, const ParamVector<double>& params, DatasetRef dataset,
                      const data::Cycle& cycle, const internal::RegionEdges& edges) {
   CycleEvaluation e = simulate_and_evaluate(model, params, cycle);
   CycleFinding f;
@@ -38,14 +38,14 @@ CycleFinding examine(const Model<double>& model, const ParamVector<double>& para
     const std::vector<float>& m = e.simulation.*(kSensorTraces[s].trace);
     std::vector<float> r(cycle.steps);
     for (std::size_t k = 0; k < cycle.steps; ++k) r[k] = m[k] - cycle.at(kSensorTraces[s].channel, k);
-    f.noise[s] = sensor_noise(r, reading_period(dataset, cycle, kSensorTraces[s].channel));
+    f.noise[s] = sensor_noise(r, reading_period(dataset.data, cycle, kSensorTraces[s].channel));
     f.where[s] = internal::where_sums(cycle, kSensorTraces[s].channel, r, edges);
   }
   return f;
 }
 
 std::vector<CycleFinding> examine_all(const Model<double>& model, const ParamVector<double>& params,
-                                      const data::Dataset& dataset, const std::vector<std::size_t>& cycles,
+                                      DatasetRef dataset, const std::vector<std::size_t>& cycles,
                                       const internal::RegionEdges& edges, int threads) {
   std::vector<CycleFinding> out(cycles.size());
   parallel_for(cycles.size(), threads,
@@ -65,11 +65,11 @@ const ErrorMetrics& metric(const CycleMetrics& m, int s) { return s == 0 ? m.sta
 
 }  // namespace
 
-Adequacy assess_adequacy(const Model<double>& model, const ParamVector<double>& params, const data::Dataset& dataset,
+Adequacy assess_adequacy(const Model<double>& model, const ParamVector<double>& params, DatasetRef dataset,
                          const Split& split, int threads) {
   std::vector<std::size_t> every = split.train;
   every.insert(every.end(), split.test.begin(), split.test.end());
-  const internal::RegionEdges edges = internal::region_edges(dataset, every);
+  const internal::RegionEdges edges = internal::region_edges(dataset.data, every);
   // Train and test in one loop over the cores (a few cycles keep both busy only together).
   std::vector<CycleFinding> train = examine_all(model, params, dataset, every, edges, threads);
   const std::vector<CycleFinding> test(std::make_move_iterator(train.begin() + static_cast<std::ptrdiff_t>(split.train.size())),

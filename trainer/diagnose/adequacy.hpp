@@ -77,7 +77,7 @@ struct Adequacy {
 };
 
 // Simulates every cycle of the split at `params` once (offsets as the metrics estimate them).
-Adequacy assess_adequacy(const Model<double>& model, const ParamVector<double>& params, const data::Dataset& dataset,
+Adequacy assess_adequacy(const Model<double>& model, const ParamVector<double>& params, DatasetRef dataset,
                          const Split& split, int threads);
 
 // {"adequate": bool, "adequate_within": 1.5, "sensors": {"stator": {"rmse_k", "noise_k", "adequate",

@@ -100,7 +100,7 @@ struct Scored {
 // likelihood ratio on the coarse grid is against it (the two grids' optima differ by more than
 // a likelihood ratio's resolution: the baseline's fine-grid cost is not a coarse fit's footing).
 struct CoarseGrid {
-  data::Dataset dataset;
+  SharedDataset dataset;
   std::optional<LmReport> baseline;  // none where the coarse grid keeps no reading
 };
 
@@ -184,7 +184,7 @@ void at_baseline(Candidate& c, const Diagnosis& before, const ParamVector<double
   c.reason = std::move(reason);
 }
 
-Candidate examine(const MotorFile& motor, const Scored& scored, const Diagnosis& before, const data::Dataset& dataset,
+Candidate examine(const MotorFile& motor, const Scored& scored, const Diagnosis& before, DatasetRef dataset,
                   const CoarseGrid& coarse, const Split& split, const Settings& settings, const Progress& progress,
                   BaselineBlocks& baseline_blocks) {
   const int effect = scored.effect;
@@ -442,7 +442,7 @@ const Candidate* Diagnosis::best() const {
   return nullptr;
 }
 
-Diagnosis diagnose(const MotorFile& motor, const ParamVector<double>& calibrated, const data::Dataset& dataset,
+Diagnosis diagnose(const MotorFile& motor, const ParamVector<double>& calibrated, DatasetRef dataset,
                    const Split& split, const Settings& settings, const Progress& progress) {
   Diagnosis d;
   // Refit from the calibration (a few iterations at most): it gives the per-cycle initial
@@ -459,9 +459,9 @@ Diagnosis diagnose(const MotorFile& motor, const ParamVector<double>& calibrated
   d.test_stator_rmse_k = before.stator_k;
   d.test_rmse_k = before.combined_k;
   if (progress) progress("drift between cycles");
-  d.drift = find_drift(model, d.baseline.values, dataset, settings.threads);
+  d.drift = find_drift(model, d.baseline.values, dataset.data, settings.threads);
   if (progress) progress("sensor faults");
-  d.sensors = check_sensors(model, d.baseline.values, dataset, settings.threads);
+  d.sensors = check_sensors(model, d.baseline.values, dataset.data, settings.threads);
   if (const SensorFinding* s = d.sensor_fault(); s && d.drift.found) {
     // The sensor check weighed the heat balance cycle by cycle and found the sensor's shift explains
     // the faulty cycles better: the drift the per-cycle factors show is the sensor's.
@@ -593,7 +593,7 @@ Diagnosis diagnose(const MotorFile& motor, const ParamVector<double>& calibrated
   return d;
 }
 
-Selection select_effects(const MotorFile& motor, const ParamVector<double>& calibrated, const data::Dataset& dataset,
+Selection select_effects(const MotorFile& motor, const ParamVector<double>& calibrated, DatasetRef dataset,
                          const Split& split, const Settings& settings, const Progress& progress,
                          const RoundDone& round_done) {
   Selection s;

@@ -169,7 +169,7 @@ using Progress = std::function<void(const std::string&)>;
 
 // Diagnoses `motor` (effects and free parameters as calibrated) at `calibrated`, fitted on
 // split.train and tested on split.test.
-Diagnosis diagnose(const MotorFile& motor, const ParamVector<double>& calibrated, const data::Dataset& dataset,
+Diagnosis diagnose(const MotorFile& motor, const ParamVector<double>& calibrated, DatasetRef dataset,
                    const Split& split, const Settings& settings, const Progress& progress = {});
 
 // Forward selection: diagnose, add the best significant and distinguishable effect (its refit
@@ -180,14 +180,14 @@ struct Selection {
   MotorFile motor;                // with the added effects
 };
 using RoundDone = std::function<void(const Diagnosis&)>;
-Selection select_effects(const MotorFile& motor, const ParamVector<double>& calibrated, const data::Dataset& dataset,
+Selection select_effects(const MotorFile& motor, const ParamVector<double>& calibrated, DatasetRef dataset,
                          const Split& split, const Settings& settings, const Progress& progress = {},
                          const RoundDone& round_done = {});
 
 // `calibration` updated to `motor` (effects, text) and the fit `fit` (values, standard errors,
 // correlated pairs) with metrics recomputed on its split; the method stays "lm".
 CalibrationResult updated_calibration(const CalibrationResult& calibration, const MotorFile& motor, const LmReport& fit,
-                                      const data::Dataset& dataset, const Split& split, const std::string& note);
+                                      DatasetRef dataset, const Split& split, const std::string& note);
 
 // The diagnosis file's format (lptn diagnose --json, --json-out; docs/diagnosis.md): 2 added the
 // sensor check ("sensor_faults", candidates of kind "sensor"). A reader refuses a newer one.

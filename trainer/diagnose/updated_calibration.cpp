@@ -6,7 +6,7 @@
 namespace lptn::diagnose {
 
 CalibrationResult updated_calibration(const CalibrationResult& calibration, const MotorFile& motor, const LmReport& fit,
-                                      const data::Dataset& dataset, const Split& split, const std::string& note) {
+                                      DatasetRef dataset, const Split& split, const std::string& note) {
   CalibrationResult r = calibration;
   r.motor = motor;
   r.motor.path = calibration.motor.path;

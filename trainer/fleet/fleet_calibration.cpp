@@ -20,13 +20,13 @@ void fit_motors(const Model<double>& model, const ParamVector<double>& shared, c
   std::vector<double> joined(2 * n, 0.0);
   for (std::size_t m = 0; m < n; ++m) {
     const std::vector<std::size_t>& cycles = fleet.motor_cycles[m];
-    if (!cycles.empty() && fleet.dataset.cycles[cycles.front()].remote) continue;  // another process's motor
-    motors[m].fit = fit_cooling_factor(model, shared, fleet.dataset, cycles, threads);
+    if (!cycles.empty() && DatasetRef(fleet.dataset).remote(cycles.front())) continue;  // another process's motor
+    motors[m].fit = fit_cooling_factor(model, shared, fleet.dataset.data, cycles, threads);
     joined[2 * m] = motors[m].fit.factor;
     joined[2 * m + 1] = motors[m].fit.log_std_error;
   }
-  if (!fleet.dataset.shared) return;
-  group_of(fleet.dataset).sum(joined);
+  if (!fleet.dataset.shared()) return;
+  DatasetRef(fleet.dataset).group().sum(joined);
   for (std::size_t m = 0; m < n; ++m) {
     motors[m].fit.factor = joined[2 * m];
     motors[m].fit.log_std_error = joined[2 * m + 1];
@@ -42,7 +42,7 @@ FleetFit fit_fleet(const MotorFile& motor, const FleetDump& fleet, const std::ve
   };
   const std::size_t n = fleet.motor_ids.size();
   if (n == 0) throw std::invalid_argument("a fleet without motors");
-  std::vector<std::size_t> motor_of(fleet.dataset.cycles.size(), 0);
+  std::vector<std::size_t> motor_of(fleet.dataset.data.cycles.size(), 0);
   for (std::size_t m = 0; m < n; ++m)
     for (std::size_t c : fleet.motor_cycles[m]) motor_of[c] = m;
   const Model<double> model = motor.model();

@@ -51,10 +51,10 @@ FleetDump load_shared_fleet(const std::filesystem::path& dir, const ProcessGroup
   } else {
     for (LoadedUnit& u : mine) {
       for (data::Cycle& c : u.data.cycles) {
-        fleet.dataset.cycles.push_back(std::move(c));
+        fleet.dataset.data.cycles.push_back(std::move(c));
         motor_of.push_back(u.unit);
       }
-      for (data::CycleReport& r : u.data.reports) fleet.dataset.reports.push_back(std::move(r));
+      for (data::CycleReport& r : u.data.reports) fleet.dataset.data.reports.push_back(std::move(r));
     }
   }
   for (std::size_t c = 0; c < motor_of.size(); ++c) fleet.motor_cycles[motor_of[c]].push_back(c);

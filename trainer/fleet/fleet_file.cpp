@@ -3,6 +3,7 @@
 #include <stdexcept>
 
 #include "hostio/atomic_file.hpp"
+#include "hostio/bad_input.hpp"
 
 namespace lptn::fleet {
 
@@ -109,7 +110,7 @@ CalibrationResult motor_calibration(const FleetFile& fleet, const std::string& i
   }
   std::string known;
   for (const FleetFileMotor& m : fleet.motors) known += (known.empty() ? "" : ", ") + m.id;
-  throw std::invalid_argument("--motor-id: no motor '" + id + "' in the fleet (its motors: " + known + ")");
+  throw BadInput("--motor-id: no motor '" + id + "' in the fleet (its motors: " + known + ")");
 }
 
 }  // namespace lptn::fleet

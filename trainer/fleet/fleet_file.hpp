@@ -49,7 +49,7 @@ struct FleetFile {
 FleetFile load_fleet_file(const std::filesystem::path& path);
 
 // One motor as a calibration of its own (for lptn export): the pooled calibration with the
-// motor's parameters. Throws std::invalid_argument naming the known ids for an unknown one.
+// motor's parameters. Throws BadInput naming the known ids for an unknown one.
 CalibrationResult motor_calibration(const FleetFile& fleet, const std::string& id);
 
 }  // namespace lptn::fleet

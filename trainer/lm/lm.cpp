@@ -349,7 +349,7 @@ class SharedBlock final : public ceres::CostFunction {
 // Residual series (model - measured, demeaned per cycle) over the fitted cycles, per sensor:
 // [0] the stator winding, [1] the rotor. One simulation per cycle serves both.
 std::array<std::vector<std::vector<double>>, 2> residual_series(const Model<double>& model, const ParamVector<double>& p,
-                                                               const data::Dataset& dataset,
+                                                               DatasetRef dataset,
                                                                const std::vector<std::size_t>& cycles,
                                                                const std::vector<InitialOffsets<double>>& offsets,
                                                                const std::vector<double>& cooling, int threads,
@@ -358,8 +358,8 @@ std::array<std::vector<std::vector<double>>, 2> residual_series(const Model<doub
   std::vector<std::array<std::vector<double>, 2>> per_cycle(cycles.size());
   std::vector<std::array<NoiseSum, 2>> per_cycle_noise(cycles.size());
   parallel_for(cycles.size(), threads, [&](std::size_t i) {
+    if (dataset.remote(cycles[i])) return;  // its process takes its series
     const data::Cycle& cycle = dataset.cycles[cycles[i]];
-    if (cycle.remote) return;  // its process takes its series
     const ParamVector<double> pc = cooling.empty() ? p : with_cooling_factor(p, cooling[i]);
     const CycleSimulation sim = simulate_cycle(model, pc, cycle, offsets[i]);
     const std::pair<data::Channel, const std::vector<float>*> sensors[2] = {
@@ -379,7 +379,7 @@ std::array<std::vector<std::vector<double>>, 2> residual_series(const Model<doub
       if (noise != nullptr) {
         // White noise read every p grid steps and interpolated between stays correlated over about
         // p steps: its sum of squares scaled by p is what the residual variance is compared with.
-        const std::size_t every = reading_period(dataset, cycle, sensors[s].first);
+        const std::size_t every = reading_period(dataset.data, cycle, sensors[s].first);
         NoiseSum n = sensor_noise(on_grid, every);
         n.sum2 *= static_cast<double>(every);
         per_cycle_noise[i][static_cast<std::size_t>(s)] = n;
@@ -396,7 +396,7 @@ std::array<std::vector<std::vector<double>>, 2> residual_series(const Model<doub
         sums[2 * s] += per_cycle_noise[i][s].sum2;
         sums[2 * s + 1] += static_cast<double>(per_cycle_noise[i][s].n);
       }
-    group_of(dataset).sum(sums);
+    dataset.group().sum(sums);
     for (std::size_t s = 0; s < 2; ++s) (*noise)[s] = NoiseSum{sums[2 * s], static_cast<std::size_t>(sums[2 * s + 1])};
   }
   std::array<std::vector<std::vector<double>>, 2> out;
@@ -450,7 +450,7 @@ struct FitExtras {
   std::vector<double> conditional_log_std;
 };
 
-LmReport fit_once(const MotorFile& motor, const ParamVector<double>& start, const data::Dataset& dataset,
+LmReport fit_once(const MotorFile& motor, const ParamVector<double>& start, DatasetRef dataset,
                   const std::vector<std::size_t>& cycles, const LmSettings& settings, const LmProgress& progress,
                   const std::vector<double>& cooling, FitExtras& extras) {
   const auto t0 = std::chrono::steady_clock::now();
@@ -470,7 +470,7 @@ LmReport fit_once(const MotorFile& motor, const ParamVector<double>& start, cons
     theta[j] = free.to_internal(j, v);
   }
 
-  const ProcessGroup& group = group_of(dataset);
+  const ProcessGroup& group = dataset.group();
   report.mpi_ranks = group.size();
   SharedEvaluation shared(group, settings.threads, nf);
   ceres::Problem::Options problem_options;
@@ -491,11 +491,11 @@ LmReport fit_once(const MotorFile& motor, const ParamVector<double>& start, cons
   std::size_t local_residuals = 0;  // of the cycles this process simulates
   for (std::size_t i = 0; i < cycles.size(); ++i) {
     const data::Cycle& cycle = dataset.cycles[cycles[i]];
-    const std::size_t measured = count_grid_residuals(cycle);
+    const std::size_t measured = dataset.residuals(cycles[i]);
     if (measured == 0) continue;
     report.residuals += measured;
     std::unique_ptr<CycleBlock> local;
-    if (!cycle.remote) {
+    if (!dataset.remote(cycles[i])) {
       local_residuals += measured;
       local.reset(make_residuals(model, cycle, free, start, SIZE_MAX, cooling.empty() ? 1.0 : cooling[i]));
     }
@@ -678,11 +678,11 @@ LmReport fit_once(const MotorFile& motor, const ParamVector<double>& start, cons
 
 
 // Whether any of the listed cycles has a rotor reading (over every process of a shared dataset).
-bool any_rotor_reading(const data::Dataset& dataset, const std::vector<std::size_t>& cycles) {
+bool any_rotor_reading(DatasetRef dataset, const std::vector<std::size_t>& cycles) {
   std::vector<double> found{0.0};
   for (std::size_t c : cycles)
-    if (!dataset.cycles[c].remote && dataset.cycles[c].has(data::Channel::rotor_c)) found[0] = 1.0;
-  group_of(dataset).sum(found);
+    if (!dataset.remote(c) && dataset.cycles[c].has(data::Channel::rotor_c)) found[0] = 1.0;
+  dataset.group().sum(found);
   return found[0] > 0;
 }
 
@@ -722,7 +722,7 @@ std::string weak_reason(const FreeParameters& free, std::size_t j, double log_st
 }  // namespace
 
 std::vector<NotIdentifiable> unseen_parameters(const MotorFile& motor, const ParamVector<double>& start,
-                                               const data::Dataset& dataset, const std::vector<std::size_t>& cycles) {
+                                               DatasetRef dataset, const std::vector<std::size_t>& cycles) {
   FitExtras extras;
   extras.judge = true;
   extras.check_only = true;
@@ -734,7 +734,7 @@ std::vector<NotIdentifiable> unseen_parameters(const MotorFile& motor, const Par
   return out;
 }
 
-LmReport fit_lm(const MotorFile& motor, const ParamVector<double>& start, const data::Dataset& dataset,
+LmReport fit_lm(const MotorFile& motor, const ParamVector<double>& start, DatasetRef dataset,
                 const std::vector<std::size_t>& cycles, const LmSettings& settings, const LmProgress& progress,
                 const std::vector<double>& cooling) {
   if (!settings.judge_identifiability) {
@@ -791,12 +791,12 @@ LmReport fit_lm(const MotorFile& motor, const ParamVector<double>& start, const 
 }
 
 NormalEquations normal_equations(const Model<double>& model, const FreeParameters& free, const ParamVector<double>& at,
-                                 const data::Dataset& dataset, const std::vector<std::size_t>& cycles,
+                                 DatasetRef dataset, const std::vector<std::size_t>& cycles,
                                  const std::vector<InitialOffsets<double>>& offsets, int threads) {
   // Computed whole on every process: the cycles' samples must be here (share_work's, not load_shared_dump's).
   for (std::size_t c : cycles) {
     const data::Cycle& cycle = dataset.cycles[c];
-    if (cycle.remote && std::all_of(cycle.samples.begin(), cycle.samples.end(), [](const auto& v) { return v.empty(); }))
+    if (dataset.remote(c) && std::all_of(cycle.samples.begin(), cycle.samples.end(), [](const auto& v) { return v.empty(); }))
       throw std::logic_error("normal_equations: cycle " + cycle.name + " is held by another process");
   }
   const std::size_t nf = free.size();

@@ -91,7 +91,7 @@ using LmProgress = std::function<void(int, double, double)>;
 // `cooling` (empty, or one per listed cycle) is each cycle's known cooling factor
 // (cooling_factor.hpp): a fleet's motors share the fitted parameters, each cycle simulated with
 // its motor's conductances to air scaled (fleet_calibration.hpp).
-LmReport fit_lm(const MotorFile& motor, const ParamVector<double>& start, const data::Dataset& dataset,
+LmReport fit_lm(const MotorFile& motor, const ParamVector<double>& start, DatasetRef dataset,
                 const std::vector<std::size_t>& cycles, const LmSettings& settings, const LmProgress& progress = {},
                 const std::vector<double>& cooling = {});
 
@@ -99,7 +99,7 @@ LmReport fit_lm(const MotorFile& motor, const ParamVector<double>& start, const 
 // calibrator that does not judge identifiability itself, TD3 and the search baselines: it then
 // leaves them at the motor file's values). Throws ModelNotSimulable as fit_lm does.
 std::vector<NotIdentifiable> unseen_parameters(const MotorFile& motor, const ParamVector<double>& start,
-                                               const data::Dataset& dataset, const std::vector<std::size_t>& cycles);
+                                               DatasetRef dataset, const std::vector<std::size_t>& cycles);
 
 // The Gauss-Newton normal equations of fit_lm's problem at a given point, for tests of directions
 // fit_lm did not search (lptn diagnose's score test). Columns: `free`'s parameters in its internal
@@ -113,7 +113,7 @@ struct NormalEquations {
   std::size_t residuals = 0;
 };
 NormalEquations normal_equations(const Model<double>& model, const FreeParameters& free, const ParamVector<double>& at,
-                                 const data::Dataset& dataset, const std::vector<std::size_t>& cycles,
+                                 DatasetRef dataset, const std::vector<std::size_t>& cycles,
                                  const std::vector<InitialOffsets<double>>& offsets, int threads = worker_threads());
 
 }  // namespace lptn

@@ -1,6 +1,9 @@
 #include "trainer/lm/lm_result.hpp"
 
+#include <cstdio>
 #include <utility>
+
+#include "hostio/progress_line.hpp"
 
 namespace lptn {
 
@@ -63,6 +66,21 @@ void record_lm_fit(CalibrationResult& r, const LmReport& fit, const FreeParamete
                {"evaluations", fit.evaluations},  {"joined_doubles", fit.joined_doubles},
                {"join_seconds", fit.join_seconds}, {"linear_solver_seconds", fit.linear_solver_seconds}};
   r.seconds = fit.seconds;
+}
+
+void calibrate_lm(const CalibrationRequest& /*request*/, const MotorFile& motor, DatasetRef dataset,
+                  const Split& split, CalibrationResult& result, const CalibrationProgress& progress) {
+  LmSettings settings;
+  settings.judge_identifiability = true;  // what the data cannot pin stays the motor file's, said so
+  const LmReport fit = fit_lm(motor, motor.initial_values(), dataset, split.train, settings,
+                              [&](int iteration, double rmse, double seconds) {
+                                if (!progress) return;
+                                char buf[160];
+                                std::snprintf(buf, sizeof buf, "lm: iteration %3d  rmse %8.4f K  %s", iteration, rmse,
+                                              ProgressLine::clock(seconds).c_str());
+                                progress(buf, true);
+                              });
+  record_lm_fit(result, fit, FreeParameters::from_motor(motor), result.train_cycles, to_json(settings));
 }
 
 }  // namespace lptn

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "trainer/calibrate/calibration_file.hpp"
+#include "trainer/calibrate/calibration_request.hpp"
 #include "trainer/lm/lm.hpp"
 
 namespace lptn {
@@ -25,5 +26,11 @@ void record_lm_fit(CalibrationResult& result, const LmReport& fit, const FreePar
 // Marks each listed parameter as the data could not pin it: not calibrated, not identifiable,
 // with its reason (record_lm_fit for LM's own judgement; calibrate for the other methods').
 void mark_not_identifiable(CalibrationResult& result, const std::vector<NotIdentifiable>& parameters);
+
+// `--method lm` (a CalibrationMethod): fit_lm from the motor file's initial values, judging what
+// the data cannot pin (it stays the motor file's, said so), recorded by record_lm_fit. Progress:
+// "lm: iteration N  rmse X K  m:ss".
+void calibrate_lm(const CalibrationRequest& request, const MotorFile& motor, DatasetRef dataset,
+                  const Split& split, CalibrationResult& result, const CalibrationProgress& progress);
 
 }  // namespace lptn

@@ -4,6 +4,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "hostio/bad_input.hpp"
+
 namespace lptn {
 
 int effect_by_name(std::string_view name, std::string_view option) {
@@ -11,7 +13,7 @@ int effect_by_name(std::string_view name, std::string_view option) {
   if (e >= 0) return e;
   std::string known;
   for (std::string_view n : EffectLibrary::kNames) known += (known.empty() ? "" : ", ") + std::string(n);
-  throw std::invalid_argument(std::string(option) + ": unknown effect '" + std::string(name) + "' (known: " + known + ")");
+  throw BadInput(std::string(option) + ": unknown effect '" + std::string(name) + "' (known: " + known + ")");
 }
 
 void enable_effect(MotorFile& motor, int effect) {

@@ -8,7 +8,7 @@
 
 namespace lptn {
 
-// The library's effect called `name`; throws std::invalid_argument ("OPTION: unknown effect 'x'
+// The library's effect called `name`; throws BadInput ("OPTION: unknown effect 'x'
 // (known: ...)").
 int effect_by_name(std::string_view name, std::string_view option);
 

@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <random>
 #include <stdexcept>
 
+#include "hostio/progress_line.hpp"
 #include "trainer/calibrate/set_scorer.hpp"
 #include "trainer/data/coarse_grid.hpp"
 #include "trainer/search/internal/cma_es.hpp"
@@ -98,6 +100,31 @@ SearchOutcome search_calibration(SearchMethod method, const MotorFile& motor, co
   }
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return out;
+}
+
+void calibrate_by_search(const CalibrationRequest& request, const MotorFile& motor, DatasetRef dataset,
+                         const Split& split, CalibrationResult& result, const CalibrationProgress& progress) {
+  const SearchMethod method = request.method == "cma-es" ? SearchMethod::cma_es : SearchMethod::random;
+  SearchSettings settings;
+  settings.seed = request.seed;
+  if (request.budget_steps > 0) settings.budget_steps = request.budget_steps;
+  const SearchOutcome o = search_calibration(method, motor, dataset.data, split.train, settings,
+                                             [&](std::size_t steps, std::size_t budget, double best, double seconds) {
+                                               if (!progress) return;
+                                               const double done = std::min(1.0, double(steps) / double(budget));
+                                               char buf[200];
+                                               std::snprintf(buf, sizeof buf, "%s: %5.1f G of %.1f G model steps %s best %.4f K  %s elapsed",
+                                                             to_string(method), double(steps) / 1e9, double(budget) / 1e9,
+                                                             ProgressLine::bar(done).c_str(), best, ProgressLine::clock(seconds).c_str());
+                                               progress(buf, done >= 1.0);
+                                             });
+  for (int i = 0; i < kNumParams; ++i) result.parameters[static_cast<std::size_t>(i)].value = o.values[i];
+  result.method = to_string(method);
+  result.settings = to_json(settings);
+  result.details = {{"simulated_steps", o.simulated_steps}, {"evaluations", o.evaluations}, {"best_train_rmse_k", o.best_train_rmse_k},
+                    {"result", "the best of the three best sets scored on the training grid, re-scored on the data's own grid with the "
+                               "metrics' start offsets"}};
+  result.seconds = o.seconds;
 }
 
 }  // namespace lptn::search

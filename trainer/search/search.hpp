@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "hostio/worker_threads.hpp"
+#include "trainer/calibrate/calibration_request.hpp"
 #include "trainer/calibrate/problem.hpp"
 
 namespace lptn::search {
@@ -49,5 +50,11 @@ using SearchProgress = std::function<void(std::size_t steps, std::size_t budget,
 SearchOutcome search_calibration(SearchMethod method, const MotorFile& motor, const data::Dataset& dataset,
                                  const std::vector<std::size_t>& train, const SearchSettings& settings,
                                  const SearchProgress& progress = {});
+
+// `--method random-search` and `--method cma-es` (a CalibrationMethod): search_calibration with
+// the request's seed and budget, its best set and its details into `result`. Progress: the model
+// steps spent against the budget, the best RMSE so far.
+void calibrate_by_search(const CalibrationRequest& request, const MotorFile& motor, DatasetRef dataset,
+                         const Split& split, CalibrationResult& result, const CalibrationProgress& progress);
 
 }  // namespace lptn::search

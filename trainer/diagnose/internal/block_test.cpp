@@ -35,7 +35,7 @@ std::size_t block_steps(double correlation_time, double dt_s) {
 }
 
 std::vector<double> block_errors(const Model<double>& model, const ParamVector<double>& params,
-                                 const data::Dataset& dataset, const std::vector<std::size_t>& cycles,
+                                 DatasetRef dataset, const std::vector<std::size_t>& cycles,
                                  std::size_t steps_per_block, int threads) {
   std::vector<std::vector<double>> per_cycle(cycles.size());
   parallel_for(cycles.size(), threads, [&](std::size_t i) {
@@ -47,7 +47,7 @@ std::vector<double> block_errors(const Model<double>& model, const ParamVector<d
   return out;
 }
 
-SplitRun run_split(const Model<double>& model, const ParamVector<double>& params, const data::Dataset& dataset,
+SplitRun run_split(const Model<double>& model, const ParamVector<double>& params, DatasetRef dataset,
                    const Split& split, std::size_t steps_per_block, int threads) {
   std::vector<std::size_t> every = split.train;
   every.insert(every.end(), split.test.begin(), split.test.end());

@@ -25,7 +25,7 @@ inline constexpr int kMinBlocks = 4;
 
 // Each block's squared error (both sensors), over `cycles` in order.
 std::vector<double> block_errors(const Model<double>& model, const ParamVector<double>& params,
-                                 const data::Dataset& dataset, const std::vector<std::size_t>& cycles,
+                                 DatasetRef dataset, const std::vector<std::size_t>& cycles,
                                  std::size_t block_steps, int threads);
 
 // One simulation of each cycle of the split at `params`: the training cycles' block errors (as
@@ -34,7 +34,7 @@ struct SplitRun {
   std::vector<double> train_blocks;
   SplitMetrics train, test;
 };
-SplitRun run_split(const Model<double>& model, const ParamVector<double>& params, const data::Dataset& dataset,
+SplitRun run_split(const Model<double>& model, const ParamVector<double>& params, DatasetRef dataset,
                    const Split& split, std::size_t block_steps, int threads);
 
 // Grid steps per block for residuals of this correlation time (in grid steps) on grid step dt.

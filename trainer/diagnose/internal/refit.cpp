@@ -48,28 +48,29 @@ std::string imprecise(const LmReport& fit, int i) {
 
 }  // namespace
 
-data::Dataset coarse_dataset(const data::Dataset& fine, int factor) {
-  data::Dataset out;
-  out.shared = fine.shared;
-  out.cycles.reserve(fine.cycles.size());
-  for (const data::Cycle& c : fine.cycles) {
+SharedDataset coarse_dataset(DatasetRef fine, int factor) {
+  SharedDataset out;
+  out.data.cycles.reserve(fine.cycles.size());
+  for (std::size_t i = 0; i < fine.cycles.size(); ++i) {
     // diagnose's shared dataset keeps every cycle's samples on every rank (share_work): each
     // rank can make the coarse cycle, and count a remote one's residuals itself.
-    data::Cycle coarse = data::coarse_grid(c, factor);
-    coarse.remote_residuals = count_grid_residuals(coarse);  // counted before it is called remote
-    coarse.remote = c.remote;
-    out.cycles.push_back(std::move(coarse));
+    out.data.cycles.push_back(data::coarse_grid(fine.cycles[i], factor));
+    if (!fine.shared()) continue;
+    CycleShare share;
+    share.remote = fine.remote(i);
+    share.residuals = count_grid_residuals(out.data.cycles.back());
+    out.shares.push_back(std::move(share));
   }
   return out;
 }
 
-void correct_for_grid(data::Dataset& coarse, const data::Dataset& fine, const Model<double>& model,
+void correct_for_grid(SharedDataset& coarse, DatasetRef fine, const Model<double>& model,
                       const ParamVector<double>& at, const std::vector<std::size_t>& train,
                       const std::vector<InitialOffsets<double>>& offsets, int threads) {
   // diagnose's shared dataset keeps every cycle's samples on every rank: each corrects them all.
   parallel_for(train.size(), threads, [&](std::size_t i) {
     const data::Cycle& f = fine.cycles[train[i]];
-    data::Cycle& c = coarse.cycles[train[i]];
+    data::Cycle& c = coarse.data.cycles[train[i]];
     if (c.steps == 0 || f.steps == 0) return;
     const std::size_t factor = static_cast<std::size_t>(std::lround(c.dt_s / f.dt_s));
     const CycleSimulation on_fine = simulate_cycle(model, at, f, offsets[i]);
@@ -86,11 +87,11 @@ void correct_for_grid(data::Dataset& coarse, const data::Dataset& fine, const Mo
 }
 
 std::optional<LmReport> coarse_stage(const MotorFile& with_effect, const ParamVector<double>& start,
-                                     const data::Dataset& coarse, const std::vector<std::size_t>& train,
+                                     DatasetRef coarse, const std::vector<std::size_t>& train,
                                      const LmSettings& settings, const LmProgress& progress) {
   // The counts include remote cycles', so every process decides alike.
   std::size_t coarse_readings = 0;
-  for (std::size_t c : train) coarse_readings += count_grid_residuals(coarse.cycles[c]);
+  for (std::size_t c : train) coarse_readings += coarse.residuals(c);
   if (coarse_readings == 0) return std::nullopt;
   return fit_lm(with_effect, start, coarse, train, settings, progress);
 }
@@ -123,7 +124,7 @@ Refit judged(LmReport fit, const MotorFile& with_effect, int effect) {
   return out;
 }
 
-Refit polish(const MotorFile& with_effect, int effect, const LmReport& on_coarse, const data::Dataset& dataset,
+Refit polish(const MotorFile& with_effect, int effect, const LmReport& on_coarse, DatasetRef dataset,
              const std::vector<std::size_t>& train, const LmSettings& settings, const LmProgress& progress) {
   LmSettings fine = settings;
   fine.start_offsets = on_coarse.offsets;
@@ -135,9 +136,9 @@ Refit polish(const MotorFile& with_effect, int effect, const LmReport& on_coarse
   return judged(fit_lm(with_effect, on_coarse.values, dataset, train, fine, progress), with_effect, effect);
 }
 
-Refit refit_with(const MotorFile& with_effect, int effect, const ParamVector<double>& start, const data::Dataset& dataset,
+Refit refit_with(const MotorFile& with_effect, int effect, const ParamVector<double>& start, DatasetRef dataset,
                  const std::vector<std::size_t>& train, const LmSettings& settings, const LmProgress& progress,
-                 const data::Dataset* coarse) {
+                 const SharedDataset* coarse) {
   if (coarse != nullptr)
     if (const std::optional<LmReport> on_coarse = coarse_stage(with_effect, start, *coarse, train, settings, progress))
       return polish(with_effect, effect, *on_coarse, dataset, train, settings, progress);

@@ -19,7 +19,7 @@ struct Refit {
 
 // `fine`'s cycles on a grid `factor` times coarser (data::coarse_grid: the 1 s grid TD3 scores on
 // at 10), shared over the processes as `fine` is (each remote cycle's residual count its own).
-data::Dataset coarse_dataset(const data::Dataset& fine, int factor);
+SharedDataset coarse_dataset(DatasetRef fine, int factor);
 
 // `coarse` (coarse_dataset of `fine`) with its own error taken out at `at`: each training cycle's
 // readings shifted by what the coarse grid's simulation differs from the data's at the same
@@ -29,7 +29,7 @@ data::Dataset coarse_dataset(const data::Dataset& fine, int factor);
 // losses of currents that change within a second, a step of 1 s instead of 0.1 s), which a heat
 // term absorbs and which grows with the data (on a clean 48 h dump, dictionary scores of 10 where
 // the data grid's are 3), a score or a likelihood ratio on the corrected grid is the data's.
-void correct_for_grid(data::Dataset& coarse, const data::Dataset& fine, const Model<double>& model,
+void correct_for_grid(SharedDataset& coarse, DatasetRef fine, const Model<double>& model,
                       const ParamVector<double>& at, const std::vector<std::size_t>& train,
                       const std::vector<InitialOffsets<double>>& offsets, int threads);
 
@@ -39,16 +39,16 @@ void correct_for_grid(data::Dataset& coarse, const data::Dataset& fine, const Mo
 // of a few iterations can end worse than the baseline; diagnose.cpp keeps the better of the two).
 // With `coarse` (coarse_dataset of `dataset`): coarse_stage, then polish (below). Without a
 // reading on the coarse grid, the fine fit alone.
-Refit refit_with(const MotorFile& with_effect, int effect, const ParamVector<double>& start, const data::Dataset& dataset,
+Refit refit_with(const MotorFile& with_effect, int effect, const ParamVector<double>& start, DatasetRef dataset,
                  const std::vector<std::size_t>& train, const LmSettings& settings, const LmProgress& progress,
-                 const data::Dataset* coarse = nullptr);
+                 const SharedDataset* coarse = nullptr);
 
 // The fit on `coarse` alone, a tenth of the work per iteration: where a start leads. Empty where
 // the coarse grid keeps no reading of the training cycles (a sensor sampled off its 1 s instants:
 // the fit must run on the data's own grid). diagnose compares its starts here and polishes the
 // better one only: the polish costs ten times a coarse iteration.
 std::optional<LmReport> coarse_stage(const MotorFile& with_effect, const ParamVector<double>& start,
-                                     const data::Dataset& coarse, const std::vector<std::size_t>& train,
+                                     DatasetRef coarse, const std::vector<std::size_t>& train,
                                      const LmSettings& settings, const LmProgress& progress);
 
 // The fit on `dataset` from where `on_coarse` ended (its parameters and the cycles' initial
@@ -57,7 +57,7 @@ std::optional<LmReport> coarse_stage(const MotorFile& with_effect, const ParamVe
 // absent effect) it ends elsewhere on it than a fit without the coarse stage would (docs/hardening.md, "Scale:
 // a fleet dump of 200 hours"). After a coarse fit that used up its iterations, at most
 // kCrawlPolishIterations.
-Refit polish(const MotorFile& with_effect, int effect, const LmReport& on_coarse, const data::Dataset& dataset,
+Refit polish(const MotorFile& with_effect, int effect, const LmReport& on_coarse, DatasetRef dataset,
              const std::vector<std::size_t>& train, const LmSettings& settings, const LmProgress& progress);
 
 constexpr int kCrawlPolishIterations = 3;

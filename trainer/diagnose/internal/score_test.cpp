@@ -92,7 +92,7 @@ bool scored_jointly(int effect) {
 
 }  // namespace
 
-Score score_test(const MotorFile& with_effect, int effect, const LmReport& baseline, const data::Dataset& dataset,
+Score score_test(const MotorFile& with_effect, int effect, const LmReport& baseline, DatasetRef dataset,
                  const std::vector<std::size_t>& train, int threads) {
   const FreeParameters free = linear_in_effect(with_effect, effect);
   const ParamVector<double> at = neutral_point(baseline.values, effect);
@@ -105,7 +105,7 @@ Score score_test(const MotorFile& with_effect, int effect, const LmReport& basel
 }
 
 std::vector<Score> score_tests(const MotorFile& motor, const std::vector<int>& effects, const LmReport& baseline,
-                               const data::Dataset& dataset, const std::vector<std::size_t>& train, int threads,
+                               DatasetRef dataset, const std::vector<std::size_t>& train, int threads,
                                const std::function<void(int)>& scoring) {
   std::vector<Score> out(effects.size());
   // Every effect that can be switched on at its neutral value beside the others: one simulation

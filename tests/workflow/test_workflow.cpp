@@ -1,0 +1,193 @@
+// A calibration and a diagnosis from a request, as a program other than lptn runs them (no command
+// line): the result scored and judged, each method's own details, the events in their order, bad
+// requests refused before any file is read, the diagnosis with its words and whether the data is
+// the calibration's.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "hostio/bad_input.hpp"
+#include "lptn_testing/temp_dir.hpp"
+#include "simulator/generate/generate.hpp"
+#include "trainer/calibrate/calibration_result.hpp"
+#include "trainer/diagnose/diagnosis_text.hpp"
+#include "trainer/workflow/calibrate.hpp"
+#include "trainer/workflow/diagnose.hpp"
+
+namespace lptn::workflow {
+namespace {
+
+class Workflow : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new testing::TempDir;
+    gen::GenerateOptions o;
+    o.cycles = 3;
+    o.seed = 4;
+    o.min_duration_s = 20 * 60;
+    o.max_duration_s = 25 * 60;
+    gen::generate(o, dir_->path());
+  }
+  static void TearDownTestSuite() { delete dir_; }
+  static CalibrationRequest request(const std::string& method) {
+    CalibrationRequest q;
+    q.data = {dir_->path().string()};
+    q.motor = (dir_->path() / "motor.toml").string();
+    q.method = method;
+    q.test_cycles = {"cycle_02_regional"};
+    return q;
+  }
+  static testing::TempDir* dir_;
+};
+testing::TempDir* Workflow::dir_ = nullptr;
+
+// What a caller hears, in order.
+struct Heard {
+  std::vector<std::string> said;
+  CalibrationPlan plan;
+  CalibrationEvents events() {
+    CalibrationEvents e;
+    e.input_warnings = [this](const std::vector<std::string>&) { said.push_back("warnings"); };
+    e.started = [this](const CalibrationPlan& p) {
+      said.push_back("started");
+      plan = p;
+    };
+    e.progress = [this](const std::string& line, bool) { said.push_back(line); };
+    return e;
+  }
+};
+
+TEST_F(Workflow, LmIsFittedScoredAndJudgedWithItsDetails) {
+  Heard heard;
+  const CalibrationResult r = calibrate(request("lm"), heard.events());
+  EXPECT_EQ(r.method, "lm");
+  EXPECT_TRUE(r.details.contains("iterations") && r.details.contains("correlation")) << r.details.dump();
+  EXPECT_EQ(r.test_cycles, std::vector<std::string>{"cycle_02_regional"});
+  ASSERT_EQ(r.test.cycles.size(), 1u);
+  // Scored: the test cycle at the sensors' noise (0.4 K stator), not the guess's 18 K.
+  EXPECT_LT(r.test.stator.rmse_k, 0.6);
+  EXPECT_LT(r.train.stator.rmse_k, 0.6);
+  // Judged: a status, and no parameter marked calibrated without a value.
+  EXPECT_TRUE(r.status == kStatusOk || r.status == kStatusWarnings) << r.status;
+  for (const ParameterResult& p : r.parameters) EXPECT_TRUE(std::isfinite(p.value)) << p.name;
+  // The inspection's warnings first, then the plan, then LM's iterations.
+  ASSERT_GE(heard.said.size(), 3u);
+  EXPECT_EQ(heard.said[0], "warnings");
+  EXPECT_EQ(heard.said[1], "started");
+  EXPECT_EQ(heard.said[2].rfind("lm: iteration", 0), 0u) << heard.said[2];
+  EXPECT_EQ(heard.plan.method, "lm");
+  EXPECT_EQ(heard.plan.train_cycles, 2u);
+  EXPECT_EQ(heard.plan.test_cycles, 1u);
+  EXPECT_EQ(heard.plan.motors, 0u);
+}
+
+// The search baselines record their own details and settings, and leave what the data cannot see
+// the motor file's (the workflow's rule for every method but LM, which judges as it fits).
+TEST_F(Workflow, ASearchRecordsItsBudgetAndDetails) {
+  CalibrationRequest q = request("cma-es");
+  q.budget_steps = 3'000'000;
+  Heard heard;
+  const CalibrationResult r = calibrate(q, heard.events());
+  EXPECT_EQ(r.method, "cma-es");
+  EXPECT_EQ(r.settings["budget_steps"], 3'000'000);
+  EXPECT_GE(r.details["simulated_steps"].get<double>(), 3e6);
+  EXPECT_LT(r.test.stator.rmse_k, 5.0);  // the guess is 18 K off; even this budget gets far below it
+  bool progress = false;
+  for (const std::string& s : heard.said) progress = progress || s.rfind("cma-es:", 0) == 0;
+  EXPECT_TRUE(progress);
+}
+
+// A request that cannot run is refused by its option before any file is read: the data here does
+// not exist, and the message is still the option's.
+TEST_F(Workflow, BadRequestsAreRefusedByTheirOption) {
+  auto refused = [](const CalibrationRequest& q, CalibrationMethod td3 = nullptr) -> std::string {
+    try {
+      check_request(q, td3);
+    } catch (const BadInput& e) {
+      return e.what();
+    }
+    return "accepted";
+  };
+  CalibrationRequest q = request("td3");
+  q.data = {"/nonexistent"};
+  EXPECT_NE(refused(q).find("no TD3 calibrator"), std::string::npos) << refused(q);
+  q.method = "simplex";
+  EXPECT_NE(refused(q).find("--method simplex: not a calibration method (lm, td3"), std::string::npos) << refused(q);
+  q.method = "lm";
+  q.effects = {"windage", "no_such_effect"};
+  EXPECT_NE(refused(q).find("no_such_effect"), std::string::npos) << refused(q);
+  q.effects.clear();
+  q.warm_start = "earlier.json";
+  EXPECT_NE(refused(q).find("--warm-start: only with --method td3"), std::string::npos) << refused(q);
+  q.warm_start.clear();
+  q.fleet = "/nonexistent-fleet";
+  EXPECT_NE(refused(q).find("--data and --fleet"), std::string::npos) << refused(q);
+  q.data.clear();
+  q.sensor_faults = {"stator:offset:+1:cycle_01"};
+  EXPECT_NE(refused(q).find("--sensor-fault: not with --fleet"), std::string::npos) << refused(q);
+  EXPECT_THROW(calibrate(q), BadInput);  // a fleet is calibrate_fleet's
+  q.sensor_faults.clear();
+  q.data = {"/nonexistent"};
+  q.fleet.clear();
+  EXPECT_EQ(refused(q), "accepted");
+}
+
+// The calibration's own data: diagnosed on its split, said to be its data, the words beside it.
+// Another dump of the same motor (same cycle names, other drives): said not to be, with what to
+// run instead.
+TEST_F(Workflow, ADiagnosisSaysWhetherTheDataIsTheCalibrations) {
+  testing::TempDir t;
+  const std::string calibration = (t.path() / "calibration.json").string();
+  save_calibration(calibrate(request("lm")), calibration);
+  DiagnosisRequest q;
+  q.data = {dir_->path().string()};
+  q.calibration = calibration;
+  DiagnosisPlan plan;
+  std::vector<std::string> stages;
+  DiagnosisEvents events;
+  events.started = [&](const DiagnosisPlan& p) { plan = p; };
+  events.progress = [&](const std::string& s) { stages.push_back(s); };
+  const DiagnosisOutcome o = diagnose(q, events);
+  EXPECT_TRUE(plan.provenance.all_seen());
+  EXPECT_TRUE(plan.not_its_data.empty()) << plan.not_its_data;
+  EXPECT_EQ(plan.train_cycles, 2u);
+  EXPECT_EQ(plan.test_cycles, 1u);  // the calibration's split
+  EXPECT_NE(plan.calibration_figures.find("train stator "), std::string::npos) << plan.calibration_figures;
+  ASSERT_EQ(o.rounds.size(), 1u);
+  EXPECT_FALSE(o.updated.has_value());
+  EXPECT_FALSE(stages.empty());
+  EXPECT_EQ(o.json["data"]["calibration_data"], true);
+  EXPECT_EQ(o.json["data"]["refit"], true);
+  const std::string text = diagnose::diagnosis_text(o.last(), q.level);
+  EXPECT_EQ(text.rfind("the baseline refit from the calibration's values", 0), 0u) << text;
+  EXPECT_NE(text.find("the model against its sensors' noise"), std::string::npos) << text;
+
+  testing::TempDir other;
+  gen::GenerateOptions g;
+  g.cycles = 3;
+  g.seed = 5;
+  g.min_duration_s = 20 * 60;
+  g.max_duration_s = 25 * 60;
+  gen::generate(g, other.path());
+  q.data = {other.path().string()};
+  q.automatic = true;
+  q.updated_calibration = true;
+  const DiagnosisOutcome elsewhere = diagnose(q, events);
+  EXPECT_FALSE(plan.provenance.all_seen());
+  EXPECT_NE(plan.not_its_data.find("this is not the calibration's data"), std::string::npos) << plan.not_its_data;
+  EXPECT_NE(plan.not_its_data.find("lptn check --data " + other.path().string() + " --calibration " + calibration),
+            std::string::npos) << plan.not_its_data;
+  EXPECT_EQ(elsewhere.json["data"]["calibration_data"], false);
+  ASSERT_TRUE(elsewhere.updated.has_value());
+  EXPECT_EQ(elsewhere.updated->method, "lm");
+  EXPECT_EQ(elsewhere.json["rounds"].size(), elsewhere.rounds.size());
+
+  q.level = 0.7;
+  EXPECT_THROW(diagnose(q), BadInput);
+}
+
+}  // namespace
+}  // namespace lptn::workflow
