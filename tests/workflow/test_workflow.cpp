@@ -135,6 +135,19 @@ TEST_F(Workflow, BadRequestsAreRefusedByTheirOption) {
   EXPECT_EQ(refused(q), "accepted");
 }
 
+// What the data refuses is said once, by the option that brought it.
+TEST_F(Workflow, ASensorFaultOnACycleTheDataLacksNamesItsOption) {
+  CalibrationRequest q = request("lm");
+  q.sensor_faults = {"stator:offset:+2:no_such_cycle"};
+  try {
+    calibrate(q);
+    FAIL() << "calibrated around a fault on a cycle the data lacks";
+  } catch (const BadInput& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("--sensor-fault: no cycle named 'no_such_cycle' in the data (cycles: cycle_01_", 0), 0u)
+        << e.what();
+  }
+}
+
 // The calibration's own data: diagnosed on its split, said to be its data, the words beside it.
 // Another dump of the same motor (same cycle names, other drives): said not to be, with what to
 // run instead.

@@ -108,7 +108,7 @@ SensorFault resolve(const SensorFaultSpec& spec, const Dataset& dataset) {
     }
   std::string known;
   for (const Cycle& c : dataset.cycles) known += (known.empty() ? "" : ", ") + c.name;
-  throw BadInput("--sensor-fault: no cycle named '" + spec.first_cycle + "' in the data (cycles: " + known + ")");
+  throw BadInput("no cycle named '" + spec.first_cycle + "' in the data (cycles: " + known + ")");
 }
 
 void correct_readings(Dataset& dataset, const SensorFault& fault) {
