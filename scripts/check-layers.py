@@ -22,23 +22,25 @@ import sys
 # Longest prefix first wins. The generated headers (lptn/can/*, lptn/bus/*, lptn/version.hpp) belong to the
 # modules that generate them.
 MODULES = [
-    "common", "can-dbc", "hostio",
+    "common", "can/codecs", "hostio",
     "firmware/include", "firmware/linux", "firmware/baremetal", "firmware/calibration", "firmware/bench",
     "trainer/data", "trainer/model", "trainer/calibrate", "trainer/lm", "trainer/td3", "trainer/search", "trainer/diagnose",
     "trainer/fleet", "trainer/check", "trainer/workflow",
-    "simulator/plant", "simulator/generate", "tools/export", "tools/dbc", "tools/bus", "tools/canfile", "tools/canlog",
-    "tools/replay", "tools/report",
+    "simulator/plant", "simulator/generate",
+    "can/dbc", "can/bus", "can/canfile", "can/canlog",
+    "tools/export", "tools/replay", "tools/report",
     "programs/cli", "programs/vcan-bench",
     "tests",
 ]
 
 # Direct dependencies: the layers, bottom up. common/, the CAN codecs and hostio/ know nothing of
-# each other; firmware/ and trainer/ stand on them and never on each other; tools/ on top.
+# each other; firmware/ and trainer/ stand on them and never on each other; the CAN wing's host
+# side (can/: DBC and bus map at run time, log formats, conversion) beside trainer/; tools/ on top.
 DEPENDS = {
     "common": [],
-    "can-dbc": [],
+    "can/codecs": [],
     "hostio": [],
-    "firmware/include": ["common", "can-dbc"],
+    "firmware/include": ["common", "can/codecs"],
     "firmware/calibration": ["common"],
     "firmware/linux": ["firmware/include", "hostio"],
     "firmware/baremetal": ["firmware/include", "firmware/calibration"],
@@ -60,28 +62,28 @@ DEPENDS = {
     "trainer/workflow": ["trainer/search", "trainer/fleet", "trainer/check"],
     "simulator/plant": ["common"],
     "simulator/generate": ["simulator/plant", "trainer/model"],
-    "tools/export": ["trainer/calibrate"],
-    "tools/dbc": ["hostio"],
+    "can/dbc": ["hostio"],
     # A bus map read at run time: the firmware's decoder interface over a DBC read at run time.
-    "tools/bus": ["firmware/include", "tools/dbc"],
-    "tools/canfile": ["firmware/linux"],
-    "tools/canlog": ["trainer/data", "tools/canfile", "tools/bus"],
-    "tools/replay": ["trainer/calibrate", "tools/canfile", "firmware/calibration"],
+    "can/bus": ["firmware/include", "can/dbc"],
+    "can/canfile": ["firmware/linux"],
+    "can/canlog": ["trainer/data", "can/canfile", "can/bus"],
+    "tools/export": ["trainer/calibrate"],
+    "tools/replay": ["trainer/calibrate", "can/canfile", "firmware/calibration"],
     "tools/report": ["trainer/diagnose", "trainer/fleet", "trainer/check"],
-    "programs/cli": ["simulator/generate", "tools/export", "tools/bus", "tools/canfile", "tools/canlog", "tools/replay",
+    "programs/cli": ["simulator/generate", "tools/export", "can/bus", "can/canfile", "can/canlog", "tools/replay",
                   "tools/report", "trainer/td3", "trainer/workflow"],
-    "programs/vcan-bench": ["tools/replay", "tools/bus"],
+    "programs/vcan-bench": ["tools/replay", "can/bus"],
     "tests": [m for m in MODULES if m not in ("tests", "firmware/bench")],
 }
 
 # Internal headers the tests of a module may reach (its own tests, beside the code).
 INTERNAL_FOR_TESTS = {"common", "trainer/diagnose", "trainer/data", "trainer/td3", "trainer/search",
-                      "trainer/fleet", "tools/canfile", "hostio"}
+                      "trainer/fleet", "can/canfile", "hostio"}
 
 # Module roots a quoted include may be relative to, and headers generated into the build tree.
 ROOTS = ["", "common", "firmware/include", "tests/support"]
 # thermal_calibration.hpp: headers the tests export at build time.
-GENERATED = {"lptn/version.hpp": "common", "lptn/can/": "can-dbc", "lptn/bus/": "can-dbc", "thermal_calibration.hpp": "tests"}
+GENERATED = {"lptn/version.hpp": "common", "lptn/can/": "can/codecs", "lptn/bus/": "can/codecs", "thermal_calibration.hpp": "tests"}
 SOURCE_EXTENSIONS = (".hpp", ".cpp", ".h", ".cc")
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"')
 
@@ -181,7 +183,7 @@ def self_test():
         "firmware/linux/replay.hpp": "",
         "tools/replay/run.cpp": '#include "replay.hpp"\n#include "programs/cli/commands.hpp"\n',  # bare; tool into cli
         "programs/cli/commands.hpp": "",
-        "tools/canlog/convert.cpp": '#include "trainer/data/internal/raw.hpp"\n',  # another module's internal
+        "can/canlog/convert.cpp": '#include "trainer/data/internal/raw.hpp"\n',  # another module's internal
         "tests/data/t.cpp": '#include "trainer/data/internal/raw.hpp"\n',  # a module's tests: allowed
     }
     with tempfile.TemporaryDirectory() as d:
@@ -191,7 +193,7 @@ def self_test():
                 f.write(text)
         problems, _ = check(d)
     expected = ["trainer/calibrate/problem.cpp:1:", "firmware/include/lptn/firmware/observer.hpp:1:",
-                "tools/replay/run.cpp:1:", "tools/replay/run.cpp:2:", "tools/canlog/convert.cpp:1:"]
+                "tools/replay/run.cpp:1:", "tools/replay/run.cpp:2:", "can/canlog/convert.cpp:1:"]
     found = sorted(p.split(" ")[0] for p in problems)
     if found != sorted(expected):
         print("check-layers self-test: expected problems at", sorted(expected), "got:")

@@ -1,5 +1,5 @@
 // Where a replay gets its frames, one record of a log at a time: a candump log here (what the
-// daemon replays on the target), Vector ASC and BLF on the host (tools/canfile).
+// daemon replays on the target), Vector ASC and BLF on the host (can/canfile).
 #pragma once
 
 #include <cstddef>

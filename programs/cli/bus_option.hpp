@@ -6,7 +6,7 @@
 #include <memory>
 #include <string>
 
-#include "tools/bus/bus_map.hpp"
+#include "can/bus/bus_map.hpp"
 #include "programs/cli/commands.hpp"
 
 namespace lptn::cli {

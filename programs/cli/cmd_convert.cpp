@@ -14,9 +14,9 @@
 #include <type_traits>
 #include <vector>
 
-#include "tools/canfile/can_log.hpp"
-#include "tools/canlog/bus_channels.hpp"
-#include "tools/canlog/convert.hpp"
+#include "can/canfile/can_log.hpp"
+#include "can/canlog/bus_channels.hpp"
+#include "can/canlog/convert.hpp"
 #include "programs/cli/bus_option.hpp"
 #include "programs/cli/data_map_option.hpp"
 #include "programs/cli/blas_threads.hpp"
@@ -66,7 +66,7 @@ std::string footer() {
          "stamps counted from the first frame, whose time starts the file (ASC's date, BLF's and MDF4's header).\n"
          "\n"
          "CSV -> log: the CSV is loaded as every lptn command loads it (0.1 s grid, the loader's gap\n"
-         "rules). Each input message of can-dbc/lptn.dbc goes out every cycle time, shortly after its\n"
+         "rules). Each input message of can/codecs/lptn.dbc goes out every cycle time, shortly after its\n"
          "grid point, with the grid values there:\n" +
          messages_help() +
          "A message is not sent where one of its columns has no value (never, if the column is absent).\n"

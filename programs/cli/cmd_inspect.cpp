@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "tools/canfile/can_log.hpp"
-#include "tools/canlog/convert.hpp"
+#include "can/canfile/can_log.hpp"
+#include "can/canlog/convert.hpp"
 #include "programs/cli/bus_option.hpp"
 #include "programs/cli/commands.hpp"
 #include "programs/cli/data_map_option.hpp"

@@ -175,7 +175,7 @@ void add_replay(CLI::App& app) {
   fleet->excludes(calibration);
   cmd->add_option("--bus", args->bus,
                   "Bus map (bus.toml) naming the converter DBC's messages and signals that carry each input "
-                  "(default: our own TC_* frames, can-dbc/bus.toml)");
+                  "(default: our own TC_* frames, can/codecs/bus.toml)");
   cmd->add_option("--out", args->out, "CSV of estimates and status to write; a directory if --log is one")->required();
   cmd->add_option("--threads", args->threads, "--log DIR: how many logs at once (default: one per core)")
       ->check(CLI::Range(1, 256));

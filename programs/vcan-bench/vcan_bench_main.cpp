@@ -29,7 +29,7 @@
 #include "lptn/firmware/output_frames.hpp"
 #include "lptn/can/lptn_frames.hpp"
 #include "tools/replay/calibrated_estimator.hpp"
-#include "tools/bus/bus_map.hpp"
+#include "can/bus/bus_map.hpp"
 #include "tools/replay/replay_to_csv.hpp"
 #include "trainer/calibrate/calibration_file.hpp"
 

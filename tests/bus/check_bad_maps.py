@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
-"""Bad bus maps, both routes: the build's generator (can-dbc/bus_codegen.py) and `lptn convert
---bus` (the run-time reader, tools/bus) must refuse each with one line naming the map, the line
+"""Bad bus maps, both routes: the build's generator (can/codecs/bus_codegen.py) and `lptn convert
+--bus` (the run-time reader, can/bus) must refuse each with one line naming the map, the line
 and the key, and say the same thing; nothing is written.
 
     check_bad_maps.py BUS_CODEGEN LPTN FOREIGN_DIR

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Runs can-dbc/dbc_codegen.py over the real DBC files in tests/can/corpus/ and compiles what it
+"""Runs can/codecs/dbc_codegen.py over the real DBC files in tests/can/corpus/ and compiles what it
 writes (ctest can.corpus).
 
     check_corpus.py --generator GEN --compiler CXX --corpus DIR --work DIR [--jobs N]

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Runs can-dbc/dbc_codegen.py as the build does and checks what it did (ctest, label can).
+"""Runs can/codecs/dbc_codegen.py as the build does and checks what it did (ctest, label can).
 
     check_generator.py rejects GENERATOR DBC LINE REASON
         exit status 1, stderr exactly one line "DBC:LINE: ..." that contains REASON, nothing on

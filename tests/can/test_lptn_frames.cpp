@@ -1,4 +1,4 @@
-// The codecs generated from can-dbc/lptn.dbc: frames computed by hand, every message against the
+// The codecs generated from can/codecs/lptn.dbc: frames computed by hand, every message against the
 // reference layout and its DBC scaling, and the ids the LPTN node receives and sends.
 #include <gtest/gtest.h>
 

@@ -10,8 +10,8 @@
 
 #include "hostio/line_reader.hpp"
 #include "lptn/firmware/candump_line.hpp"
-#include "tools/canfile/can_log.hpp"
-#include "tools/canfile/internal/block_line_reader.hpp"
+#include "can/canfile/can_log.hpp"
+#include "can/canfile/internal/block_line_reader.hpp"
 
 namespace lptn::canfile {
 namespace {

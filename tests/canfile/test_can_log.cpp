@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "lptn_testing/temp_dir.hpp"
-#include "tools/canfile/can_log.hpp"
+#include "can/canfile/can_log.hpp"
 
 namespace lptn::canfile {
 namespace {

@@ -1,4 +1,4 @@
-// MDF4 bus logging files (tools/canfile/mdf4_read.cpp, mdf4_write.cpp): CANedge loggers' files
+// MDF4 bus logging files (can/canfile/mdf4_read.cpp, mdf4_write.cpp): CANedge loggers' files
 // (corpus/mdf4, README.md there) frame for frame against their reference frames; what lptn writes
 // read back as the candump log of the same frames; files built here block by block for what neither
 // has (sorted groups, signal data, DL lists with offsets, plain deflate, 2-byte record ids, several
@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "lptn_testing/temp_dir.hpp"
-#include "tools/canfile/can_log.hpp"
+#include "can/canfile/can_log.hpp"
 
 namespace lptn::canfile {
 namespace {

@@ -1,9 +1,9 @@
 #!/usr/bin/env python3
-"""Holds the run-time DBC reader (tools/dbc, through dump_dbc) to the build-time generator's
-reading (can-dbc/dbc_codegen.py) on every DBC file the project has: our own, the generator's good,
+"""Holds the run-time DBC reader (can/dbc, through dump_dbc) to the build-time generator's
+reading (can/codecs/dbc_codegen.py) on every DBC file the project has: our own, the generator's good,
 warning and bad cases, the foreign converter's, and the real-world corpus (ctest dbc.reader).
 
-    check_reader.py --generator can-dbc/dbc_codegen.py --dump DUMP_DBC FILE_OR_DIR...
+    check_reader.py --generator can/codecs/dbc_codegen.py --dump DUMP_DBC FILE_OR_DIR...
 
 For each file both must agree on the outcome: the same refusal (line and reason), or the same
 frames (ids, lengths, every signal's layout, scaling, unit and multiplexing, cycle times), and

@@ -1,5 +1,5 @@
-// Prints what tools/dbc reads from a DBC file, for check_reader.py to hold against
-// can-dbc/dbc_codegen.py: one JSON object, {"error": "LINE: reason"} or the frames, and with
+// Prints what can/dbc reads from a DBC file, for check_reader.py to hold against
+// can/codecs/dbc_codegen.py: one JSON object, {"error": "LINE: reason"} or the frames, and with
 // --frames N the raw and physical value of every signal each message carries in N pseudo-random
 // payloads (a fixed xorshift sequence both sides draw alike).
 #include <cstdint>
@@ -7,7 +7,7 @@
 #include <cstdlib>
 #include <string>
 
-#include "tools/dbc/dbc.hpp"
+#include "can/dbc/dbc.hpp"
 
 namespace {
 

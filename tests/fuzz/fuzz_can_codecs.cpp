@@ -1,4 +1,4 @@
-// Fuzz target: the codecs generated from can-dbc/lptn.dbc (lptn/can/lptn_frames.hpp) on any
+// Fuzz target: the codecs generated from can/codecs/lptn.dbc (lptn/can/lptn_frames.hpp) on any
 // payload. Input: up to 8 payload bytes (fewer: a short frame), then, if present, 8 more read as
 // a double to encode.
 //

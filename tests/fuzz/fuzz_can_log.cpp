@@ -1,4 +1,4 @@
-// Fuzz target: a whole CAN log file (tools/canfile: candump, Vector ASC, Vector BLF), as `lptn
+// Fuzz target: a whole CAN log file (can/canfile: candump, Vector ASC, Vector BLF), as `lptn
 // replay` and `lptn convert` read them. Input: one byte choosing the format (its value modulo 3:
 // candump, ASC, BLF), then the file's bytes.
 //
@@ -10,7 +10,7 @@
 #include <memory>
 
 #include "fuzz_check.hpp"
-#include "tools/canfile/can_log.hpp"
+#include "can/canfile/can_log.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using lptn::canfile::LogFormat;

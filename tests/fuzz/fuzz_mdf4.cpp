@@ -1,4 +1,4 @@
-// Fuzz target: an MDF4 bus logging file (tools/canfile/mdf4_read.cpp), as `lptn replay` and `lptn
+// Fuzz target: an MDF4 bus logging file (can/canfile/mdf4_read.cpp), as `lptn replay` and `lptn
 // convert` read it. Input: the file's bytes.
 //
 // Reading must end, whatever the bytes (links that loop, lists of absurd length, zipped blocks
@@ -11,7 +11,7 @@
 #include <memory>
 
 #include "fuzz_check.hpp"
-#include "tools/canfile/can_log.hpp"
+#include "can/canfile/can_log.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size < 1) return 0;

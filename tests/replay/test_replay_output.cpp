@@ -21,7 +21,7 @@
 #include "lptn_testing/temp_dir.hpp"
 #include "firmware/linux/csv_number.hpp"
 #include "firmware/linux/estimate_csv.hpp"
-#include "tools/canfile/can_log.hpp"
+#include "can/canfile/can_log.hpp"
 
 namespace lptn {
 namespace {

@@ -9,7 +9,7 @@
 
 #include "lptn/firmware/estimator_config.hpp"
 #include "firmware/linux/replay.hpp"
-#include "tools/canfile/can_log.hpp"
+#include "can/canfile/can_log.hpp"
 
 namespace lptn::replay {
 

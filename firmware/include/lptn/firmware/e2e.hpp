@@ -6,7 +6,7 @@
 // The CRC is CRC-8 SAE J1850 (polynomial 0x1D, initial value 0xFF, final XOR 0xFF; check value
 // 0x4B over "123456789"), run over the data id's low byte, its high byte, then the frame's bytes
 // in order, skipping the CRC byte. The data id is a 16-bit number both ends agree on: for lptn's
-// own frames (can-dbc/lptn.dbc) the message's DBC id, whatever CAN id it is sent with.
+// own frames (can/codecs/lptn.dbc) the message's DBC id, whatever CAN id it is sent with.
 // No heap, no exceptions, no table: a bitwise loop (at most 66 bytes a frame).
 #pragma once
 

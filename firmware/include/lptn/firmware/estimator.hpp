@@ -20,7 +20,7 @@
 
 namespace lptn::fw {
 
-// As the status frame's Mode (can-dbc/lptn.dbc).
+// As the status frame's Mode (can/codecs/lptn.dbc).
 enum class Mode : std::uint8_t { normal = 0, degraded = 1, conservative = 2, not_initialized = 3 };
 
 // Bits of the status frame's BusEvents: what happened since the previous tick.

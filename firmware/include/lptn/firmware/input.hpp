@@ -1,4 +1,4 @@
-// The observer's inputs, numbered as the bits of the status frame's input masks (can-dbc/lptn.dbc,
+// The observer's inputs, numbered as the bits of the status frame's input masks (can/codecs/lptn.dbc,
 // LPTN_Status: StaleInputs, ImplausibleInputs, SubstitutedInputs).
 #pragma once
 

@@ -19,7 +19,7 @@
 
 namespace lptn::fw {
 
-// The frames in the order pack_outputs fills them, with lptn.dbc's ids. can-dbc/bus_vocabulary.py
+// The frames in the order pack_outputs fills them, with lptn.dbc's ids. can/codecs/bus_vocabulary.py
 // lists the same names for the maps' [outputs]; the assertion below holds the two lists equal.
 struct OutputFrame {
   const char* name;
@@ -49,7 +49,7 @@ template <class Msg>
 CanFrame protect(const Msg& message, std::uint8_t counter) {
   constexpr int kCrcByte = crc_byte<Msg>();
   Msg m = message;
-  static_assert(kCrcByte >= 0, "every LPTN_* message carries a Crc signal (can-dbc/lptn.dbc)");
+  static_assert(kCrcByte >= 0, "every LPTN_* message carries a Crc signal (can/codecs/lptn.dbc)");
   if constexpr (requires { m.counter; }) {
     m.counter = static_cast<std::uint8_t>(counter & 0xF);
   } else {
@@ -67,7 +67,7 @@ constexpr bool same_output_names() {
     if (std::string_view(lptn::bus::kOutputNames[i]) != kOutputFrames[i].name) return false;
   return true;
 }
-static_assert(same_output_names(), "can-dbc/bus_vocabulary.py's OUTPUTS and kOutputFrames list the frames alike");
+static_assert(same_output_names(), "can/codecs/bus_vocabulary.py's OUTPUTS and kOutputFrames list the frames alike");
 
 }  // namespace internal
 

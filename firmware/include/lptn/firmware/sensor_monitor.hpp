@@ -11,7 +11,7 @@
 
 namespace lptn::fw {
 
-// As the status frame's StatorSensorState (can-dbc/lptn.dbc).
+// As the status frame's StatorSensorState (can/codecs/lptn.dbc).
 enum class SensorState : std::uint8_t { fused = 0, rejected = 1, unavailable = 2, failed_open_loop = 3 };
 
 template <class T>

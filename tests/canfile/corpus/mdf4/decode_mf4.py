@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """A second, deliberately simple reading of the MDF4 bus logging files in this directory, written
-apart from tools/canfile/mdf4_read.cpp (channel by channel, as a generic MDF reader would: every
+apart from can/canfile/mdf4_read.cpp (channel by channel, as a generic MDF reader would: every
 channel of a group decoded by name into columns, then the columns combined into frames), to make
 the reference frames *.frames.txt that tests/canfile/test_mdf4.cpp compares lptn's reader with.
 

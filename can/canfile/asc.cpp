@@ -1,0 +1,311 @@
+// Vector ASC, the text log of CANoe and CANalyzer (and python-can's ASCWriter):
+//   date Tue Nov 24 06:30:55.123 am 2026
+//   base hex  timestamps absolute
+//   Begin Triggerblock Tue Nov 24 06:30:55.123 am 2026
+//      0.012345 1  101             Rx   d 8 0A 1B 2C 3D 00 00 00 05  Length = 0 BitCount = 0 ID = 257
+//      0.013000 1  18FEF100x       Rx   d 3 01 02 03
+//      0.014000 1  200             Rx   r 8
+//      0.015000 1  ErrorFrame
+//      0.016000 CANFD   1 Rx      101  Name  1 0 f 64 00 01 ... 0 0 1000 0 0 0 0 0
+//   End TriggerBlock
+// Time stamps count from the measurement's start (each from the one before with "timestamps
+// relative"); ids and data are hexadecimal, or decimal with "base dec". Lines of other events
+// (statistics, system variables, "Start of measurement") carry no frame and are passed over.
+#include <array>
+#include <cctype>
+#include <cstdint>
+#include <ctime>
+#include <string>
+
+#include "can/canfile/internal/block_line_reader.hpp"
+#include "can/canfile/internal/formats.hpp"
+
+namespace lptn::canfile {
+namespace {
+
+using fw::CanFrame;
+using fw::FrameSource;
+using fw::TimeUs;
+
+// Whitespace-separated fields of one line; more than kMax are not looked at.
+struct Fields {
+  static constexpr std::size_t kMax = 96;
+  std::array<std::string_view, kMax> f;
+  std::size_t n = 0;
+  explicit Fields(std::string_view line) {
+    std::size_t i = 0;
+    while (n < kMax) {
+      while (i < line.size() && (line[i] == ' ' || line[i] == '\t' || line[i] == '\r')) ++i;
+      if (i == line.size()) break;
+      const std::size_t start = i;
+      while (i < line.size() && line[i] != ' ' && line[i] != '\t' && line[i] != '\r') ++i;
+      f[n++] = line.substr(start, i - start);
+    }
+  }
+  std::string_view operator[](std::size_t k) const { return k < n ? f[k] : std::string_view{}; }
+};
+
+bool iequals(std::string_view a, std::string_view b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t i = 0; i < a.size(); ++i)
+    if (std::tolower(static_cast<unsigned char>(a[i])) != std::tolower(static_cast<unsigned char>(b[i]))) return false;
+  return true;
+}
+
+bool istarts_with(std::string_view s, std::string_view prefix) {
+  return s.size() >= prefix.size() && iequals(s.substr(0, prefix.size()), prefix);
+}
+
+// "12.345678" (any number of decimals) in microseconds, rounded; false if it is no such number.
+bool seconds_us(std::string_view s, TimeUs& out) {
+  const std::size_t dot = s.find('.');
+  const std::string_view whole = s.substr(0, dot);
+  const std::string_view frac = dot == std::string_view::npos ? std::string_view{} : s.substr(dot + 1);
+  if (whole.empty() || whole.size() > 12) return false;
+  TimeUs sec = 0, us = 0;
+  for (char c : whole) {
+    if (c < '0' || c > '9') return false;
+    sec = sec * 10 + (c - '0');
+  }
+  TimeUs scale = 100000;
+  bool round_up = false;
+  for (std::size_t i = 0; i < frac.size(); ++i) {
+    const char c = frac[i];
+    if (c < '0' || c > '9') return false;
+    if (i < 6) {
+      us += (c - '0') * scale;
+      scale /= 10;
+    } else if (i == 6) {
+      round_up = c >= '5';
+    }
+  }
+  out = sec * fw::kUsPerS + us + (round_up ? 1 : 0);
+  return true;
+}
+
+bool number(std::string_view s, int base, std::uint32_t max, std::uint32_t& out) {
+  if (s.empty() || s.size() > 10) return false;
+  std::uint64_t v = 0;
+  for (char c : s) {
+    int d;
+    if (c >= '0' && c <= '9') d = c - '0';
+    else if (base == 16 && c >= 'a' && c <= 'f') d = c - 'a' + 10;
+    else if (base == 16 && c >= 'A' && c <= 'F') d = c - 'A' + 10;
+    else return false;
+    v = v * static_cast<unsigned>(base) + static_cast<unsigned>(d);
+  }
+  if (v > max) return false;
+  out = static_cast<std::uint32_t>(v);
+  return true;
+}
+
+// "101" or "18FEF100x" (extended).
+const char* parse_id(std::string_view s, int base, CanFrame& f) {
+  f.extended = !s.empty() && (s.back() == 'x' || s.back() == 'X');
+  if (f.extended) s.remove_suffix(1);
+  if (!number(s, base, f.extended ? 0x1FFFFFFFu : 0x7FFu, f.id))
+    return f.extended ? "extended id is not a number below 0x20000000" : "id is not a number of 11 bits (an 'x' marks an extended id)";
+  return nullptr;
+}
+
+// No log spans more (seconds_us reads at most 12 digits of seconds, about 31,700 years).
+constexpr TimeUs kMaxTimeUs = TimeUs{100} * 366 * 86400 * fw::kUsPerS;
+
+bool is_direction(std::string_view s) { return s == "Rx" || s == "Tx"; }
+
+const char* parse_data(const Fields& fields, std::size_t first, std::size_t count, int base, CanFrame& f) {
+  if (fields.n < first + count) return "fewer data bytes than its length says";
+  for (std::size_t i = 0; i < count; ++i) {
+    std::uint32_t b;
+    if (!number(fields[first + i], base, 0xFF, b)) return "a data byte is not a number from 0 to 255";
+    f.data[i] = static_cast<std::uint8_t>(b);
+  }
+  f.len = static_cast<std::uint8_t>(count);
+  return nullptr;
+}
+
+// Classic CAN, from the field after the channel: ID DIR d|r DLC DATA...
+const char* parse_classic(const Fields& fields, int base, CanFrame& f) {
+  if (const char* why = parse_id(fields[2], base, f)) return why;
+  const std::string_view kind = fields[4];
+  std::uint32_t dlc = 0;
+  if (kind == "r" || kind == "R") {
+    f.remote = true;
+    if (fields.n > 5 && number(fields[5], 16, 15, dlc)) f.len = static_cast<std::uint8_t>(dlc > 8 ? 8 : dlc);
+    return nullptr;
+  }
+  if (kind != "d" && kind != "D") return "expected 'd' (data) or 'r' (remote) after the direction";
+  if (!number(fields[5], 16, 15, dlc)) return "data length code is not a hex digit";
+  return parse_data(fields, 6, dlc > 8 ? 8 : dlc, base, f);
+}
+
+// CAN FD, from the field after "CANFD": CH DIR ID [NAME] BRS ESI DLC LENGTH DATA...
+const char* parse_fd(const Fields& fields, int base, CanFrame& f) {
+  if (fields[4] == "ErrorFrame") {
+    f.error = true;
+    return nullptr;
+  }
+  if (const char* why = parse_id(fields[4], base, f)) return why;
+  // A symbolic name is an identifier; BRS is a digit.
+  const std::size_t brs = fields[5].size() == 1 && std::isdigit(static_cast<unsigned char>(fields[5][0])) ? 5 : 6;
+  std::uint32_t dlc = 0, length = 0;
+  if (!number(fields[brs + 2], 16, 15, dlc)) return "CAN FD data length code is not a hex digit";
+  if (!number(fields[brs + 3], 10, 64, length)) return "CAN FD data length is not a number from 0 to 64";
+  f.fd = true;
+  if (length == 0 && kFdLengths[dlc] != 0) {  // no data with a length code: a remote frame
+    f.remote = true;
+    f.len = kFdLengths[dlc];
+    return nullptr;
+  }
+  return parse_data(fields, brs + 4, length, base, f);
+}
+
+class AscSource final : public FrameSource {
+ public:
+  explicit AscSource(File file) : file_(std::move(file)), reader_(file_.get()) {}
+
+  Status next(TimeUs& time_us, CanFrame& frame, const char*& why) override {
+    std::string_view line;
+    for (BlockLineReader::Status s; (s = reader_.next(line)) != BlockLineReader::Status::end;) {
+      if (s == BlockLineReader::Status::too_long) {
+        why = "line longer than 512 bytes, not an ASC line";
+        return Status::bad;
+      }
+      const Fields fields(line);
+      if (fields.n == 0) continue;
+      TimeUs t;
+      if (!seconds_us(fields[0], t)) {
+        if (header(line, fields)) continue;
+        why = "expected a time stamp (seconds) at the start of an ASC event line";
+        return Status::bad;
+      }
+      if (relative_) {
+        if (t > kMaxTimeUs - last_us_) {
+          why = "relative time stamps add up to more than a century";
+          return Status::bad;
+        }
+        t += last_us_;
+      }
+      last_us_ = t;
+      const bool fd = fields[1] == "CANFD";
+      std::uint32_t channel;
+      if (!fd && !number(fields[1], 10, 0xFFFF, channel)) continue;  // an event on no CAN channel
+      CanFrame f;
+      if (fd) {
+        if (!is_direction(fields[3])) continue;  // TxRq and the like: not on the bus
+        why = parse_fd(fields, base_, f);
+      } else if (fields[2] == "ErrorFrame") {
+        f.error = true;
+        why = nullptr;
+      } else if (is_direction(fields[3])) {
+        why = parse_classic(fields, base_, f);
+      } else {
+        continue;  // statistics, chip status, a transmit request, ...
+      }
+      if (why) return Status::bad;
+      channel_ = fd ? fields[2] : fields[1];
+      time_us = t;
+      frame = f;
+      return Status::frame;
+    }
+    return Status::end;
+  }
+  std::size_t record() const override { return reader_.line_number(); }
+  const char* record_name() const override { return "line"; }
+  std::string_view channel() const override { return channel_; }
+
+ private:
+  // The header's lines; "base" sets how ids and data and time stamps are read.
+  bool header(std::string_view line, const Fields& fields) {
+    if (iequals(fields[0], "base")) {
+      base_ = iequals(fields[1], "dec") ? 10 : 16;
+      relative_ = fields.n > 3 && iequals(fields[3], "relative");
+      return true;
+    }
+    return is_asc_header_line(line);
+  }
+
+  File file_;
+  BlockLineReader reader_;
+  int base_ = 16;
+  bool relative_ = false;
+  std::string_view channel_;
+  TimeUs last_us_ = 0;
+};
+
+// ASC's date: "Tue Nov 24 06:30:55.123 am 2026", in UTC.
+std::string asc_date(TimeUs t) {
+  const std::time_t sec = static_cast<std::time_t>(t / fw::kUsPerS);
+  std::tm tm{};
+  gmtime_r(&sec, &tm);
+  char head[32], tail[16];
+  std::strftime(head, sizeof head, "%a %b %d %I:%M:%S", &tm);
+  std::strftime(tail, sizeof tail, "%Y", &tm);
+  char out[64];
+  std::snprintf(out, sizeof out, "%s.%03d %s %s", head, static_cast<int>(t % fw::kUsPerS / 1000),
+                tm.tm_hour < 12 ? "am" : "pm", tail);
+  return out;
+}
+
+class AscWriter final : public LogWriter {
+ public:
+  void add(TimeUs t, const CanFrame& f) override {
+    if (!started_) {
+      started_ = true;
+      start_us_ = t;
+      const std::string date = asc_date(t);
+      text_ += "date " + date + "\nbase hex  timestamps absolute\ninternal events logged\n// version 9.0.0\n";
+      text_ += "Begin Triggerblock " + date + "\n   0.000000 Start of measurement\n";
+    }
+    const TimeUs rel = t - start_us_;
+    char buf[400];
+    int n = std::snprintf(buf, sizeof buf, "%4lld.%06lld ", static_cast<long long>(rel / fw::kUsPerS),
+                          static_cast<long long>(rel % fw::kUsPerS));
+    char id[16];
+    std::snprintf(id, sizeof id, f.extended ? "%Xx" : "%X", static_cast<unsigned>(f.id));
+    auto at = [&] { return buf + n; };
+    auto room = [&] { return sizeof buf - static_cast<std::size_t>(n); };
+    if (f.error) {
+      n += std::snprintf(at(), room(), f.fd ? "CANFD   1 Rx   ErrorFrame" : "1  ErrorFrame");
+    } else if (f.fd) {
+      const std::uint8_t dlc = fd_length_code(f.len);
+      n += std::snprintf(at(), room(), "CANFD   1 Rx   %8s  %32s 1 0 %x %2u", id, "", dlc, f.remote ? 0u : f.len);
+      if (!f.remote)
+        for (unsigned i = 0; i < f.len; ++i) n += std::snprintf(at(), room(), " %02X", f.data[i]);
+      n += std::snprintf(at(), room(), " %8d %4d %8X %8d %8d %8d %8d %8d", 0, 0, 0x3000, 0, 0, 0, 0, 0);
+    } else if (f.remote) {
+      n += std::snprintf(at(), room(), "1  %-15s Rx   r %x", id, f.len);
+    } else {
+      n += std::snprintf(at(), room(), "1  %-15s Rx   d %x", id, f.len);
+      for (unsigned i = 0; i < f.len; ++i) n += std::snprintf(at(), room(), " %02X", f.data[i]);
+    }
+    text_.append(buf, static_cast<std::size_t>(n)).push_back('\n');
+  }
+  std::string finish() override {
+    if (!started_) text_ += "date \nbase hex  timestamps absolute\ninternal events logged\nBegin Triggerblock\n";
+    text_ += "End TriggerBlock\n";
+    return std::move(text_);
+  }
+
+ private:
+  bool started_ = false;
+  TimeUs start_us_ = 0;
+  std::string text_;
+};
+
+}  // namespace
+
+bool is_asc_header_line(std::string_view line) {
+  const Fields fields(line);
+  const std::string_view first = fields[0];
+  return iequals(first, "date") || iequals(first, "base") || istarts_with(first, "//") ||
+         (iequals(first, "begin") && iequals(fields[1], "triggerblock")) ||
+         (iequals(first, "end") && iequals(fields[1], "triggerblock")) ||
+         (iequals(first, "internal") && iequals(fields[1], "events")) ||
+         (iequals(first, "no") && iequals(fields[1], "internal"));
+}
+
+std::unique_ptr<fw::FrameSource> make_asc_source(File file) { return std::make_unique<AscSource>(std::move(file)); }
+std::unique_ptr<LogWriter> make_asc_writer() { return std::make_unique<AscWriter>(); }
+
+}  // namespace lptn::canfile

@@ -1,0 +1,106 @@
+// candump -L logs: lines parsed by the firmware's own parser (lptn/firmware/candump_line.hpp), as
+// firmware/linux/frame_source.hpp's CandumpSource does, read a block at a time; the writer formats
+// lines as candump_line.hpp does.
+#include "lptn/firmware/candump_line.hpp"
+#include "can/canfile/internal/block_line_reader.hpp"
+#include "can/canfile/internal/formats.hpp"
+
+namespace lptn::canfile {
+namespace {
+
+class OwningCandumpSource final : public fw::FrameSource {
+ public:
+  explicit OwningCandumpSource(File file) : file_(std::move(file)), reader_(file_.get()) {}
+  // CandumpSource::next, word for word, on the block reader.
+  Status next(fw::TimeUs& time_us, fw::CanFrame& frame, const char*& why) override {
+    std::string_view line;
+    for (BlockLineReader::Status s; (s = reader_.next(line)) != BlockLineReader::Status::end;) {
+      if (s == BlockLineReader::Status::too_long) {
+        why = "line longer than 512 bytes, not a candump line";
+        return Status::bad;
+      }
+      if (line.empty()) continue;
+      fw::CandumpRecord rec;
+      if ((why = fw::parse_candump_line(line, rec)) != nullptr) return Status::bad;
+      time_us = rec.time_us;
+      frame = rec.frame;
+      channel_ = rec.interface;
+      return Status::frame;
+    }
+    return Status::end;
+  }
+  std::size_t record() const override { return reader_.line_number(); }
+  const char* record_name() const override { return "line"; }
+  std::string_view channel() const override { return channel_; }
+
+ private:
+  File file_;
+  BlockLineReader reader_;
+  std::string_view channel_;
+};
+
+class CandumpWriter final : public LogWriter {
+ public:
+  explicit CandumpWriter(std::string interface) : interface_(std::move(interface)) {}
+  void add(fw::TimeUs t, const fw::CanFrame& f) override {
+    if (add_fast(t, f)) return;
+    char line[200];
+    const std::size_t n = fw::format_candump_line(line, sizeof line, t, interface_, f);
+    if (n == 0) throw LogError("interface '" + interface_ + "': too long for a candump line");
+    text_.append(line, n).push_back('\n');
+  }
+  std::string finish() override { return std::move(text_); }
+
+ private:
+  // format_candump_line's bytes without snprintf (which was most of `lptn convert`'s time) for
+  // what a converter sends: classic data frames, standard or extended, at a time stamp of at most
+  // ten digits of seconds. Anything else (remote, error, FD frames) goes the shared way.
+  bool add_fast(fw::TimeUs t, const fw::CanFrame& f) {
+    if (f.remote || f.error || f.fd || f.len > 8 || t < 0 || t >= 10000000000LL * fw::kUsPerS || interface_.size() > 100)
+      return false;
+    if (f.extended ? f.id > 0x1FFFFFFFu : f.id > 0xFFFu) return false;
+    static constexpr char kHex[] = "0123456789ABCDEF";
+    char line[64 + 16];
+    char* p = line;
+    *p++ = '(';
+    auto digits = [&p](long long v, int n) {
+      for (int i = n - 1; i >= 0; --i) {
+        p[i] = static_cast<char>('0' + v % 10);
+        v /= 10;
+      }
+      p += n;
+    };
+    digits(t / fw::kUsPerS, 10);
+    *p++ = '.';
+    digits(t % fw::kUsPerS, 6);
+    *p++ = ')';
+    *p++ = ' ';
+    text_.append(line, static_cast<std::size_t>(p - line));
+    text_.append(interface_);
+    p = line;
+    *p++ = ' ';
+    for (int shift = f.extended ? 28 : 8; shift >= 0; shift -= 4) *p++ = kHex[f.id >> shift & 0xF];
+    *p++ = '#';
+    for (unsigned i = 0; i < f.len; ++i) {
+      *p++ = kHex[f.data[i] >> 4];
+      *p++ = kHex[f.data[i] & 0xF];
+    }
+    *p++ = '\n';
+    text_.append(line, static_cast<std::size_t>(p - line));
+    return true;
+  }
+
+
+  std::string interface_, text_;
+};
+
+}  // namespace
+
+std::unique_ptr<fw::FrameSource> make_candump_source(File file) {
+  return std::make_unique<OwningCandumpSource>(std::move(file));
+}
+std::unique_ptr<LogWriter> make_candump_writer(const std::string& interface) {
+  return std::make_unique<CandumpWriter>(interface);
+}
+
+}  // namespace lptn::canfile
