@@ -135,6 +135,41 @@ TEST_F(Workflow, BadRequestsAreRefusedByTheirOption) {
   EXPECT_EQ(refused(q), "accepted");
 }
 
+// A fleet from a request: the type over every motor, each motor's cooling factor, the weak motor
+// named; the plan says how many motors.
+TEST_F(Workflow, AFleetIsCalibratedWithEachMotorsCooling) {
+  testing::TempDir t;
+  gen::FleetOptions o;
+  o.motors = 3;
+  o.weak_motors = 1;
+  o.motor.cycles = 2;
+  o.motor.seed = 6;
+  o.motor.min_duration_s = 25 * 60;
+  o.motor.max_duration_s = 30 * 60;
+  const std::vector<gen::FleetMotorSummary> truth = gen::generate_fleet(o, t.path());
+  CalibrationRequest q;
+  q.fleet = t.path().string();
+  q.motor = (t.path() / "motor.toml").string();
+  CalibrationPlan plan;
+  CalibrationEvents events;
+  events.started = [&](const CalibrationPlan& p) { plan = p; };
+  const FleetCalibration f = calibrate_fleet(q, events);
+  EXPECT_EQ(plan.motors, 3u);
+  EXPECT_EQ(f.cycles, 6u);
+  EXPECT_EQ(f.result.method, "lm");
+  EXPECT_EQ(f.result.data.size(), 6u);
+  ASSERT_EQ(f.fit.motors.size(), 3u);
+  // Each motor's factor against the fleet's median, to which the fit normalizes: the weak motor's
+  // (0.7 of nominal) far below the others', which stay near 1.
+  for (std::size_t m = 0; m < 3; ++m) {
+    EXPECT_EQ(f.fit.motors[m].id, truth[m].id);
+    if (truth[m].weak) EXPECT_LT(f.fit.motors[m].cooling_factor, 0.85) << truth[m].id;
+    else EXPECT_NEAR(f.fit.motors[m].cooling_factor, 1.0, 0.08) << truth[m].id;
+  }
+  q.method = "cma-es";
+  EXPECT_THROW(calibrate_fleet(q), BadInput);
+}
+
 // What the data refuses is said once, by the option that brought it.
 TEST_F(Workflow, ASensorFaultOnACycleTheDataLacksNamesItsOption) {
   CalibrationRequest q = request("lm");
