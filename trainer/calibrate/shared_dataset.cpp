@@ -15,29 +15,25 @@ namespace lptn {
 
 SharedDataset join_units(std::size_t units, std::vector<LoadedUnit> mine, const ProcessGroup& group,
                          std::vector<std::size_t>* unit_of_cycle) {
-  // What the other ranks learn of each of this rank's cycles (doubles survive JSON exactly).
-  nlohmann::json stubs = nlohmann::json::array();
-  std::map<std::string, std::string> hashes;  // of this rank's files, taken once
-  for (LoadedUnit& u : mine) {
-    if (owner_of_unit(u.unit, group) != group.rank())
-      throw std::logic_error("join_units: unit " + std::to_string(u.unit) + " is not this rank's");
-    for (data::Cycle& c : u.data.cycles) {
-      const std::string file = c.file.string();
-      if (!hashes.count(file)) hashes[file] = sha256_file(c.file);
-      stubs.push_back({{"unit", u.unit}, {"name", c.name}, {"file", file}, {"t0", c.t0_s}, {"dt", c.dt_s},
-                       {"steps", c.steps}, {"residuals", count_grid_residuals(c)}, {"sha256", hashes[file]}});
-    }
-  }
-  // Per unit, its cycles and where each is held.
+  // This rank's cycles, each with its share (residual count, file hash), and what the other ranks
+  // learn of each (doubles survive JSON exactly).
   std::vector<std::vector<std::pair<data::Cycle, CycleShare>>> per_unit(units);
   std::vector<bool> local(units, false);
   SharedDataset out;
+  nlohmann::json stubs = nlohmann::json::array();
+  std::map<std::string, std::string> hashes;  // of this rank's files, each taken once
   for (LoadedUnit& u : mine) {
+    if (owner_of_unit(u.unit, group) != group.rank())
+      throw std::logic_error("join_units: unit " + std::to_string(u.unit) + " is not this rank's");
     local[u.unit] = true;
     for (data::Cycle& c : u.data.cycles) {
+      const std::string file = c.file.string();
+      if (!hashes.count(file)) hashes[file] = sha256_file(c.file);
       CycleShare share;
       share.residuals = count_grid_residuals(c);
-      share.file_sha256 = hashes[c.file.string()];
+      share.file_sha256 = hashes[file];
+      stubs.push_back({{"unit", u.unit}, {"name", c.name}, {"file", file}, {"t0", c.t0_s}, {"dt", c.dt_s},
+                       {"steps", c.steps}, {"residuals", share.residuals}, {"sha256", share.file_sha256}});
       per_unit[u.unit].emplace_back(std::move(c), std::move(share));
     }
     for (data::CycleReport& r : u.data.reports) out.data.reports.push_back(std::move(r));

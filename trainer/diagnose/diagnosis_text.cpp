@@ -71,34 +71,34 @@ void add_shapes(Text& out, const Diagnosis& d) {
 std::string diagnosis_text(const Diagnosis& d, double level) {
   Text out;
   out.add("the baseline refit from the calibration's values (%d LM iterations) on the training cycles: "
-              "training RMSE %.3f K (stator %s K), test stator %s K; %.0f effective residuals (correlation time %.1f steps)\n",
-              d.baseline.iterations, d.rmse_k, kelvin(d.train_stator_rmse_k).c_str(), kelvin(d.test_stator_rmse_k).c_str(),
-              d.effective_residuals, d.baseline.correlation_time);
+          "training RMSE %.3f K (stator %s K), test stator %s K; %.0f effective residuals (correlation time %.1f steps)\n",
+          d.baseline.iterations, d.rmse_k, kelvin(d.train_stator_rmse_k).c_str(), kelvin(d.test_stator_rmse_k).c_str(),
+          d.effective_residuals, d.baseline.correlation_time);
   out.add("the model against its sensors' noise (adequate within %.1fx):\n", kAdequateRatio);
   for (const SensorAdequacy& s : d.adequacy.sensors) out.add("  %s\n", describe(s).c_str());
   const SensorFinding* const fault = d.sensor_fault();
   for (const SensorFinding& s : d.sensors)
     if (s.found)
       out.add("SENSOR FAULT: %s.\n  Inspect %s. Nothing is recommended while a sensor reads wrong: an effect "
-                  "would absorb the fault.\n", s.finding.c_str(), s.inspect.c_str());
+              "would absorb the fault.\n", s.finding.c_str(), s.inspect.c_str());
     else
       out.add("no %s sensor fault: %s\n", data::sensor_name(s.sensor), s.finding.c_str());
   if (d.drift.found)
     out.add("drift between cycles: %s.\n  Inspect %s. Nothing is recommended while the dump drifts: an effect "
-                "would absorb the change.\n", d.drift.finding.c_str(), d.drift.inspect.c_str());
+            "would absorb the change.\n", d.drift.finding.c_str(), d.drift.inspect.c_str());
   else if (fault && !d.drift.finding.empty())
     out.add("no drift of the motor between cycles: %s\n", d.drift.finding.c_str());
   else
     out.add("no drift between cycles (per-cycle %s factors %s, p = %.2f)\n", to_string(d.drift.group),
-                factor_range(d.drift).c_str(), d.drift.p_value);
+            factor_range(d.drift).c_str(), d.drift.p_value);
   if (d.candidates.empty()) {
     out.add("every effect of the library and term of the dictionary is already in the model%s\n",
-                d.adequacy.adequate ? "" : ", and something is still missing: it is none of them");
+            d.adequacy.adequate ? "" : ", and something is still missing: it is none of them");
     if (!fault && !d.drift.found) add_shapes(out, d);
     return out.text;
   }
   out.add("%-34s %10s %9s %21s %21s %21s  %s\n", "effect or term", "score", "pred. K", "LR / threshold",
-              "train K before->after", "held-out K bef.->aft.", "verdict");
+          "train K before->after", "held-out K bef.->aft.", "verdict");
   for (const Candidate& c : d.candidates) {
     char lr[32], train[40], test[40];
     std::snprintf(lr, sizeof lr, "%.1f / %.1f", c.statistic, c.threshold);
@@ -106,7 +106,7 @@ std::string diagnosis_text(const Diagnosis& d, double level) {
     // Held out: both sensors (a candidate that helps one sensor and hurts the other shows here).
     std::snprintf(test, sizeof test, "%s -> %s", kelvin(d.test_rmse_k).c_str(), kelvin(c.test_rmse_k_after).c_str());
     out.add("%-34s %10.1f %9.3f %21s %21s %21s  %s\n", c.name.c_str(), c.score, c.predicted_rmse_k, lr, train, test,
-                to_string(c.verdict));
+            to_string(c.verdict));
   }
   for (const Candidate& c : d.candidates)
     if (c.kind == EffectKind::term) out.add("  %s: %s\n", c.name.c_str(), c.words.c_str());
@@ -119,7 +119,7 @@ std::string diagnosis_text(const Diagnosis& d, double level) {
   for (const Candidate& c : d.candidates)
     if (c.verdict == Verdict::not_distinguishable)
       out.add("  %s: not distinguishable from this data: %s. To separate it: %s.\n",
-                  c.name.c_str(), c.reason.c_str(), c.needs.c_str());
+              c.name.c_str(), c.reason.c_str(), c.needs.c_str());
   for (const Candidate& c : d.candidates)
     if (c.verdict == Verdict::refit_failed)
       out.add("  %s: refit failed, not judged: %s.\n", c.name.c_str(), c.reason.c_str());
@@ -132,36 +132,36 @@ std::string diagnosis_text(const Diagnosis& d, double level) {
     // A drift or a sensor fault is said once, above.
     if (!d.drift.found && !fault)
       out.add("  %s: significant on the training cycles, not recommended: %s\n", c.name.c_str(),
-                  why.empty() ? ("ranked after " + recommended->name).c_str() : why.c_str());
+              why.empty() ? ("ranked after " + recommended->name).c_str() : why.c_str());
   }
   if (const Candidate* best = recommended)
     out.add("best: %s, %s: %s (training RMSE %.3f -> %.3f K, held-out %s -> %s K); add it with [effects] "
-                "enabled = [\"%s\"] in the motor file or lptn calibrate --effect %s\n",
-                best->kind == EffectKind::term ? "a term of the dictionary" : "an effect of the library",
-                best->name.c_str(), best->words.c_str(), d.rmse_k, best->refit_rmse_k, kelvin(d.test_rmse_k).c_str(),
-                kelvin(best->test_rmse_k_after).c_str(), best->name.c_str(), best->name.c_str());
+            "enabled = [\"%s\"] in the motor file or lptn calibrate --effect %s\n",
+            best->kind == EffectKind::term ? "a term of the dictionary" : "an effect of the library",
+            best->name.c_str(), best->words.c_str(), d.rmse_k, best->refit_rmse_k, kelvin(d.test_rmse_k).c_str(),
+            kelvin(best->test_rmse_k_after).c_str(), best->name.c_str(), best->name.c_str());
   else if (fault)
     out.add("Nothing is recommended: the %s sensor reads wrong (above). Calibrate around it with lptn calibrate "
-                "--sensor-fault %s, then diagnose that calibration.\n", data::sensor_name(fault->sensor),
-                fault->calibrate.c_str());
+            "--sensor-fault %s, then diagnose that calibration.\n", data::sensor_name(fault->sensor),
+            fault->calibrate.c_str());
   else if (d.drift.found)
     out.add("Nothing is recommended: the dump drifts (above). Calibrate on the cycles before the change, or "
-                "find its cause first.\n");
+            "find its cause first.\n");
   else if (any_significant) {
     out.add("Nothing is recommended: no significant candidate has its size pinned and lowers the held-out "
-                "error (above).%s\n",
-                d.adequacy.adequate ? "" : " The model is not adequate: something is missing that they do not explain.");
+            "error (above).%s\n",
+            d.adequacy.adequate ? "" : " The model is not adequate: something is missing that they do not explain.");
     add_shapes(out, d);
   }
   else if (d.adequacy.adequate)
     out.add("No effect of the library and no term of the dictionary improves the fit significantly "
-                "(likelihood ratio at level %g, block test at %g), and the model is adequate: this data gives "
-                "no reason to add one.\n", level, Settings{}.block_level);
+            "(likelihood ratio at level %g, block test at %g), and the model is adequate: this data gives "
+            "no reason to add one.\n", level, Settings{}.block_level);
   else
     out.add("No effect of the library and no term of the dictionary improves the fit significantly (likelihood "
-                "ratio at level %g, block test at %g), yet the model is not adequate: something is missing that "
-                "none of them explains. lptn report shows where the residual lies (cycles, operating regions, the "
-                "inputs it follows).\n", level, Settings{}.block_level);
+            "ratio at level %g, block test at %g), yet the model is not adequate: something is missing that "
+            "none of them explains. lptn report shows where the residual lies (cycles, operating regions, the "
+            "inputs it follows).\n", level, Settings{}.block_level);
   if (!recommended && !fault && !d.drift.found && !any_significant && !d.adequacy.adequate) add_shapes(out, d);
   return out.text;
 }

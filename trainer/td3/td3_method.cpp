@@ -91,20 +91,21 @@ void calibrate_td3(const CalibrationRequest& a, const MotorFile& motor, DatasetR
   if (!rotor) settings.reward.w3 = 0.0;  // eq. 15 without the rotor term where the rotor is not measured
   const WarmStart warm = warm_start_from(a, motor);
   const std::filesystem::path checkpoints = a.checkpoint_dir.empty() ? std::filesystem::path(a.out + ".checkpoints") : std::filesystem::path(a.checkpoint_dir);
-  const Td3Outcome o = train_td3(motor, dataset, split.train, settings, checkpoints, a.resume,
-                                           [&](const EpisodeReport& e) {
-                                             char buf[200];
-                                             std::snprintf(buf, sizeof buf, formulation == Formulation::sequential
-                                                           ? "%s: round %4d/%d %s reward %7.3f  average %7.3f  %s elapsed, ~%s left%s"
-                                                           : "%s: episode %4d/%d %s reward %7.3f  average %7.3f  %s elapsed, ~%s left%s",
-                                                           to_string(formulation), e.episode, e.max_episodes,
-                                                           ProgressLine::bar(double(e.episode) / e.max_episodes).c_str(),
-                                                           e.reward, e.average, ProgressLine::clock(e.seconds).c_str(),
-                                                           ProgressLine::clock(e.seconds_left).c_str(), e.random ? " (random actions)" : "");
-                                             if (progress) progress(buf, e.episode == e.max_episodes);
-                                             return true;
-                                           },
-                                           warm);
+  const auto report = [&](const EpisodeReport& e) {
+    if (!progress) return true;
+    char buf[200];
+    std::snprintf(buf, sizeof buf,
+                  formulation == Formulation::sequential
+                      ? "%s: round %4d/%d %s reward %7.3f  average %7.3f  %s elapsed, ~%s left%s"
+                      : "%s: episode %4d/%d %s reward %7.3f  average %7.3f  %s elapsed, ~%s left%s",
+                  to_string(formulation), e.episode, e.max_episodes,
+                  ProgressLine::bar(double(e.episode) / e.max_episodes).c_str(), e.reward, e.average,
+                  ProgressLine::clock(e.seconds).c_str(), ProgressLine::clock(e.seconds_left).c_str(),
+                  e.random ? " (random actions)" : "");
+    progress(buf, e.episode == e.max_episodes);
+    return true;
+  };
+  const Td3Outcome o = train_td3(motor, dataset, split.train, settings, checkpoints, a.resume, report, warm);
   for (int i = 0; i < kNumParams; ++i) r.parameters[static_cast<std::size_t>(i)].value = o.values[i];
   r.method = to_string(formulation);
   r.settings = to_json(settings);

@@ -1,7 +1,9 @@
 #include "trainer/workflow/calibrate.hpp"
 
 #include <memory>
-#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
 
 #include "hostio/bad_input.hpp"
 #include "trainer/calibrate/calibration_outcome.hpp"
