@@ -3,11 +3,10 @@
 // it, if there is one.
 #pragma once
 
-#include <memory>
+#include <utility>
 #include <string>
 
 #include "programs/cli/commands.hpp"
-#include "trainer/data/data_map.hpp"
 #include "trainer/data/dataset.hpp"
 
 namespace lptn::cli {
@@ -20,10 +19,8 @@ inline void add_map_option(CLI::App* cmd, std::string& path) {
 
 // `options` with the map of --map read in (a bad map: one line of bad input, through DataError).
 inline data::LoadOptions with_map(const std::string& path, data::LoadOptions options = {}) {
-  if (path.empty()) return options;
-  check_input_path(path, "--map", InputPath::file);
-  options.map = std::make_shared<const data::DataMap>(data::load_data_map(path));
-  return options;
+  if (!path.empty()) check_input_path(path, "--map", InputPath::file);
+  return data::with_data_map(path, std::move(options));
 }
 
 }  // namespace lptn::cli

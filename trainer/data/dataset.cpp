@@ -139,6 +139,11 @@ void append(Dataset& into, Dataset&& from) {
 
 }  // namespace
 
+LoadOptions with_data_map(const fs::path& map_file, LoadOptions options) {
+  if (!map_file.empty()) options.map = std::make_shared<const DataMap>(load_data_map(map_file));
+  return options;
+}
+
 std::shared_ptr<const DataMap> data_map_for(const fs::path& file, const LoadOptions& options) {
   if (options.map) return options.map;
   if (!options.map_beside) return nullptr;

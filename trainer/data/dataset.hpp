@@ -36,6 +36,9 @@ struct LoadOptions {
 
 // The data map a file is read through under `options`, or null.
 std::shared_ptr<const DataMap> data_map_for(const std::filesystem::path& file, const LoadOptions& options);
+// `options` reading every file through the map in `map_file` (--map; throws DataError for a bad
+// map, as load_data_map); an empty path leaves them as they are (each file's data.toml, if any).
+LoadOptions with_data_map(const std::filesystem::path& map_file, LoadOptions options = {});
 
 // One resampled driving cycle, or one segment of it after a split.
 struct Cycle {

@@ -1,6 +1,5 @@
 #include "trainer/workflow/calibrate.hpp"
 
-#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -9,7 +8,6 @@
 #include "trainer/calibrate/calibration_outcome.hpp"
 #include "trainer/calibrate/calibration_result.hpp"
 #include "trainer/calibrate/shared_dataset.hpp"
-#include "trainer/data/data_map.hpp"
 #include "trainer/data/inspection.hpp"
 #include "trainer/data/sensor_fault.hpp"
 #include "trainer/fleet/fleet_dump.hpp"
@@ -23,12 +21,6 @@ namespace lptn::workflow {
 namespace {
 
 bool is_search(const std::string& method) { return method == "random-search" || method == "cma-es"; }
-
-data::LoadOptions load_options(const CalibrationRequest& q) {
-  data::LoadOptions options;
-  if (!q.map.empty()) options.map = std::make_shared<const data::DataMap>(data::load_data_map(q.map));
-  return options;
-}
 
 // The motor file with the request's effects switched on.
 MotorFile requested_motor(const CalibrationRequest& q) {
@@ -106,7 +98,7 @@ CalibrationResult calibrate(const CalibrationRequest& q, const CalibrationEvents
   const ProcessGroup& group = calibration_group(q.method);
   MotorFile motor = requested_motor(q);
   std::vector<std::filesystem::path> paths(q.data.begin(), q.data.end());
-  SharedDataset dataset = load_shared_dump(paths, group, load_options(q));
+  SharedDataset dataset = load_shared_dump(paths, group, data::with_data_map(q.map));
   try {
     data::correct_readings(dataset.data, q.sensor_faults);
   } catch (const BadInput& e) {
@@ -145,7 +137,7 @@ FleetCalibration calibrate_fleet(const CalibrationRequest& q, const CalibrationE
   if (q.fleet.empty()) throw BadInput("calibrate_fleet: give --fleet");
   const ProcessGroup& group = calibration_group(q.method);
   const MotorFile motor = requested_motor(q);
-  const fleet::FleetDump fleet = fleet::load_shared_fleet(q.fleet, group, load_options(q));
+  const fleet::FleetDump fleet = fleet::load_shared_fleet(q.fleet, group, data::with_data_map(q.map));
   const Split split = split_cycles(fleet.dataset.data, q.test_cycles, q.test_fraction, q.seed);
   FleetCalibration out;
   out.result = new_calibration(motor, q.motor, fleet.dataset, split);

@@ -1,14 +1,11 @@
 #include "trainer/workflow/diagnose.hpp"
 
-#include <memory>
-
 #include "hostio/bad_input.hpp"
 #include "hostio/process_group.hpp"
 #include "hostio/utc_stamp.hpp"
 #include "trainer/calibrate/calibration_result.hpp"
 #include "trainer/calibrate/shared_dataset.hpp"
 #include "trainer/check/sensor_corrections.hpp"
-#include "trainer/data/data_map.hpp"
 #include "trainer/diagnose/diagnosis_text.hpp"
 #include "trainer/model/motor_plausibility.hpp"
 
@@ -63,10 +60,8 @@ DiagnosisOutcome diagnose(const DiagnosisRequest& q, const DiagnosisEvents& even
   const ProcessGroup& group = ProcessGroup::world();
   const CalibrationResult calibration = load_calibration(q.calibration);
   const MotorFile motor = motor_of(calibration);
-  data::LoadOptions options;
-  if (!q.map.empty()) options.map = std::make_shared<const data::DataMap>(data::load_data_map(q.map));
   std::vector<std::filesystem::path> paths(q.data.begin(), q.data.end());
-  data::Dataset loaded = data::load_fleet_dump(paths, options);
+  data::Dataset loaded = data::load_fleet_dump(paths, data::with_data_map(q.map));
   DiagnosisPlan plan;
   plan.corrections = check::correct_as_calibrated(loaded, calibration);
   if (events.input_warnings) events.input_warnings(input_warnings(loaded, motor));
