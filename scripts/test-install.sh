@@ -36,7 +36,9 @@ lptn=$prefix/bin/lptn
 "$lptn" calibrate --data fleet --motor fleet/motor.toml --method lm --out lm.json --quiet
 "$lptn" export --calibration lm.json --out thermal_calibration.hpp >/dev/null
 if [ -e "$prefix/bin/lptn-td3" ]; then  # built with TD3: lptn hands --method td3* over to it
-  "$lptn" calibrate --data fleet --motor fleet/motor.toml --method td3-episode --episodes 2 --out td3.json --quiet
+  # Two episodes leave the model far from its sensors' noise: written with warnings (exit 3).
+  "$lptn" calibrate --data fleet --motor fleet/motor.toml --method td3-episode --episodes 2 --out td3.json --quiet ||
+    [ $? -eq 3 ] || fail "the TD3 calibration failed"
   grep -q '"name": "td3-episode"' td3.json || fail "the TD3 calibration was not written by lptn-td3"
 fi
 cycle=$(ls fleet/*.csv | head -n 1)

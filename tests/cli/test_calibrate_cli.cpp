@@ -65,8 +65,14 @@ TEST_F(CalibrateCli, TheSearchBaselinesWriteACalibrationWithTheirBudget) {
   for (const char* method : {"random-search", "cma-es"}) {
     const auto out = t.path() / (std::string(method) + ".json");
     const Result r = run(base() + " --method " + method + " --budget-steps 3000000 --quiet --out " + out.string(), t.path());
-    ASSERT_EQ(r.code, 0) << r.err;
+    // A search this short stops far from LM's fit: random search 12x its sensors' noise off, which
+    // the calibration says (exit 3); CMA-ES gets near.
+    ASSERT_TRUE(r.code == 0 || r.code == 3) << r.err;
     const auto j = nlohmann::json::parse(std::ifstream(out));
+    bool inadequate = false;
+    for (const auto& w : j["warnings"]) inadequate = inadequate || w["code"] == "not_adequate";
+    EXPECT_EQ(r.code == 3, !j["warnings"].empty()) << method;
+    if (method == std::string("random-search")) EXPECT_TRUE(inadequate) << r.err;
     EXPECT_EQ(j["method"]["name"], method);
     EXPECT_GE(j["method"]["details"]["simulated_steps"].get<double>(), 3e6) << method;
     EXPECT_EQ(j["method"]["settings"]["budget_steps"], 3000000) << method;

@@ -158,7 +158,8 @@ TEST_P(Td3CrashSafety, KilledAtRandomMomentsAndResumedItEndsWhereAnUninterrupted
   const fs::path straight = dir.path() / "straight.json";
   const Watched first = watch(spawn_lptn(args(straight.string(), (dir.path() / "straight.ckpt").string()), log),
                               dir.path() / "straight.ckpt", [](const std::vector<Ms>&) { return Ms::max(); });
-  ASSERT_EQ(first.code, 0) << slurp(log);
+  // 14 short episodes leave the model short of its sensors' noise: written with warnings (exit 3).
+  ASSERT_TRUE(first.code == 0 || first.code == 3) << slurp(log);
   ASSERT_GE(first.checkpoints.size(), 3u) << "a checkpoint after every episode";
   const Ms start_up = first.checkpoints.front();  // start-up and the first episode
   const Ms episode((first.checkpoints.back() - first.checkpoints.front()).count() /
@@ -205,11 +206,11 @@ TEST_P(Td3CrashSafety, KilledAtRandomMomentsAndResumedItEndsWhereAnUninterrupted
       last_episode = episode_now;
       episodes.push_back(episode_now);
     } else {
-      ASSERT_EQ(code, 0) << slurp(log);
+      ASSERT_EQ(code, first.code) << slurp(log);
     }
   }
   EXPECT_EQ(kills, 8) << "every attempt but the last killed before it could finish";
-  ASSERT_EQ(code, 0);
+  ASSERT_EQ(code, first.code);
   const nlohmann::json resumed = nlohmann::json::parse(slurp(out));
   const int resumed_from = resumed.at("method").at("details").at("resumed_from_episode").get<int>();
   std::printf("%d kills; checkpoint episode after each:", kills);

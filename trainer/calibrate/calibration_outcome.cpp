@@ -46,7 +46,8 @@ bool at_bound(const ParameterResult& p) {
   return std::abs(u - 1.0) < 1e-6 || std::abs(u + 1.0) < 1e-6;
 }
 
-void judge_outcome(CalibrationResult& r, const std::vector<std::string>& data_findings) {
+void judge_outcome(CalibrationResult& r, const std::vector<std::string>& data_findings,
+                   const std::vector<CalibrationWarning>& model_findings) {
   bool failed = false;
   std::vector<std::string> not_finite;
   for (const ParameterResult& p : r.parameters)
@@ -97,6 +98,7 @@ void judge_outcome(CalibrationResult& r, const std::vector<std::string>& data_fi
   compare_test(r, "stator winding", r.train.stator, r.test.stator);
   compare_test(r, "rotor", r.train.rotor, r.test.rotor);
   for (const std::string& finding : data_findings) r.warnings.push_back({"data", finding, {}});
+  r.warnings.insert(r.warnings.end(), model_findings.begin(), model_findings.end());
   // The fit saw corrected readings; the motor's sensor does not: whatever uses this calibration on
   // board (lptn export, the firmware's observer, which fuses the stator reading) reads it as it is.
   for (const std::string& spec : r.sensor_faults)

@@ -17,9 +17,12 @@ namespace lptn {
 //           parameter on a bound (the optimizer ran into a wall: data and model disagree at the root,
 //           e.g. temperatures in the wrong unit or another motor's file)
 // warnings: a parameter on a bound; one the data could not pin; not converged; a test error far
-//           above the training error; anything the data's inspection found
+//           above the training error; anything the data's inspection found; the model findings
 // ok:       none of these
-void judge_outcome(CalibrationResult& result, const std::vector<std::string>& data_findings = {});
+// `model_findings`: warnings about the calibrated model the caller found (the workflow's adequacy:
+// the model several times its sensors' noise off), kept as they are.
+void judge_outcome(CalibrationResult& result, const std::vector<std::string>& data_findings = {},
+                   const std::vector<CalibrationWarning>& model_findings = {});
 
 // Whether a calibrated parameter ended on (or within rounding of) one of its bounds.
 bool at_bound(const ParameterResult& p);
