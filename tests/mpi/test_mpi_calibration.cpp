@@ -12,6 +12,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "lptn_testing/run_lptn.hpp"
 #include "lptn_testing/temp_dir.hpp"
@@ -103,6 +104,38 @@ TEST(MpiCalibration, EqualsOneProcessOnEveryRankCount) {
     // 30 minutes at 10 Hz, two sensors: no cycle has more residuals.
     expect_balanced(many, 2 * 30 * 600);
   }
+}
+
+// A plant with an eddy-current loss the paper's model lacks: one process and two warn alike that
+// the model is not adequate on the stator sensor, with the same noise, although balancing moves
+// cycles between the ranks without their files' loader reports (which hold the sensors' rates).
+TEST(MpiCalibration, AnInadequateModelIsWarnedAsByOneProcess) {
+  testing::TempDir dir;
+  ASSERT_EQ(testing::run("generate --out " + (dir.path() / "dump").string() +
+                             " --cycles 8 --minutes-min 20 --minutes-max 25 --plant eddy_loss --seed 3",
+                         dir.path()).code, 0);
+  const std::string common = "calibrate --data " + (dir.path() / "dump").string() + " --motor " +
+                             (dir.path() / "dump" / "motor.toml").string() + " --quiet --out ";
+  const testing::Result alone = lptn_on(1, common + (dir.path() / "one.json").string(), dir.path());
+  ASSERT_EQ(alone.code, 3) << alone.err;
+  const testing::Result two = lptn_on(2, common + (dir.path() / "two.json").string(), dir.path());
+  ASSERT_EQ(two.code, 3) << two.err;
+  const json one = read_json(dir.path() / "one.json"), many = read_json(dir.path() / "two.json");
+  EXPECT_EQ(one["metrics"], many["metrics"]);
+  // "... test RMSE 1.644 K = 4.1x its noise of 0.400 K ...": the same words up to where the
+  // residual is largest, which only one process can say.
+  const auto inadequate = [](const json& calibration) {
+    std::vector<std::string> out;
+    for (const json& w : calibration["warnings"])
+      if (w["code"] == "not_adequate") {
+        const std::string m = w["message"].get<std::string>();
+        out.push_back(m.substr(0, m.find(" (estimated from its readings)")));
+      }
+    return out;
+  };
+  ASSERT_EQ(inadequate(one).size(), 1u) << one["warnings"];
+  EXPECT_EQ(inadequate(one), inadequate(many));
+  EXPECT_EQ(inadequate(one)[0].rfind("the model is not adequate on the stator sensor: ", 0), 0u) << inadequate(one)[0];
 }
 
 TEST(MpiCalibration, AFleetSharedByMotorsEqualsOneProcess) {
