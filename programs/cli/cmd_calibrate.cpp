@@ -59,6 +59,18 @@ void print_outcome_warnings(const CalibrationResult& r) {
     if (w.code != "data") std::fprintf(stderr, "lptn: warning: %s\n", w.message.c_str());
 }
 
+// The line that ends a calibration, a motor's or a fleet's: where it went and its status. `took`:
+// how long, in words ("9.6 s of calibration").
+void print_written(const std::string& out, const CalibrationResult& r, const char* took) {
+  if (r.status == kStatusFailed)
+    std::printf("%s written with status FAILED, for inspection only (lptn export refuses it): %zu warning%s above\n",
+                out.c_str(), r.warnings.size(), r.warnings.size() == 1 ? "" : "s");
+  else if (r.status == kStatusWarnings)
+    std::printf("%s written with status warnings (%zu; read them before using it; %s)\n", out.c_str(), r.warnings.size(), took);
+  else
+    std::printf("%s written, status ok (%s)\n", out.c_str(), took);
+}
+
 void print_metrics(const char* side, const SplitMetrics& m) {
   std::printf("%-6s stator rmse %.3f K  max %.3f K  bias %+.3f K", side, m.stator.rmse_k, m.stator.max_abs_k, m.stator.bias_k);
   if (m.rotor.samples) std::printf(" | rotor rmse %.3f K  max %.3f K", m.rotor.rmse_k, m.rotor.max_abs_k);
@@ -115,7 +127,9 @@ void run_fleet(const CalibrateArgs& a, const ProcessGroup& group) {
     std::printf("%-10s %8.3f %8.4f %7zu %8.3f K  %s%s\n", m.id.c_str(), m.cooling_factor, m.cooling_factor_std,
                 m.metrics.cycles.size(), m.metrics.stator.rmse_k, m.verdict.outlier ? "OUTLIER: " : "",
                 m.verdict.reason.c_str());
-  std::printf("%s written (%d rounds, %.1f s)\n", a.request.out.c_str(), f.fit.rounds, f.fit.seconds);
+  char took[64];
+  std::snprintf(took, sizeof took, "%d rounds, %.1f s", f.fit.rounds, f.fit.seconds);
+  print_written(a.request.out, r, took);
 }
 
 void run(const CalibrateArgs& given, CalibrationMethod td3) {
@@ -165,16 +179,9 @@ void run(const CalibrateArgs& given, CalibrationMethod td3) {
     if (!r.test.cycles.empty()) print_metrics("test", r.test);
   }
   print_outcome_warnings(r);
-  if (!a.quiet || r.status != kStatusOk) {
-    if (r.status == kStatusFailed)
-      std::printf("%s written with status FAILED, for inspection only (lptn export refuses it): %zu warning%s above\n",
-                  q.out.c_str(), r.warnings.size(), r.warnings.size() == 1 ? "" : "s");
-    else if (r.status == kStatusWarnings)
-      std::printf("%s written with status warnings (%zu; read them before using it; %.1f s of calibration)\n", q.out.c_str(),
-                  r.warnings.size(), r.seconds);
-    else
-      std::printf("%s written, status ok (%.1f s of calibration)\n", q.out.c_str(), r.seconds);
-  }
+  char took[64];
+  std::snprintf(took, sizeof took, "%.1f s of calibration", r.seconds);
+  if (!a.quiet || r.status != kStatusOk) print_written(q.out, r, took);
 }
 
 }  // namespace

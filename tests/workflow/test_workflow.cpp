@@ -4,6 +4,7 @@
 // the calibration's.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <string>
@@ -200,8 +201,42 @@ TEST_F(Workflow, AFleetIsCalibratedWithEachMotorsCooling) {
     if (truth[m].weak) EXPECT_LT(f.fit.motors[m].cooling_factor, 0.85) << truth[m].id;
     else EXPECT_NEAR(f.fit.motors[m].cooling_factor, 1.0, 0.08) << truth[m].id;
   }
+  // The weak motor is the model with its own factor: no motor is warned inadequate.
+  for (const CalibrationWarning& w : f.result.warnings) EXPECT_NE(w.code, "not_adequate") << w.message;
   q.method = "cma-es";
   EXPECT_THROW(calibrate_fleet(q), BadInput);
+}
+
+// A fleet whose motors all have friction growing with speed cubed, which the paper's model lacks:
+// each motor is two to five times its sensors' noise off with its own cooling factor, and the
+// fleet's calibration says so, once per sensor, naming the motors.
+TEST(WorkflowAdequacy, AFleetThatLacksThePlantsPhysicsIsWarnedOncePerSensor) {
+  testing::TempDir t;
+  gen::FleetOptions o;
+  o.motors = 3;
+  o.motor.cycles = 2;
+  o.motor.seed = 3;
+  o.motor.min_duration_s = 20 * 60;
+  o.motor.max_duration_s = 25 * 60;
+  o.motor.plant = gen::plant_bit(gen::PlantPhysics::windage_cubed);
+  gen::generate_fleet(o, t.path());
+  CalibrationRequest q;
+  q.fleet = t.path().string();
+  q.motor = (t.path() / "motor.toml").string();
+  const FleetCalibration f = calibrate_fleet(q, {});
+  EXPECT_EQ(f.result.status, kStatusWarnings);
+  std::vector<std::string> inadequate;
+  for (const CalibrationWarning& w : f.result.warnings)
+    if (w.code == "not_adequate") inadequate.push_back(w.message);
+  ASSERT_GE(inadequate.size(), 1u);
+  ASSERT_LE(inadequate.size(), 2u) << "one per sensor, not one per motor";
+  const std::string& rotor = inadequate.back();
+  EXPECT_EQ(rotor.rfind("the model is not adequate on the rotor sensor on ", 0), 0u) << rotor;
+  EXPECT_NE(rotor.find("each with its own cooling factor"), std::string::npos) << rotor;
+  EXPECT_NE(rotor.find("(worst: motor_0"), std::string::npos) << rotor;
+  double worst_rotor = 0;
+  for (const fleet::FleetMotorResult& m : f.fit.motors) worst_rotor = std::max(worst_rotor, m.metrics.rotor.rmse_k);
+  EXPECT_GT(worst_rotor, 2.0 * 0.5);  // the rotor sensor's noise
 }
 
 // What the data refuses is said once, by the option that brought it.

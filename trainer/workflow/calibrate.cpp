@@ -1,25 +1,14 @@
 #include "trainer/workflow/calibrate.hpp"
 
-#include <algorithm>
-#include <array>
-#include <cmath>
-#include <cstdio>
-#include <limits>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "hostio/bad_input.hpp"
-#include "hostio/worker_threads.hpp"
-#include <nlohmann/json.hpp>
-
 #include "trainer/calibrate/calibration_outcome.hpp"
 #include "trainer/calibrate/calibration_result.hpp"
-#include "trainer/calibrate/problem.hpp"
-#include "trainer/calibrate/sensor_noise.hpp"
 #include "trainer/calibrate/shared_dataset.hpp"
 #include "trainer/data/inspection.hpp"
-#include "trainer/diagnose/adequacy.hpp"
 #include "trainer/data/sensor_fault.hpp"
 #include "trainer/fleet/fleet_dump.hpp"
 #include "trainer/lm/lm.hpp"
@@ -27,6 +16,7 @@
 #include "trainer/model/motor_effects.hpp"
 #include "trainer/model/motor_plausibility.hpp"
 #include "trainer/search/search.hpp"
+#include "trainer/workflow/calibration_adequacy.hpp"
 
 namespace lptn::workflow {
 namespace {
@@ -60,112 +50,6 @@ std::vector<std::string> doubtful_input(const data::Dataset& dataset, const Moto
 BadInput not_simulable(const std::string& path, const MotorFile& motor, const ModelNotSimulable& e) {
   const std::string why = implausible_values_summary(motor);
   return BadInput(path + ": " + e.what() + (why.empty() ? std::string() : "; the most implausible value: " + why));
-}
-
-// A calibrated model several times its sensors' noise off is not the motor, however well the
-// method converged: the model lacks physics the motor has (the loop's first calibration: 4.7x), or
-// the method stopped short of its best fit (TD3 or a search on a small budget: 2.1x to 12x), and a
-// user must hear it before flashing it. Its bound is looser than diagnose's 1.5x, which asks the
-// finer question: at twice the noise the model's own error is 1.7x the noise (sqrt(2^2 - 1)),
-// beyond what a right model keeps on short data with split cycles (1.6x on three 15-minute cycles,
-// each with a 6-minute dropout, tests/data_map).
-constexpr double kCalibrationAdequateRatio = 2.0;
-
-// The not_adequate warning of each sensor more than kCalibrationAdequateRatio times its noise off.
-std::vector<CalibrationWarning> inadequate(const std::vector<diagnose::SensorAdequacy>& sensors) {
-  std::vector<CalibrationWarning> out;
-  for (const diagnose::SensorAdequacy& s : sensors) {
-    const double worst = std::isnan(s.test_rmse_k) ? s.train_rmse_k : std::max(s.train_rmse_k, s.test_rmse_k);
-    if (!(worst > kCalibrationAdequateRatio * s.noise_k)) continue;  // NaN noise: not judged
-    char within[64];
-    std::snprintf(within, sizeof within, "%.1fx", kCalibrationAdequateRatio);
-    out.push_back({"not_adequate",
-                   "the model is not adequate on the " + s.sensor + " sensor: " +
-                       diagnose::describe(s).substr(s.sensor.size() + 2) + " (warned beyond " + within +
-                       "): it lacks physics this motor has (lptn diagnose finds which), the method stopped short of "
-                       "its best fit, or the training data are too short to pin it",
-                   {}});
-  }
-  return out;
-}
-
-// Under an MPI job each process holds only its own cycles' samples: the metrics are joined as
-// evaluate_split joins them, and each sensor's noise from the sums of every process's cycles (the
-// same estimate, summed in another order). Where the residual is largest needs every cycle's
-// inputs on one process: the warning says how far off, not where.
-std::vector<diagnose::SensorAdequacy> shared_adequacy(CalibrationResult& r, const MotorFile& motor, DatasetRef dataset,
-                                                      const Split& split) {
-  score_calibration(r, motor, dataset, split);
-  // The sensors' native rates as every process's loader reported them: a cycle that balancing moved
-  // here came without its file's report, and read as sampled every step its noise would come out
-  // low (interpolation averages it away between readings: 0.26 K for 0.40 K on the demo's loop).
-  constexpr data::Channel kSensors[] = {data::Channel::stator_winding_c, data::Channel::rotor_c};
-  data::Dataset rates;
-  {
-    nlohmann::json mine = nlohmann::json::array();
-    for (const data::CycleReport& c : dataset.data.reports)
-      mine.push_back({c.file.string(), c.channels[data::index_of(kSensors[0])].native_rate_hz,
-                      c.channels[data::index_of(kSensors[1])].native_rate_hz});
-    for (const std::string& text : dataset.group().gather(mine.dump()))
-      for (const nlohmann::json& c : nlohmann::json::parse(text)) {
-        data::CycleReport report;
-        report.file = c.at(0).get<std::string>();
-        for (int s = 0; s < 2; ++s) report.channels[data::index_of(kSensors[s])].native_rate_hz = c.at(1 + s).get<double>();
-        rates.reports.push_back(std::move(report));
-      }
-  }
-  std::vector<std::size_t> every = split.train;
-  every.insert(every.end(), split.test.begin(), split.test.end());
-  const Model<double> model = motor.model();
-  const ParamVector<double> values = r.values();
-  std::vector<std::array<NoiseSum, 2>> noise(every.size());
-  parallel_for(every.size(), worker_threads(), [&](std::size_t i) {
-    if (dataset.remote(every[i])) return;
-    const data::Cycle& cycle = dataset.cycles[every[i]];
-    const CycleEvaluation e = simulate_and_evaluate(model, values, cycle);
-    for (int s = 0; s < 2; ++s) {
-      if (!cycle.has(kSensors[s])) continue;
-      const std::vector<float>& m = s == 0 ? e.simulation.stator_sensor : e.simulation.rotor_sensor;
-      std::vector<float> residual(cycle.steps);
-      for (std::size_t k = 0; k < cycle.steps; ++k) residual[k] = m[k] - cycle.at(kSensors[s], k);
-      noise[i][s] = sensor_noise(residual, reading_period(rates, cycle, kSensors[s]));
-    }
-  });
-  std::vector<double> sums(4, 0.0);
-  for (const auto& cycle : noise)
-    for (int s = 0; s < 2; ++s) {
-      sums[2 * s] += cycle[s].sum2;
-      sums[2 * s + 1] += static_cast<double>(cycle[s].n);
-    }
-  dataset.group().sum(sums);
-  std::vector<diagnose::SensorAdequacy> out;
-  const ErrorMetrics* train[2] = {&r.train.stator, &r.train.rotor};
-  const ErrorMetrics* test[2] = {&r.test.stator, &r.test.rotor};
-  for (int s = 0; s < 2; ++s) {
-    if (train[s]->samples == 0 && test[s]->samples == 0) continue;  // not measured
-    diagnose::SensorAdequacy a;
-    a.sensor = s == 0 ? "stator" : "rotor";
-    a.noise_k = NoiseSum{sums[2 * s], static_cast<std::size_t>(sums[2 * s + 1])}.sigma();
-    a.train_rmse_k = train[s]->samples ? train[s]->rmse_k : std::numeric_limits<double>::quiet_NaN();
-    a.test_rmse_k = test[s]->samples ? test[s]->rmse_k : std::numeric_limits<double>::quiet_NaN();
-    const double worst = std::isnan(a.test_rmse_k) ? a.train_rmse_k : std::max(a.train_rmse_k, a.test_rmse_k);
-    a.adequate = !(worst > diagnose::kAdequateRatio * a.noise_k);
-    out.push_back(std::move(a));
-  }
-  return out;
-}
-
-// Scores the calibration (its train and test metrics) and returns its not_adequate warnings. The
-// metrics come from diagnose's adequacy, whose one simulation of every cycle gives them as
-// evaluate_split does, to the bit, and the sensors' noise beside them: the check costs no extra
-// simulation (shared over MPI, one).
-std::vector<CalibrationWarning> score_and_judge_adequacy(CalibrationResult& r, const MotorFile& motor,
-                                                         DatasetRef dataset, const Split& split) {
-  if (dataset.shared()) return inadequate(shared_adequacy(r, motor, dataset, split));
-  diagnose::Adequacy a = diagnose::assess_adequacy(motor.model(), r.values(), dataset, split, worker_threads());
-  r.train = std::move(a.train);
-  r.test = std::move(a.test);
-  return inadequate(a.sensors);
 }
 
 CalibrationMethod method_for(const std::string& method, CalibrationMethod td3) {
@@ -274,7 +158,7 @@ FleetCalibration calibrate_fleet(const CalibrationRequest& q, const CalibrationE
   r.seconds = out.fit.seconds;
   score_calibration(r, motor, fleet.dataset, split);
   if (events.input_warnings) events.input_warnings(input_warnings(fleet.dataset.data, motor));
-  judge_outcome(r, doubtful_input(fleet.dataset.data, motor));
+  judge_outcome(r, doubtful_input(fleet.dataset.data, motor), fleet_adequacy(motor, fleet, out.fit));
   return out;
 }
 
