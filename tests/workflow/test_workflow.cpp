@@ -207,6 +207,29 @@ TEST_F(Workflow, AFleetIsCalibratedWithEachMotorsCooling) {
   EXPECT_THROW(calibrate_fleet(q), BadInput);
 }
 
+// A fleet that is the model exactly, whose weak motor's one cycle falls in the test split: the
+// type's pooled metrics (as if one motor had driven every cycle) are then 4x worse on test than on
+// train, which says where the weak motor's cycles went, not that the fit learnt its training
+// cycles. Its status is ok: each motor with its own factor is at its sensors' noise.
+TEST(WorkflowAdequacy, AFleetWhoseWeakMotorIsInTheTestSplitIsNotCalledOverfitted) {
+  testing::TempDir t;
+  gen::FleetOptions o;
+  o.motors = 5;
+  o.motor.cycles = 1;
+  o.motor.seed = 7;
+  o.motor.min_duration_s = 30 * 60;
+  o.motor.max_duration_s = 40 * 60;
+  const std::vector<gen::FleetMotorSummary> truth = gen::generate_fleet(o, t.path());
+  CalibrationRequest q;
+  q.fleet = t.path().string();
+  q.motor = (t.path() / "motor.toml").string();
+  const FleetCalibration f = calibrate_fleet(q, {});
+  ASSERT_GT(f.result.test.stator.rmse_k, 2 * f.result.train.stator.rmse_k) << "the weak motor should be in the test split";
+  std::string all;
+  for (const CalibrationWarning& w : f.result.warnings) all += w.code + ": " + w.message + "\n";
+  EXPECT_EQ(f.result.status, kStatusOk) << all;
+}
+
 // A fleet whose motors all have friction growing with speed cubed, which the paper's model lacks:
 // each motor is two to five times its sensors' noise off with its own cooling factor, and the
 // fleet's calibration says so, once per sensor, naming the motors.

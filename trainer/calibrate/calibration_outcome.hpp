@@ -21,8 +21,15 @@ namespace lptn {
 // ok:       none of these
 // `model_findings`: warnings about the calibrated model the caller found (the workflow's adequacy:
 // the model several times its sensors' noise off), kept as they are.
+// `test_vs_train`: whether a test error far above the training error is a warning. A single motor's
+// metrics, yes. A fleet's pooled ones are the type's as if one motor had driven every cycle: they
+// differ between the splits by which motors' cycles each holds (a weak motor's cycles in the test
+// split make the test error 4x the training error on a fleet that is the model exactly), which the
+// fleet's outlier test already says, and its adequacy is judged per motor (model_findings).
+enum class TestVsTrain { judged, not_judged };
 void judge_outcome(CalibrationResult& result, const std::vector<std::string>& data_findings = {},
-                   const std::vector<CalibrationWarning>& model_findings = {});
+                   const std::vector<CalibrationWarning>& model_findings = {},
+                   TestVsTrain test_vs_train = TestVsTrain::judged);
 
 // Whether a calibrated parameter ended on (or within rounding of) one of its bounds.
 bool at_bound(const ParameterResult& p);

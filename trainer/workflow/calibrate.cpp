@@ -158,7 +158,7 @@ FleetCalibration calibrate_fleet(const CalibrationRequest& q, const CalibrationE
   r.seconds = out.fit.seconds;
   score_calibration(r, motor, fleet.dataset, split);
   if (events.input_warnings) events.input_warnings(input_warnings(fleet.dataset.data, motor));
-  judge_outcome(r, doubtful_input(fleet.dataset.data, motor), fleet_adequacy(motor, fleet, out.fit));
+  judge_outcome(r, doubtful_input(fleet.dataset.data, motor), fleet_adequacy(motor, fleet, out.fit), TestVsTrain::not_judged);
   return out;
 }
 
