@@ -16,6 +16,7 @@
 #include "programs/cli/data_map_option.hpp"
 #include "programs/cli/exit_code.hpp"
 #include "trainer/calibrate/calibration_file.hpp"
+#include "trainer/calibrate/calibration_outcome.hpp"
 #include "trainer/check/check.hpp"
 #include "trainer/check/sensor_corrections.hpp"
 #include "trainer/data/dataset.hpp"
@@ -50,6 +51,8 @@ bool check_data(const CheckArgs& a) {
     throw BadInput(a.calibration + ": a fleet calibration (lptn calibrate --fleet): use --fleet FLEET, each motor against "
                                    "its own cooling factor");
   const CalibrationResult calibration = load_calibration(a.calibration);
+  if (const std::string caution = status_caution(calibration, a.calibration, false); !caution.empty())
+    std::fprintf(stderr, "lptn: warning: %s\n", caution.c_str());
   const std::vector<std::filesystem::path> paths(a.data.begin(), a.data.end());
   data::Dataset dataset = data::load_fleet_dump(paths, with_map(a.map));
   const std::vector<std::string> corrections = check::correct_as_calibrated(dataset, calibration);

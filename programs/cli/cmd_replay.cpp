@@ -23,6 +23,7 @@
 #include "tools/replay/calibrated_estimator.hpp"
 #include "tools/replay/replay_to_csv.hpp"
 #include "trainer/calibrate/calibration_file.hpp"
+#include "trainer/calibrate/calibration_outcome.hpp"
 #include "trainer/data/dataset.hpp"
 #include "trainer/data/inspection.hpp"
 #include "trainer/fleet/fleet_file.hpp"
@@ -202,6 +203,9 @@ void add_replay(CLI::App& app) {
     const std::string& source = args->fleet.empty() ? args->calibration : args->fleet;
     const CalibrationResult calibrated =
         args->fleet.empty() ? load_calibration(args->calibration) : fleet::load_fleet_file(args->fleet).pooled;
+    // What a converter flashed with it would estimate: a calibration that is not ok says so first.
+    if (const std::string caution = status_caution(calibrated, source, true); !caution.empty())
+      std::fprintf(stderr, "lptn: warning: %s\n", caution.c_str());
     const auto cal = replay::estimator_config_from(calibrated, source, map ? map->decoder() : lptn::bus::decoder());
     if (args->use_actor && !cal->config.actor.actor)
       throw BadInput(source + ": --use-actor: this calibration has no actor");

@@ -123,6 +123,46 @@ TEST(OutcomeRules, ATestErrorFarAboveTrainingIsAWarning) {
   EXPECT_EQ(small.status, kStatusOk);
 }
 
+// A fleet's pooled metrics are the type's as if one motor had driven every cycle: not compared.
+TEST(OutcomeRules, AFleetsTestErrorIsNotComparedWithItsTraining) {
+  CalibrationResult r = fine();
+  r.test.stator.rmse_k = 5.4;
+  judge_outcome(r, {}, {}, TestVsTrain::not_judged);
+  EXPECT_EQ(r.status, kStatusOk);
+}
+
+TEST(OutcomeRules, ModelFindingsAreWarningsAsTheyAre) {
+  CalibrationResult r = fine();
+  judge_outcome(r, {}, {{"not_adequate", "the model is not adequate on the stator sensor: ...", {}}});
+  EXPECT_EQ(r.status, kStatusWarnings);
+  ASSERT_EQ(r.warnings.size(), 1u);
+  EXPECT_EQ(r.warnings[0].code, "not_adequate");
+}
+
+// What replay, check and diagnose say before they use a calibration: a failed one always, one with
+// warnings where asked, each code once; nothing for an ok one.
+TEST(OutcomeRules, AStatusCautionNamesTheStatusAndItsCodes) {
+  CalibrationResult ok = fine();
+  judge_outcome(ok);
+  EXPECT_EQ(status_caution(ok, "cal.json", true), "");
+  CalibrationResult warned = fine();
+  warned.parameters[0].value = 1.0;
+  warned.parameters[1].value = 1.0;
+  judge_outcome(warned, {}, {{"not_adequate", "the model is not adequate on the stator sensor: ...", {}}});
+  EXPECT_EQ(status_caution(warned, "cal.json", false), "");
+  EXPECT_EQ(status_caution(warned, "cal.json", true).rfind("cal.json: status warnings (at_bound, not_adequate): read", 0), 0u)
+      << status_caution(warned, "cal.json", true);
+  CalibrationResult failed = fine();
+  failed.parameters[0].value = 1.0;
+  failed.parameters[1].value = 1.0;
+  failed.details["converged"] = false;
+  judge_outcome(failed);
+  ASSERT_EQ(failed.status, kStatusFailed);
+  const std::string caution = status_caution(failed, "cal.json", false);
+  EXPECT_EQ(caution.rfind("cal.json: status failed (at_bound, not_converged, failed_fit", 0), 0u) << caution;
+  EXPECT_NE(caution.find("for inspection only"), std::string::npos) << caution;
+}
+
 TEST(OutcomeRules, DataFindingsAreWarnings) {
   CalibrationResult r = fine();
   judge_outcome(r, {"cycle_01.csv: pole pairs: the motor file says 3, the data's speed and frequency say 2"});

@@ -1,5 +1,6 @@
 #include "trainer/calibrate/calibration_outcome.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -110,6 +111,19 @@ void judge_outcome(CalibrationResult& r, const std::vector<std::string>& data_fi
                           "its reading as it is",
                           {}});
   r.status = failed ? kStatusFailed : (r.warnings.empty() ? kStatusOk : kStatusWarnings);
+}
+
+std::string status_caution(const CalibrationResult& r, const std::string& path, bool also_warnings) {
+  const bool failed = r.status == kStatusFailed;
+  if (!failed && !(also_warnings && r.status == kStatusWarnings)) return {};
+  std::vector<std::string> codes;
+  for (const CalibrationWarning& w : r.warnings)
+    if (std::find(codes.begin(), codes.end(), w.code) == codes.end()) codes.push_back(w.code);
+  std::string list;
+  for (const std::string& c : codes) list += (list.empty() ? "" : ", ") + c;
+  return path + ": status " + r.status + (list.empty() ? "" : " (" + list + ")") +
+         (failed ? ": lptn calibrate wrote it for inspection only (lptn export refuses it); what follows rests on it"
+                 : ": read its warnings (calibration.json's \"warnings\") before trusting what follows");
 }
 
 }  // namespace lptn

@@ -31,6 +31,12 @@ void judge_outcome(CalibrationResult& result, const std::vector<std::string>& da
                    const std::vector<CalibrationWarning>& model_findings = {},
                    TestVsTrain test_vs_train = TestVsTrain::judged);
 
+// One line for a program that goes on to use a calibration whose status is not ok (replay, check,
+// diagnose), or empty: a failed one always ("PATH: status failed (failed_fit, at_bound): lptn
+// calibrate wrote it for inspection only ..."), one with warnings where `also_warnings` (replay:
+// what a converter flashed with it would estimate). The warnings' codes, each once, in order.
+std::string status_caution(const CalibrationResult& result, const std::string& path, bool also_warnings);
+
 // Whether a calibrated parameter ended on (or within rounding of) one of its bounds.
 bool at_bound(const ParameterResult& p);
 

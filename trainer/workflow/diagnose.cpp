@@ -3,6 +3,7 @@
 #include "hostio/bad_input.hpp"
 #include "hostio/process_group.hpp"
 #include "hostio/utc_stamp.hpp"
+#include "trainer/calibrate/calibration_outcome.hpp"
 #include "trainer/calibrate/calibration_result.hpp"
 #include "trainer/calibrate/shared_dataset.hpp"
 #include "trainer/check/sensor_corrections.hpp"
@@ -64,7 +65,12 @@ DiagnosisOutcome diagnose(const DiagnosisRequest& q, const DiagnosisEvents& even
   data::Dataset loaded = data::load_fleet_dump(paths, data::with_data_map(q.map));
   DiagnosisPlan plan;
   plan.corrections = check::correct_as_calibrated(loaded, calibration);
-  if (events.input_warnings) events.input_warnings(input_warnings(loaded, motor));
+  if (events.input_warnings) {
+    std::vector<std::string> warnings = input_warnings(loaded, motor);
+    if (const std::string caution = status_caution(calibration, q.calibration, false); !caution.empty())
+      warnings.insert(warnings.begin(), caution);
+    events.input_warnings(warnings);
+  }
   const SharedDataset shared = share_work(std::move(loaded), group);
   const data::Dataset& dataset = shared.data;
   // By name and file hash: a dump that only shares the calibration's cycle names is not its data.
