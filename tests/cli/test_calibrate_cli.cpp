@@ -72,7 +72,9 @@ TEST_F(CalibrateCli, TheSearchBaselinesWriteACalibrationWithTheirBudget) {
     bool inadequate = false;
     for (const auto& w : j["warnings"]) inadequate = inadequate || w["code"] == "not_adequate";
     EXPECT_EQ(r.code == 3, !j["warnings"].empty()) << method;
-    if (method == std::string("random-search")) EXPECT_TRUE(inadequate) << r.err;
+    if (method == std::string("random-search")) {
+      EXPECT_TRUE(inadequate) << r.err;
+    }
     EXPECT_EQ(j["method"]["name"], method);
     EXPECT_GE(j["method"]["details"]["simulated_steps"].get<double>(), 3e6) << method;
     EXPECT_EQ(j["method"]["settings"]["budget_steps"], 3000000) << method;

@@ -355,9 +355,10 @@ TEST_F(SemanticInput, ReplayOfAnotherMotorsLogWithThisCalibrationSaysSo) {
       // Nothing about the motor; only, where the short dump left it not ok, the calibration's status.
       std::istringstream lines(r.err);
       for (std::string line; std::getline(lines, line);)
-        if (line.find("warning") != std::string::npos)
+        if (line.find("warning") != std::string::npos) {
           EXPECT_EQ(line.rfind("lptn: warning: " + cal.string() + ": status " + (c.code == 4 ? "failed" : "warnings"), 0), 0u)
               << line;
+        }
     }
   }
 }

@@ -16,6 +16,7 @@
 #include "tools/report/signatures.hpp"
 #include "tools/report/stats.hpp"
 #include "trainer/calibrate/calibration_file.hpp"
+#include "trainer/calibrate/calibration_outcome.hpp"
 #include "trainer/calibrate/problem.hpp"
 #include "trainer/calibrate/sensor_noise.hpp"
 #include "trainer/check/check.hpp"
@@ -457,11 +458,21 @@ json check_json(const CalibrationResult& cal, const data::Dataset& ds, const che
           {"cooling_factor", j["cooling_factor"]}};
 }
 
+// The calibration's warnings in words, for the page to list under its status.
+json warning_messages(const CalibrationResult& cal) {
+  json out = json::array();
+  for (const CalibrationWarning& w : cal.warnings) out.push_back(w.message);
+  return out;
+}
+
 json meta_json(const ReportOptions& o, const CalibrationResult& cal, const data::Dataset& ds) {
   double hours = 0;
   for (const auto& c : ds.cycles) hours += c.duration_s() / 3600;
   return {{"calibration", o.calibration.string()}, {"data", o.data.string()}, {"method", cal.method},
           {"created_utc", cal.created_utc}, {"motor", cal.motor.name}, {"effects", effect_names(cal.effects)},
+          // A calibration that is not ok says so at the top of the page, as lptn replay says it.
+          {"status", cal.status}, {"status_caution", status_caution(cal, o.calibration.string(), true)},
+          {"warnings", warning_messages(cal)},
           {"cycles", ds.cycles.size()}, {"hours", hours}, {"generated_utc", utc_now()},
           {"train_rmse_stator_k", number(cal.train.stator.rmse_k)},
           {"test_rmse_stator_k", cal.test.cycles.empty() ? json(nullptr) : number(cal.test.stator.rmse_k)},

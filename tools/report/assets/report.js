@@ -84,6 +84,13 @@
       m.calibration + ' (' + m.method + ', ' + m.created_utc + ', motor ' + m.motor + ', effects: ' +
       (m.effects.length ? m.effects.join(', ') : 'none') + ') on ' + m.data + ': ' + m.cycles + ' cycles, ' +
       fixed(m.hours, 1) + ' h. Generated ' + m.generated_utc + '.';
+    // A calibration whose status is failed or warnings: said before anything drawn from it.
+    if (m.status_caution) {
+      var meta = document.getElementById('meta');
+      var warnings = el('ul', {}, m.warnings.map(function (w) { return el('li', {}, [w]); }));
+      meta.parentNode.insertBefore(el('div', {class: 'verdict missing', 'data-note': 'calibration-status'},
+                                          ['Calibration status: ' + m.status_caution, warnings]), meta.nextSibling);
+    }
   }
 
   // --- Compare -------------------------------------------------------------------------------------
