@@ -1,6 +1,5 @@
-// candump -L logs: lines parsed by the firmware's own parser (lptn/firmware/candump_line.hpp), as
-// firmware/linux/frame_source.hpp's CandumpSource does, read a block at a time; the writer formats
-// lines as candump_line.hpp does.
+// candump -L logs: the firmware's candump source (firmware/linux/frame_source.hpp) on a reader of
+// blocks; the writer formats lines as candump_line.hpp does.
 #include "lptn/firmware/candump_line.hpp"
 #include "can/canfile/internal/block_line_reader.hpp"
 #include "can/canfile/internal/formats.hpp"
@@ -8,35 +7,14 @@
 namespace lptn::canfile {
 namespace {
 
-class OwningCandumpSource final : public fw::FrameSource {
+// The file is held by a base constructed before the reader that reads it (a member would be
+// constructed after the base CandumpLines).
+struct HeldFile {
+  File file;
+};
+class OwningCandumpSource final : private HeldFile, public fw::CandumpLines<BlockLineReader> {
  public:
-  explicit OwningCandumpSource(File file) : file_(std::move(file)), reader_(file_.get()) {}
-  // CandumpSource::next, word for word, on the block reader.
-  Status next(fw::TimeUs& time_us, fw::CanFrame& frame, const char*& why) override {
-    std::string_view line;
-    for (BlockLineReader::Status s; (s = reader_.next(line)) != BlockLineReader::Status::end;) {
-      if (s == BlockLineReader::Status::too_long) {
-        why = "line longer than 512 bytes, not a candump line";
-        return Status::bad;
-      }
-      if (line.empty()) continue;
-      fw::CandumpRecord rec;
-      if ((why = fw::parse_candump_line(line, rec)) != nullptr) return Status::bad;
-      time_us = rec.time_us;
-      frame = rec.frame;
-      channel_ = rec.interface;
-      return Status::frame;
-    }
-    return Status::end;
-  }
-  std::size_t record() const override { return reader_.line_number(); }
-  const char* record_name() const override { return "line"; }
-  std::string_view channel() const override { return channel_; }
-
- private:
-  File file_;
-  BlockLineReader reader_;
-  std::string_view channel_;
+  explicit OwningCandumpSource(File f) : HeldFile{std::move(f)}, fw::CandumpLines<BlockLineReader>(file.get()) {}
 };
 
 class CandumpWriter final : public LogWriter {

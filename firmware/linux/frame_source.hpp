@@ -30,10 +30,14 @@ class FrameSource {
   virtual std::string_view channel() const = 0;
 };
 
-// candump -L, one frame per line (lptn/firmware/candump_line.hpp). Allocates nothing.
-class CandumpSource final : public FrameSource {
+// candump -L, one frame per line (lptn/firmware/candump_line.hpp), through a line reader: one
+// with next(std::string_view&) giving LineReader::Status and line_number(). The daemon's is
+// hostio's LineReader on the FILE* (allocates nothing); the host's log readers give a reader of
+// 256 KiB blocks (can/canfile), the same lines read faster.
+template <class Reader>
+class CandumpLines : public FrameSource {
  public:
-  explicit CandumpSource(std::FILE* log) : reader_(log) {}
+  explicit CandumpLines(std::FILE* log) : reader_(log) {}
   Status next(TimeUs& time_us, CanFrame& frame, const char*& why) override {
     std::string_view line;
     for (LineReader::Status s; (s = reader_.next(line)) != LineReader::Status::end;) {
@@ -56,8 +60,11 @@ class CandumpSource final : public FrameSource {
   std::string_view channel() const override { return channel_; }
 
  private:
-  LineReader reader_;
+  Reader reader_;
   std::string_view channel_;
 };
+
+// The daemon's: a line at a time from the FILE*. Allocates nothing.
+using CandumpSource = CandumpLines<LineReader>;
 
 }  // namespace lptn::fw

@@ -23,26 +23,30 @@ constexpr data::Channel kSensors[] = {data::Channel::stator_winding_c, data::Cha
 constexpr const char* kSensorNames[] = {"stator", "rotor"};
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-// What a warning says after its figures: what to make of them.
-std::string beyond_and_why() {
+// What a warning says after its figures: what to make of them. LM fits the model as closely as the
+// data allow, so beyond its noise the model itself falls short; the other methods may only have
+// stopped short of that fit (a small budget), which an LM calibration tells.
+std::string beyond_and_why(const std::string& method) {
   char within[160];
   std::snprintf(within, sizeof within, " (warned beyond %.1fx): ", kCalibrationAdequateRatio);
   return std::string(within) +
-         "it lacks physics this motor has (lptn diagnose finds which), the method stopped short of its best fit, or "
-         "the training data are too short to pin it";
+         (method == "lm" ? "it lacks physics this motor has (lptn diagnose finds which), or the training data are too "
+                           "short to pin it"
+                         : "the method stopped short of the best fit of this model (--method lm finds that one: compare), "
+                           "or the model lacks physics this motor has (lptn diagnose finds which)");
 }
 
 double worst_rmse(const diagnose::SensorAdequacy& s) {
   return std::isnan(s.test_rmse_k) ? s.train_rmse_k : std::max(s.train_rmse_k, s.test_rmse_k);
 }
 
-std::vector<CalibrationWarning> inadequate(const std::vector<diagnose::SensorAdequacy>& sensors) {
+std::vector<CalibrationWarning> inadequate(const std::vector<diagnose::SensorAdequacy>& sensors, const std::string& method) {
   std::vector<CalibrationWarning> out;
   for (const diagnose::SensorAdequacy& s : sensors) {
     if (!(worst_rmse(s) > kCalibrationAdequateRatio * s.noise_k)) continue;  // NaN noise: not judged
     out.push_back({"not_adequate",
                    "the model is not adequate on the " + s.sensor + " sensor: " +
-                       diagnose::describe(s).substr(s.sensor.size() + 2) + beyond_and_why(),
+                       diagnose::describe(s).substr(s.sensor.size() + 2) + beyond_and_why(method),
                    {}});
   }
   return out;
@@ -112,7 +116,7 @@ std::vector<CalibrationWarning> score_and_judge_adequacy(CalibrationResult& r, c
     diagnose::Adequacy a = diagnose::assess_adequacy(model, values, dataset, split, worker_threads());
     r.train = std::move(a.train);
     r.test = std::move(a.test);
-    return inadequate(a.sensors);
+    return inadequate(a.sensors, r.method);
   }
   score_calibration(r, motor, dataset, split);
   std::vector<std::size_t> every = split.train;
@@ -130,7 +134,7 @@ std::vector<CalibrationWarning> score_and_judge_adequacy(CalibrationResult& r, c
     a.adequate = !(worst_rmse(a) > diagnose::kAdequateRatio * a.noise_k);
     sensors.push_back(std::move(a));
   }
-  return inadequate(sensors);
+  return inadequate(sensors, r.method);
 }
 
 std::vector<CalibrationWarning> fleet_adequacy(const MotorFile& motor, const fleet::FleetDump& fleet,
@@ -170,7 +174,7 @@ std::vector<CalibrationWarning> fleet_adequacy(const MotorFile& motor, const fle
     if (beyond.size() > 4) worst += ", ...";
     out.push_back({"not_adequate",
                    std::string("the model is not adequate on the ") + kSensorNames[s] + " sensor " + figures + " (worst: " +
-                       worst + ")" + beyond_and_why(),
+                       worst + ")" + beyond_and_why("lm"),
                    {}});
   }
   return out;
