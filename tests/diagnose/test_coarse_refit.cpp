@@ -11,7 +11,9 @@
 #include <vector>
 
 #include "lptn_testing/small_fleet.hpp"
+#include "trainer/calibrate/grid_residuals.hpp"
 #include "trainer/diagnose/internal/refit.hpp"
+#include "trainer/diagnose/internal/score_test.hpp"
 #include "trainer/model/motor_effects.hpp"
 #include "trainer/model/simulate.hpp"
 
@@ -98,6 +100,75 @@ TEST(CoarseRefit, TheCorrectedGridSeesTheDataGridsMisfitAtTheBaseline) {
               worst_corrected);
   EXPECT_GT(grid_error, 0.005) << "the grid has an error of its own to correct";
   EXPECT_LT(worst_corrected, 1e-4) << "float rounding of the readings, no more";
+}
+
+// Half the sum of squared residuals on `dataset`'s training cycles at `values` and each cycle's
+// initial offsets (LM's cost), summed here and not by LM.
+double cost_on(const MotorFile& motor, const ParamVector<double>& values, const data::Dataset& dataset,
+               const std::vector<std::size_t>& train, const std::vector<InitialOffsets<double>>& offsets) {
+  const Model<double> model = motor.model();
+  double sum = 0;
+  for (std::size_t i = 0; i < train.size(); ++i)
+    for_each_grid_residual(model, values, dataset.cycles[train[i]], offsets[i], [&](double r) { sum += r * r; });
+  return 0.5 * sum;
+}
+
+// moved_to_fine and polish_start: a refit on the coarse grid ends at the coarse grid's optimum,
+// which on the data's grid is off by the two grids' difference; moved by what the baseline's fits
+// on the two grids differ, the coarse baseline itself lands on the data grid's baseline. The polish
+// starts from the moved point or the coarse fit's own, whichever costs less on the data's grid, and
+// a crawl is evaluated there without a step (kCrawlPolishIterations).
+TEST(CoarseRefit, APolishStartsFromTheCoarseFitMovedByTheBaselinesDifferenceOrItsOwnPoint) {
+  const auto g = testing::generate({"windage"}, 4, 20, 25, 5);
+  const LmReport& fine_baseline = g->calibrated;
+  SharedDataset coarse = internal::coarse_dataset(g->dataset, kCoarse);
+  internal::correct_for_grid(coarse, g->dataset, g->motor.model(), fine_baseline.values, g->split.train,
+                             fine_baseline.offsets, 2);
+  LmSettings lm;
+  lm.threads = 2;
+  lm.max_iterations = 15;
+  LmSettings from_baseline = lm;
+  from_baseline.start_offsets = fine_baseline.offsets;
+  const auto coarse_baseline = internal::coarse_stage(g->motor, fine_baseline.values, coarse, g->split.train, from_baseline, {});
+  ASSERT_TRUE(coarse_baseline.has_value());
+  const int windage = effect_index("windage");
+  MotorFile with = g->motor;
+  enable_effect(with, windage);
+
+  // The coarse baseline moved is the data grid's baseline (its windage fixed at the motor file's).
+  const LmReport landed = internal::moved_to_fine(with, *coarse_baseline, fine_baseline, *coarse_baseline);
+  for (int i = 0; i < kNumParams; ++i)
+    EXPECT_NEAR(landed.values[i], fine_baseline.values[i], 1e-12 * std::abs(fine_baseline.values[i])) << param_spec(i).name;
+  for (std::size_t k = 0; k < landed.offsets.size(); ++k) {
+    EXPECT_NEAR(landed.offsets[k].stator_core, fine_baseline.offsets[k].stator_core, 1e-12);
+    EXPECT_NEAR(landed.offsets[k].rotor_core, fine_baseline.offsets[k].rotor_core, 1e-12);
+  }
+
+  // From the baseline's offsets the refit finds the windage; from none (diagnose's starts) it ends
+  // far above the baseline in its iterations. The polish starts from the cheaper point either way.
+  const data::Dataset& fine = g->dataset;
+  for (const LmSettings& settings : {from_baseline, lm}) {
+    const auto on_coarse = internal::coarse_stage(with, internal::neutral_point(fine_baseline.values, windage), coarse,
+                                                  g->split.train, settings, {});
+    ASSERT_TRUE(on_coarse.has_value());
+    const LmReport moved = internal::moved_to_fine(with, *on_coarse, fine_baseline, *coarse_baseline);
+    const double unmoved_cost = cost_on(with, on_coarse->values, fine, g->split.train, on_coarse->offsets);
+    const double moved_cost = cost_on(with, moved.values, fine, g->split.train, moved.offsets);
+    std::printf("cost on the data's grid: baseline %.3f, the coarse fit's point %.3f, moved %.3f K^2\n",
+                fine_baseline.final_cost, unmoved_cost, moved_cost);
+    ASSERT_NE(unmoved_cost, moved_cost);
+    const LmReport start = internal::polish_start(with, *on_coarse, fine_baseline, *coarse_baseline, g->dataset,
+                                                  g->split.train, 2);
+    EXPECT_EQ(start.values, moved_cost < unmoved_cost ? moved.values : on_coarse->values);
+
+    LmReport crawled = start;
+    crawled.converged = false;
+    const internal::Refit polished = internal::polish(with, windage, crawled, g->dataset, g->split.train, lm, {});
+    EXPECT_EQ(polished.fit.iterations, 0);
+    EXPECT_EQ(polished.fit.values, start.values);
+    EXPECT_NEAR(polished.fit.final_cost, std::min(moved_cost, unmoved_cost), 1e-9 * moved_cost)
+        << "a crawl is evaluated where it starts";
+  }
 }
 
 // The likelihood ratios a refit passes through, fed to internal::stop_short_of as LM reports its

@@ -28,13 +28,8 @@ bool Cycle::has(Channel c) const {
   return std::any_of(v.begin(), v.end(), [](float x) { return !std::isnan(x); });
 }
 
-float Cycle::at(Channel c, std::size_t k) const {
-  const auto& v = samples[index_of(c)];
-  if (v.empty()) {
-    if (k >= steps) throw std::out_of_range("Cycle::at: step past the end of " + name);
-    return std::numeric_limits<float>::quiet_NaN();
-  }
-  return v.at(k);
+void Cycle::throw_past_end(std::size_t k) const {
+  throw std::out_of_range("Cycle::at: step " + std::to_string(k) + " past the end of " + name);
 }
 
 std::size_t Dataset::warning_count() const {

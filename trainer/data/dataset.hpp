@@ -4,6 +4,7 @@
 #include <array>
 #include <cstddef>
 #include <filesystem>
+#include <limits>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -53,9 +54,19 @@ struct Cycle {
   std::array<std::vector<float>, kNumChannels> samples;
 
   bool has(Channel c) const;  // at least one valid sample
-  float at(Channel c, std::size_t k) const;  // NaN for an absent channel; throws past the end
+  // NaN for an absent channel; throws past the end. Inline: the simulations ask it for every
+  // sensor at every step (out of line, the call was 3.4 % of a 200 h diagnosis).
+  float at(Channel c, std::size_t k) const {
+    const std::vector<float>& v = samples[index_of(c)];
+    if (k >= (v.empty() ? steps : v.size())) [[unlikely]]
+      throw_past_end(k);
+    return v.empty() ? std::numeric_limits<float>::quiet_NaN() : v[k];
+  }
   double time_s(std::size_t k) const { return t0_s + static_cast<double>(k) * dt_s; }
   double duration_s() const { return steps > 1 ? static_cast<double>(steps - 1) * dt_s : 0.0; }
+
+ private:
+  [[noreturn]] void throw_past_end(std::size_t k) const;
 };
 
 struct Gap {

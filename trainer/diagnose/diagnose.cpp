@@ -221,9 +221,10 @@ Candidate examine(const MotorFile& motor, const Scored& scored, const Diagnosis&
   // (the polish is most of a refit's cost); without readings on the coarse grid, both on the data's.
   const LmSettings lm = refit_settings(settings);
   // The refit settings that stop a refit whose likelihood ratio against `base_cost` cannot reach `mark`.
-  auto stopping_short_of = [&](double mark, double base_cost) {
+  auto stopping_short_of = [&](double mark, double base_cost, int pace_iterations = internal::kPaceIterations) {
     LmSettings stopping = lm;
-    stopping.stop = internal::stop_short_of(mark, base_cost, before.effective_residuals, lm.max_iterations, kAtBaselineLr);
+    stopping.stop = internal::stop_short_of(mark, base_cost, before.effective_residuals, lm.max_iterations, kAtBaselineLr,
+                                            pace_iterations);
     return stopping;
   };
   const std::pair<const char*, ParamVector<double>> starts[] = {
@@ -285,8 +286,11 @@ Candidate examine(const MotorFile& motor, const Scored& scored, const Diagnosis&
   if (best_coarse) {
     RefitStart& s = c.starts[best_start];
     try {
-      kept = internal::polish(with, effect, *best_coarse, dataset, split.train,
-                              stopping_short_of(c.threshold, before.baseline.final_cost),
+      kept = internal::polish(with, effect,
+                              internal::polish_start(with, *best_coarse, before.baseline, *coarse.baseline, dataset,
+                                                     split.train, settings.threads),
+                              dataset, split.train,
+                              stopping_short_of(c.threshold, before.baseline.final_cost, internal::kPolishPaceIterations),
                               lm_progress(progress, c.name + ": polish from " + s.from));
       s.rmse_k = kept->fit.rmse_k;
       s.iterations = kept->fit.iterations;

@@ -23,7 +23,7 @@ constexpr data::FaultShape kShapes[] = {data::FaultShape::offset, data::FaultSha
 // which sensor each is and the model's value there.
 struct Run {
   std::vector<double> r;
-  std::vector<float> model;
+  std::vector<float> model, reading;
   std::vector<unsigned char> sensor;  // 0 stator, 1 rotor
 };
 
@@ -41,6 +41,7 @@ Run run(const Model<double>& model, const ParamVector<double>& params, const dat
       const double m = s == 0 ? model.stator_sensor(x) : model.rotor_sensor(x);
       out.r.push_back(m - y);
       out.model.push_back(static_cast<float>(m));
+      out.reading.push_back(y);
       out.sensor.push_back(static_cast<unsigned char>(s));
     }
   }, offsets, SIZE_MAX, &prepared);
@@ -50,11 +51,15 @@ Run run(const Model<double>& model, const ParamVector<double>& params, const dat
 // The columns of one cycle's linear least-squares problem, each the change of the residuals per
 // unit of one explanation. The model is affine in its initial state, and a reading's offset or
 // gain moves the start (each measured node starts at its reading) as well as the comparison, so the
-// offset and gain columns are exact; the heat balance's are its derivatives in log factor.
+// offset and gain columns are exact; the heat balance's are its derivatives in log factor. One run
+// gives both of a sensor's: readings 1 K higher move the start by 1 K and every comparison by
+// -1 K, readings (1 + g) times theirs move the start by g times the first reading and each
+// comparison by -g times its reading, so per unit of g the gain column is the first reading times
+// the start's response (the offset column plus one at the sensor's rows) less the readings there.
 enum Column { kR0, kStatorCore, kRotorCore, kStatorOffset, kStatorGain, kRotorOffset, kRotorGain, kCooling, kLosses, kColumns };
 constexpr int kOffsetColumn[2] = {kStatorOffset, kRotorOffset};
 constexpr int kGainColumn[2] = {kStatorGain, kRotorGain};
-constexpr double kGainStep = 0.01, kLogFactorStep = 0.02;
+constexpr double kLogFactorStep = 0.02;
 
 struct CycleFit {
   bool measured[2] = {false, false};
@@ -76,7 +81,7 @@ data::Cycle changed_readings(const data::Cycle& cycle, data::Channel sensor, dou
 
 CycleFit fit_cycle(const Model<double>& model, const ParamVector<double>& params, const data::Cycle& cycle) {
   CycleFit f;
-  const PreparedCycle prepared = prepare_cycle(model, cycle);  // the losses once for its nine runs
+  const PreparedCycle prepared = prepare_cycle(model, cycle);  // the losses once for its seven runs
   const Run base = run(model, params, cycle, {}, prepared);
   const std::size_t m = base.r.size();
   if (m == 0) return f;
@@ -91,8 +96,13 @@ CycleFit fit_cycle(const Model<double>& model, const ParamVector<double>& params
   for (int s = 0; s < 2; ++s) {
     f.measured[s] = cycle.has(kSensors[s]);
     if (!f.measured[s]) continue;
+    const std::vector<double>& offset = col[static_cast<std::size_t>(kOffsetColumn[s])];
     difference(kOffsetColumn[s], run(model, params, changed_readings(cycle, kSensors[s], 1.0, 1.0), {}, prepared), 1.0);
-    difference(kGainColumn[s], run(model, params, changed_readings(cycle, kSensors[s], 1.0 + kGainStep, 0.0), {}, prepared), kGainStep);
+    const double first = first_valid(cycle, kSensors[s]);
+    std::vector<double>& gain = col[static_cast<std::size_t>(kGainColumn[s])];
+    gain.resize(m);
+    for (std::size_t i = 0; i < m; ++i)
+      gain[i] = first * offset[i] + (base.sensor[i] == s ? first - double(base.reading[i]) : 0.0);
   }
   difference(kCooling, run(model, scaled_group(params, DriftGroup::cooling, std::exp(kLogFactorStep)), cycle, {}, prepared), kLogFactorStep);
   difference(kLosses, run(model, scaled_group(params, DriftGroup::losses, std::exp(kLogFactorStep)), cycle, {}, prepared), kLogFactorStep);

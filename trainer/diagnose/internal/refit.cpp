@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 
 #include "hostio/worker_threads.hpp"
 #include "trainer/calibrate/grid_residuals.hpp"
@@ -97,14 +98,14 @@ std::optional<LmReport> coarse_stage(const MotorFile& with_effect, const ParamVe
 }
 
 std::function<bool(int, double)> stop_short_of(double mark, double base_cost, double effective_residuals,
-                                               int max_iterations, double at_baseline) {
+                                               int max_iterations, double at_baseline, int pace_iterations) {
   std::vector<double> ratios;  // after each iteration
   return [=](int iteration, double cost) mutable {
     ratios.push_back(effective_residuals * std::log(base_cost / cost));
-    if (iteration < kPaceIterations || ratios.size() <= static_cast<std::size_t>(kPaceIterations)) return false;
+    if (iteration < pace_iterations || ratios.size() <= static_cast<std::size_t>(pace_iterations)) return false;
     const std::size_t n = ratios.size();
     double pace = 0;
-    for (std::size_t k = n - kPaceIterations; k < n; ++k) pace = std::max(pace, ratios[k] - ratios[k - 1]);
+    for (std::size_t k = n - static_cast<std::size_t>(pace_iterations); k < n; ++k) pace = std::max(pace, ratios[k] - ratios[k - 1]);
     const double now = ratios.back(), reach = now + kPaceMargin * pace * (max_iterations - iteration);
     return reach < mark && (now >= -at_baseline || reach < -at_baseline);
   };
@@ -124,6 +125,57 @@ Refit judged(LmReport fit, const MotorFile& with_effect, int effect) {
   return out;
 }
 
+LmReport moved_to_fine(const MotorFile& with_effect, const LmReport& on_coarse, const LmReport& fine_baseline,
+                       const LmReport& coarse_baseline) {
+  LmReport out = on_coarse;
+  const FreeParameters free = FreeParameters::from_motor(with_effect);
+  for (std::size_t j = 0; j < free.size(); ++j) {
+    const int i = free.index[j];
+    // The effect's own parameters are fixed in both baselines (at equal values): they stay.
+    if (fine_baseline.values[i] == coarse_baseline.values[i]) continue;
+    const double shift = free.to_internal(j, fine_baseline.values[i]) - free.to_internal(j, coarse_baseline.values[i]);
+    const double moved = free.to_internal(j, on_coarse.values[i]) + shift;
+    out.values[i] = std::clamp(free.to_physical(j, moved), free.min[j], free.max[j]);
+  }
+  for (std::size_t k = 0; k < out.offsets.size() && k < fine_baseline.offsets.size() && k < coarse_baseline.offsets.size(); ++k) {
+    out.offsets[k].stator_core += fine_baseline.offsets[k].stator_core - coarse_baseline.offsets[k].stator_core;
+    out.offsets[k].rotor_core += fine_baseline.offsets[k].rotor_core - coarse_baseline.offsets[k].rotor_core;
+  }
+  return out;
+}
+
+namespace {
+
+// Half the sum of squared residuals of `dataset`'s training cycles on its grid at `fit`'s values and
+// initial offsets (infinite where the model does not stay finite). Every process sums every cycle
+// (diagnose's shared dataset keeps each cycle's samples on each rank), so all decide alike.
+double cost_on(const MotorFile& motor, const LmReport& fit, DatasetRef dataset, const std::vector<std::size_t>& train,
+               int threads) {
+  const Model<double> model = motor.model();
+  std::vector<double> per_cycle(train.size(), 0.0);
+  parallel_for(train.size(), threads, [&](std::size_t i) {
+    double sum = 0;
+    const bool finite = for_each_grid_residual(model, fit.values, dataset.cycles[train[i]], fit.offsets[i],
+                                               [&](double r) { sum += r * r; });
+    per_cycle[i] = finite ? 0.5 * sum : std::numeric_limits<double>::infinity();
+  });
+  double cost = 0;
+  for (double c : per_cycle) cost += c;
+  return cost;
+}
+
+}  // namespace
+
+LmReport polish_start(const MotorFile& with_effect, const LmReport& on_coarse, const LmReport& fine_baseline,
+                      const LmReport& coarse_baseline, DatasetRef dataset, const std::vector<std::size_t>& train,
+                      int threads) {
+  LmReport moved = moved_to_fine(with_effect, on_coarse, fine_baseline, coarse_baseline);
+  if (on_coarse.offsets.size() != train.size()) return moved;
+  return cost_on(with_effect, moved, dataset, train, threads) <= cost_on(with_effect, on_coarse, dataset, train, threads)
+             ? moved
+             : on_coarse;
+}
+
 Refit polish(const MotorFile& with_effect, int effect, const LmReport& on_coarse, DatasetRef dataset,
              const std::vector<std::size_t>& train, const LmSettings& settings, const LmProgress& progress) {
   LmSettings fine = settings;
@@ -132,6 +184,8 @@ Refit polish(const MotorFile& with_effect, int effect, const LmReport& on_coarse
   // supports, and where it got is its verdict's ground (Settings::refit_iterations): the polish
   // then only takes the grid's bias out, at ten times the cost of a coarse step, instead of
   // crawling on (a thermal mass's refit on clean data: 15 fine-grid iterations, most of its time).
+  // From moved_to_fine's start that bias is out already: the fit is evaluated there (its cost, its
+  // Jacobian for the standard errors) and takes no step.
   if (!on_coarse.converged) fine.max_iterations = std::min(fine.max_iterations, kCrawlPolishIterations);
   return judged(fit_lm(with_effect, on_coarse.values, dataset, train, fine, progress), with_effect, effect);
 }
