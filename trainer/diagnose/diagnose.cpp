@@ -6,6 +6,7 @@
 #include <map>
 #include <cmath>
 #include <cstdio>
+#include <iterator>
 #include <limits>
 #include <optional>
 #include <utility>
@@ -216,9 +217,14 @@ Candidate examine(const MotorFile& motor, const Scored& scored, const Diagnosis&
   }
 
   // Two starts, the better kept: the score test's step (where the residuals point) and the
-  // neutral value (the baseline's own fit). The second is skipped where the step did not move.
-  // Both run on the coarse grid, and the one that ends lower there is polished on the data's own
-  // (the polish is most of a refit's cost); without readings on the coarse grid, both on the data's.
+  // neutral value (the baseline's own fit). The neutral value is skipped where the step did not
+  // move. Both run on the coarse grid, and the one that ends lower there is polished on the data's
+  // own (the polish is most of a refit's cost); without readings on the coarse grid, both on the
+  // data's. The neutral value runs first, and on the coarse grid the step's mark is the likelihood
+  // ratio the neutral value reached where that is above the polish's: the step's refit matters only
+  // where it ends lower, and one that cannot at twice its pace is ended there (on the clean 200 h
+  // dump the neutral value ended lower for each of the three candidates polished, and each step's
+  // refit crawled its 15 coarse iterations, 4 s a candidate, to end above it).
   const LmSettings lm = refit_settings(settings);
   // The refit settings that stop a refit whose likelihood ratio against `base_cost` cannot reach `mark`.
   auto stopping_short_of = [&](double mark, double base_cost, int pace_iterations = internal::kPaceIterations) {
@@ -231,19 +237,25 @@ Candidate examine(const MotorFile& motor, const Scored& scored, const Diagnosis&
       {"the score test's step", score.predicted}, {"the neutral value", neutral_start(with, effect, before.baseline.values)}};
   std::optional<internal::Refit> kept;
   std::optional<LmReport> best_coarse;
-  std::size_t best_start = 0;
-  for (const auto& [from, values] : starts) {
-    if (&from != &starts[0].first && values == starts[0].second) continue;
+  std::size_t best_start = 0;  // in `starts` while they run, then in c.starts
+  std::optional<RefitStart> tried[std::size(starts)];
+  for (const std::size_t k : {std::size_t{1}, std::size_t{0}}) {
+    const auto& [from, values] = starts[k];
+    if (k == 1 && values == starts[0].second) continue;
     RefitStart s;
     s.from = from;
     const LmProgress report = lm_progress(progress, c.name + ": refit from " + from);
-    // On the coarse grid its mark is the polish (below it the verdict is the coarse fit's), on the
-    // data's the threshold.
+    // On the coarse grid its mark is the polish (below it the verdict is the coarse fit's), or what
+    // the start before it reached where higher; on the data's the threshold.
+    const double coarse_mark =
+        best_coarse ? std::max(kPolishShare * c.threshold,
+                               before.effective_residuals * std::log(coarse.baseline->final_cost / best_coarse->final_cost))
+                    : kPolishShare * c.threshold;
     try {
       if (std::optional<LmReport> on_coarse =
               coarse.baseline
                   ? internal::coarse_stage(with, values, coarse.dataset, split.train,
-                                           stopping_short_of(kPolishShare * c.threshold, coarse.baseline->final_cost), report)
+                                           stopping_short_of(coarse_mark, coarse.baseline->final_cost), report)
                   : std::nullopt) {
         s.rmse_k = on_coarse->rmse_k;
         s.iterations = on_coarse->iterations;
@@ -251,7 +263,7 @@ Candidate examine(const MotorFile& motor, const Scored& scored, const Diagnosis&
         s.coarse_only = true;
         if (!best_coarse || on_coarse->final_cost < best_coarse->final_cost) {
           best_coarse = std::move(on_coarse);
-          best_start = c.starts.size();
+          best_start = k;
         }
       } else {
         internal::Refit r = internal::refit_with(with, effect, values, dataset, split.train,
@@ -268,7 +280,13 @@ Candidate examine(const MotorFile& motor, const Scored& scored, const Diagnosis&
       s.rmse_k = kNoTest;
       s.error = error.what();
     }
-    c.starts.push_back(s);
+    tried[k] = s;
+  }
+  // In the starts' order: the step, then the neutral value.
+  for (std::size_t k = 0; k < std::size(starts); ++k) {
+    if (!tried[k]) continue;
+    if (best_coarse && k == best_start) best_start = c.starts.size();
+    c.starts.push_back(*tried[k]);
   }
   // The kept start's likelihood ratio on the coarse grid: where it is far below the threshold the
   // polish is skipped, and the ratio and the errors are the coarse fit's.
