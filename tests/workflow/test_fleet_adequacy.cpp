@@ -13,6 +13,8 @@
 #include "simulator/generate/plant_physics.hpp"
 #include "trainer/workflow/calibrate.hpp"
 
+#include "generated_fleet.hpp"
+
 namespace lptn::workflow {
 namespace {
 
@@ -28,10 +30,7 @@ TEST(WorkflowAdequacy, AFleetWhoseWeakMotorIsInTheTestSplitIsNotCalledOverfitted
   o.motor.seed = 7;
   o.motor.min_duration_s = 30 * 60;
   o.motor.max_duration_s = 40 * 60;
-  const std::vector<gen::FleetMotorSummary> truth = gen::generate_fleet(o, t.path());
-  CalibrationRequest q;
-  q.fleet = t.path().string();
-  q.motor = (t.path() / "motor.toml").string();
+  const CalibrationRequest q = generate_fleet_request(o, t.path()).request;
   const FleetCalibration f = calibrate_fleet(q, {});
   ASSERT_GT(f.result.test.stator.rmse_k, 2 * f.result.train.stator.rmse_k) << "the weak motor should be in the test split";
   std::string all;
@@ -51,10 +50,7 @@ TEST(WorkflowAdequacy, AFleetThatLacksThePlantsPhysicsIsWarnedOncePerSensor) {
   o.motor.min_duration_s = 20 * 60;
   o.motor.max_duration_s = 25 * 60;
   o.motor.plant = gen::plant_bit(gen::PlantPhysics::windage_cubed);
-  gen::generate_fleet(o, t.path());
-  CalibrationRequest q;
-  q.fleet = t.path().string();
-  q.motor = (t.path() / "motor.toml").string();
+  const CalibrationRequest q = generate_fleet_request(o, t.path()).request;
   const FleetCalibration f = calibrate_fleet(q, {});
   EXPECT_EQ(f.result.status, kStatusWarnings);
   std::vector<std::string> inadequate;

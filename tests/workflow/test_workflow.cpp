@@ -19,6 +19,8 @@
 #include "trainer/workflow/calibrate.hpp"
 #include "trainer/workflow/diagnose.hpp"
 
+#include "generated_fleet.hpp"
+
 namespace lptn::workflow {
 namespace {
 
@@ -181,10 +183,8 @@ TEST_F(Workflow, AFleetIsCalibratedWithEachMotorsCooling) {
   o.motor.seed = 6;
   o.motor.min_duration_s = 25 * 60;
   o.motor.max_duration_s = 30 * 60;
-  const std::vector<gen::FleetMotorSummary> truth = gen::generate_fleet(o, t.path());
-  CalibrationRequest q;
-  q.fleet = t.path().string();
-  q.motor = (t.path() / "motor.toml").string();
+  const GeneratedFleet g = generate_fleet_request(o, t.path());
+  CalibrationRequest q = g.request;
   CalibrationPlan plan;
   CalibrationEvents events;
   events.started = [&](const CalibrationPlan& p) { plan = p; };
@@ -197,9 +197,9 @@ TEST_F(Workflow, AFleetIsCalibratedWithEachMotorsCooling) {
   // Each motor's factor against the fleet's median, to which the fit normalizes: the weak motor's
   // (0.7 of nominal) far below the others', which stay near 1.
   for (std::size_t m = 0; m < 3; ++m) {
-    EXPECT_EQ(f.fit.motors[m].id, truth[m].id);
-    if (truth[m].weak) EXPECT_LT(f.fit.motors[m].cooling_factor, 0.85) << truth[m].id;
-    else EXPECT_NEAR(f.fit.motors[m].cooling_factor, 1.0, 0.08) << truth[m].id;
+    EXPECT_EQ(f.fit.motors[m].id, g.truth[m].id);
+    if (g.truth[m].weak) EXPECT_LT(f.fit.motors[m].cooling_factor, 0.85) << g.truth[m].id;
+    else EXPECT_NEAR(f.fit.motors[m].cooling_factor, 1.0, 0.08) << g.truth[m].id;
   }
   // The weak motor is the model with its own factor: no motor is warned inadequate.
   for (const CalibrationWarning& w : f.result.warnings) EXPECT_NE(w.code, "not_adequate") << w.message;
