@@ -58,8 +58,9 @@ scripts/check-m7-golden.sh
 
 step "vcan bench: lptn-daemon on vcan0 in a qemu guest against the in-process replay"
 scripts/setup.sh bench
-# Open loop only the inputs' sampling phase separates daemon and replay: a tight bound. Closed loop,
-# within a share of the filter's own uncertainty (lptn-vcan-bench --help says why).
+# Exactly: the daemon's record replays to its frames. Against the replay, open loop only the inputs'
+# sampling phase separates the two: a tight bound; closed loop, within a share of the filter's own
+# uncertainty; judged where the guest's timing moved no frame (lptn-vcan-bench --help says why).
 build/ci/programs/vcan-bench/lptn-vcan-bench --out build/ci/vcan-bench/open-loop --open-loop --tolerance-k 0.05 --tolerance-sigma 0
 build/ci/programs/vcan-bench/lptn-vcan-bench --out build/ci/vcan-bench/closed-loop
 printf '\nevery step passed in %d s\n' "$SECONDS"

@@ -7,6 +7,11 @@
 //                    outputs written as candump lines to --out (default stdout)
 //   --replay FILE    as fast as possible, time stamps driving the ticks (as `lptn replay`), the
 //                    estimates as CSV to --csv
+// With --interface or --log, --record FILE keeps what the estimator was given, in the order it was
+// given it (PX4's replay log): every frame it received, stamped with the time the estimator was
+// told, and at every tick the frames the tick produced, stamped with the tick's time. Replaying a
+// record through the estimator (lptn-vcan-bench does) must give the recorded frames bit for bit,
+// however late the timer fired or the frames came.
 #include <getopt.h>
 #include <poll.h>
 #include <sys/signalfd.h>
@@ -46,6 +51,9 @@ constexpr const char* kUsage =
     "  --replay FILE      replay a candump log as fast as possible (time stamps drive the ticks)\n"
     "  --csv FILE         with --replay: the estimates as CSV (default stdout)\n"
     "  --out FILE         with --log: the output frames as candump lines (default stdout)\n"
+    "  --record FILE      with --interface or --log: every frame received (interface rx, stamped with the\n"
+    "                     estimator's time) and every tick's frames (interface tx, the tick's time), as\n"
+    "                     candump -L lines in the order the estimator saw them\n"
     "  --time-scale S     run S times faster than real time (timer and ages scaled; default 1)\n"
     "  --duration S       stop after S seconds of estimator time (default: until SIGTERM or log end)\n"
     "  --open-loop        do not fuse the stator winding sensor\n"
@@ -54,7 +62,7 @@ constexpr const char* kUsage =
     "Exit: 0 after SIGTERM/SIGINT or the end of the input, 1 on a runtime failure, 2 on bad arguments.\n";
 
 struct Options {
-  std::string interface, log, replay, csv, out;
+  std::string interface, log, replay, csv, out, record;
   double time_scale = 1.0;
   double duration_s = 0.0;
   bool open_loop = false, use_actor = false;
@@ -79,7 +87,8 @@ int parse_options(int argc, char** argv, Options& o) {
                                  {"out", required_argument, nullptr, 'o'},       {"time-scale", required_argument, nullptr, 's'},
                                  {"duration", required_argument, nullptr, 'd'},  {"open-loop", no_argument, nullptr, 'L'},
                                  {"use-actor", no_argument, nullptr, 'A'},       {"help", no_argument, nullptr, 'h'},
-                                 {"version", no_argument, nullptr, 'V'},         {nullptr, 0, nullptr, 0}};
+                                 {"version", no_argument, nullptr, 'V'},         {"record", required_argument, nullptr, 'R'},
+                                 {nullptr, 0, nullptr, 0}};
   opterr = 0;
   int c;
   while ((c = getopt_long(argc, argv, "", kLong, nullptr)) != -1) {
@@ -89,6 +98,7 @@ int parse_options(int argc, char** argv, Options& o) {
       case 'r': o.replay = optarg; break;
       case 'c': o.csv = optarg; break;
       case 'o': o.out = optarg; break;
+      case 'R': o.record = optarg; break;
       case 's':
         if (!parse_number(optarg, o.time_scale) || !(o.time_scale > 0)) return usage_error("--time-scale: expected a number > 0");
         break;
@@ -107,6 +117,7 @@ int parse_options(int argc, char** argv, Options& o) {
   if (sources != 1) return usage_error("give exactly one of --interface, --log, --replay");
   if (!o.csv.empty() && o.replay.empty()) return usage_error("--csv goes with --replay");
   if (!o.out.empty() && o.log.empty()) return usage_error("--out goes with --log");
+  if (!o.record.empty() && !o.replay.empty()) return usage_error("--record goes with --interface or --log");
   return 0;
 }
 
@@ -242,12 +253,20 @@ int run_live(const Options& o) {
     std::fprintf(stderr, "lptn-daemon: error: %s: %s\n", o.log.c_str(), std::strerror(errno));
     return 2;
   }
-  lptn::AtomicFile out;
-  if (log && !out.open(o.out)) {
-    std::fprintf(stderr, "lptn-daemon: error: %s: %s\n", o.out.c_str(), std::strerror(errno));
-    std::fclose(log);
+  lptn::AtomicFile out, record;
+  if ((log && !out.open(o.out)) || (!o.record.empty() && !record.open(o.record))) {
+    std::fprintf(stderr, "lptn-daemon: error: %s: %s\n", (log && !out.get() ? o.out : o.record).c_str(), std::strerror(errno));
+    if (log) std::fclose(log);
     return 1;
   }
+  // The record's lines are buffered (a write per 1 MiB, not per frame: the timer loop must not wait on a disk).
+  static char record_buffer[1 << 20];
+  if (!o.record.empty()) std::setvbuf(record.get(), record_buffer, _IOFBF, sizeof record_buffer);
+  char line[160];
+  const auto keep = [&](TimeUs t, const char* interface, const lptn::fw::CanFrame& f) {
+    if (!o.record.empty() && lptn::fw::format_candump_line(line, sizeof line, t, interface, f))
+      std::fprintf(record.get(), "%s\n", line);
+  };
   const int signals = stop_signals_fd();
   const int timer = timerfd_create(CLOCK_MONOTONIC, TFD_CLOEXEC | TFD_NONBLOCK);
   if (signals < 0 || timer < 0) {
@@ -289,7 +308,6 @@ int run_live(const Options& o) {
   // once they last (the converter's frames are there, yet an input stays stale or absent).
   std::uint64_t uninitialized_ticks = 0, waiting_with_frames = 0;
   lptn::fw::CanFrame outputs[lptn::fw::kMaxOutputFrames];
-  char line[160];
   int rc = 0;
   for (bool running = true; running;) {
     pollfd fds[3] = {{signals, POLLIN, 0}, {timer, POLLIN, 0}, {socket.fd(), POLLIN, 0}};
@@ -307,7 +325,9 @@ int run_live(const Options& o) {
           return 1;
         }
         if (overrun) estimator.note_overrun();
-        estimator.receive(f, now());
+        const TimeUs t = now();
+        estimator.receive(f, t);
+        keep(t, "rx", f);
         ++frames_in;
       }
     }
@@ -320,6 +340,7 @@ int run_live(const Options& o) {
       if (log) {
         paced.deliver_until(tick_time, [&](const lptn::fw::CanFrame& f, TimeUs t) {
           estimator.receive(f, t);
+          keep(t, "rx", f);
           ++frames_in;
         });
         // The log has ended: no tick beyond its last frame (where a replay stops too).
@@ -336,6 +357,7 @@ int run_live(const Options& o) {
       }
       const int n = lptn::fw::pack_outputs(est, outputs);
       for (int i = 0; i < n; ++i) {
+        keep(tick_time, "tx", outputs[i]);
         if (log) {
           if (lptn::fw::format_candump_line(line, sizeof line, tick_time, "lptn", outputs[i]))
             std::fprintf(out.get(), "%s\n", line);
@@ -350,6 +372,10 @@ int run_live(const Options& o) {
   if (log) {
     std::fclose(log);
     if (!out.commit()) rc = 1;
+  }
+  if (!o.record.empty() && !record.commit()) {
+    std::fprintf(stderr, "lptn-daemon: error: writing %s: %s\n", o.record.c_str(), std::strerror(errno));
+    rc = 1;
   }
   std::fprintf(stderr, "lptn-daemon: stopped after %llu ticks (%llu without estimates), %llu frames in, %llu frames out\n",
                static_cast<unsigned long long>(ticks), static_cast<unsigned long long>(uninitialized_ticks),

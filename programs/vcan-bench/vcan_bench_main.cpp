@@ -5,14 +5,20 @@
 // This machine's kernel has no CAN, so the bus lives in a throw-away qemu guest with a Debian
 // kernel (programs/vcan-bench/run-guest.sh): canplayer plays the log onto vcan0 (time stamps scaled
 // by --time-scale), lptn-daemon reads vcan0 through its kernel filters and sends its frames every
-// tick (its timer scaled alike), candump -L records them. Here the recording is decoded through
-// the DBC's codecs and compared, tick by tick, with `lptn replay` of the same log.
+// tick (its timer scaled alike) and keeps a record of what its estimator was given (--record),
+// candump -L records its frames. Here two things are checked. Exactly: the estimator fed the
+// record's frames at the record's times gives every frame the daemon sent, the frames it received
+// are the log's, and its frames on the bus are the record's. Within a tolerance: the recording,
+// decoded through the DBC's codecs, against `lptn replay` of the same log, tick by tick, judged
+// where every frame reached the tick it would have reached on time (software emulation on a loaded
+// host moves some; the exact checks hold however late).
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -21,11 +27,14 @@
 #include <stdexcept>
 #include <sstream>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <CLI/CLI.hpp>
 
 #include "lptn/firmware/candump_line.hpp"
+#include "lptn/firmware/estimator.hpp"
+#include "firmware/linux/record.hpp"
 #include "lptn/firmware/output_frames.hpp"
 #include "lptn/can/lptn_frames.hpp"
 #include "tools/replay/calibrated_estimator.hpp"
@@ -87,6 +96,8 @@ struct Comparison {
   double max_k[kNumNodes]{};
   double sum_sq[kNumNodes]{};
   double bound_used = 0;  // max over ticks and nodes of |difference| / allowed
+  std::size_t worst_tick = 0;  // the replay tick where bound_used was reached
+  int worst_node = 0;
   std::size_t status_frames = 0;
   std::size_t uninitialized = 0;  // status frames saying "not initialised"
   unsigned stale_while_uninitialized = 0;  // the stale inputs those frames named, bit per input
@@ -96,10 +107,14 @@ struct Comparison {
 // counts the ticks since its start), in that order; a tick's temperatures pair with its ticks.
 // `ids`: the CAN ids the daemon sends its frames on (the bus map's [outputs]), in
 // fw::kOutputFrames' order; a recorded frame on one of them is read as that frame.
+// Each compared tick goes to `per_tick` (CSV: the replay's tick, each node's difference in K).
 Comparison compare(const fs::path& recording, const std::vector<ReplayRow>& replay, double tolerance_k,
-                   double tolerance_sigma, const std::array<fw::OutputId, fw::kMaxOutputFrames>& ids) {
+                   double tolerance_sigma, const std::array<fw::OutputId, fw::kMaxOutputFrames>& ids,
+                   double dt_s, const fs::path& per_tick) {
   Comparison c;
   std::ifstream in(recording);
+  std::ofstream csv(per_tick);
+  csv << "tick,time_s,stator_winding_k,stator_core_k,rotor_winding_k,rotor_core_k\n";
   std::array<double, kNumNodes> temps{};
   bool have_temps = false;
   std::size_t wraps = 0;
@@ -139,6 +154,7 @@ Comparison compare(const fs::path& recording, const std::vector<ReplayRow>& repl
       have_temps = false;
       if (k >= replay.size()) continue;
       ++c.compared;
+      csv << k << ',' << dt_s * static_cast<double>(k);
       for (int i = 0; i < kNumNodes; ++i) {
         // The daemon's timer has its own phase: a frame may reach it a tick earlier or later than
         // the replay, so its tick k is matched with the nearest of the replay's k-1, k, k+1.
@@ -147,11 +163,139 @@ Comparison compare(const fs::path& recording, const std::vector<ReplayRow>& repl
           if (j < replay.size()) d = std::min(d, std::abs(temps[i] - replay[j].c[i]));
         c.max_k[i] = std::max(c.max_k[i], d);
         c.sum_sq[i] += d * d;
-        c.bound_used = std::max(c.bound_used, d / (tolerance_k + tolerance_sigma * replay[k].sd[i]));
+        const double used = d / (tolerance_k + tolerance_sigma * replay[k].sd[i]);
+        if (used > c.bound_used) {
+          c.bound_used = used;
+          c.worst_tick = k;
+          c.worst_node = i;
+        }
+        csv << ',' << d;
       }
+      csv << '\n';
     }
   }
   return c;
+}
+
+// Every frame of a candump -L file on `interface` (empty: all), with its time stamp.
+std::vector<fw::CandumpRecord> read_frames(const fs::path& file, std::string_view interface) {
+  std::ifstream in(file);
+  std::vector<fw::CandumpRecord> frames;
+  for (std::string line; std::getline(in, line);) {
+    fw::CandumpRecord rec;
+    if (fw::parse_candump_line(line, rec) || (!interface.empty() && rec.interface != interface)) continue;
+    rec.interface = {};  // it pointed into `line`
+    frames.push_back(rec);
+  }
+  return frames;
+}
+
+// What the daemon's record (lptn-daemon --record) shows: its frames are what the estimator makes of
+// the frames it received, the frames it received are the log's, and the frames on the bus are its.
+struct RecordCheck {
+  std::size_t ticks = 0, ticks_differing = 0;   // ticks replayed from the record; of them, ticks whose frames differ
+  std::size_t first_differing_tick = 0;
+  std::size_t bad_lines = 0;  // record lines that are neither rx nor tx frames
+  std::size_t received = 0, log_frames = 0, received_differing = 0;  // frames received and played; of them, differing
+  std::size_t sent = 0, on_bus = 0, bus_differing = 0;  // frames the record says were sent, recorded on the bus; of those, not the record's
+  double latest_s = 0;  // how much later than its log time (beyond the earliest frame's delay) a frame reached the estimator
+  std::size_t later_than_a_tick = 0;
+  // Frames a tick other than the one they would have reached on time took (on time: at their log
+  // time plus the earliest frame's delay); the daemon then ran on other inputs than the replay.
+  std::size_t moved = 0;
+  // The daemon's clock against the bus's, the last minute of the log against the first (medians,
+  // in the log's seconds): how much later frames reached the estimator, and how much later than
+  // its frames' stamps the tick that took them ran. A time scale or a tick period off drifts.
+  double bus_drift_s = 0, tick_drift_s = 0;
+};
+
+// `listened`: the ids the daemon's kernel filters pass (bit 31 for an extended id, as kFilterIds).
+RecordCheck check_record(const fs::path& record_file, const fs::path& bus_recording, const fs::path& log,
+                         const std::vector<std::uint32_t>& listened, const fw::EstimatorConfig<double>& config,
+                         const std::array<fw::OutputId, fw::kMaxOutputFrames>& ids) {
+  RecordCheck r;
+  fw::OutputId out_ids[fw::kMaxOutputFrames];
+  std::copy(ids.begin(), ids.end(), out_ids);
+  fw::Estimator<double> estimator(config);
+  const fw::RecordReplay replayed = fw::replay_record(record_file, estimator, out_ids);
+  r.ticks = replayed.ticks;
+  r.ticks_differing = replayed.ticks_differing;
+  r.first_differing_tick = replayed.first_differing;
+  r.bad_lines = replayed.bad_lines;
+  // The frames received against the log's, in order; how late each came.
+  const auto received = read_frames(record_file, "rx"), sent = read_frames(record_file, "tx");
+  // The tick that took each received frame: the next tx stamp after it in the record.
+  std::vector<fw::TimeUs> taken_at;
+  {
+    std::ifstream in(record_file);
+    std::size_t pending = 0;
+    for (std::string line; std::getline(in, line);) {
+      fw::CandumpRecord rec;
+      if (fw::parse_candump_line(line, rec)) continue;
+      if (rec.interface == "rx") ++pending;
+      if (rec.interface != "tx") continue;
+      taken_at.insert(taken_at.end(), pending, rec.time_us);
+      pending = 0;
+    }
+  }
+  auto played = read_frames(log, {});
+  std::erase_if(played, [&](const fw::CandumpRecord& p) {
+    return std::find(listened.begin(), listened.end(), p.frame.id | (p.frame.extended ? 0x80000000u : 0u)) == listened.end();
+  });
+  r.received = received.size();
+  r.log_frames = played.size();
+  fw::TimeUs earliest = 0;
+  std::vector<fw::TimeUs> delay;
+  for (std::size_t i = 0; i < std::min(received.size(), played.size()); ++i) {
+    if (!fw::same_frame(received[i].frame, played[i].frame)) ++r.received_differing;
+    // The record's stamps are the estimator's clock (the monotonic clock times the time scale).
+    delay.push_back(received[i].time_us - played[i].time_us);
+    earliest = i == 0 ? delay.back() : std::min(earliest, delay.back());
+  }
+  const fw::TimeUs tick_us = static_cast<fw::TimeUs>(config.observer.dt_s * fw::kUsPerS + 0.5);
+  for (fw::TimeUs d : delay) {
+    r.latest_s = std::max(r.latest_s, static_cast<double>(d - earliest) / fw::kUsPerS);
+    if (d - earliest > tick_us) ++r.later_than_a_tick;
+  }
+  if (!delay.empty() && taken_at.size() >= delay.size()) {
+    const fw::TimeUs first = played.front().time_us, last = played[delay.size() - 1].time_us;
+    const auto median_in = [&](fw::TimeUs from, fw::TimeUs to, auto&& value) {
+      std::vector<double> v;
+      for (std::size_t i = 0; i < delay.size(); ++i)
+        if (played[i].time_us >= from && played[i].time_us <= to) v.push_back(value(i));
+      if (v.empty()) return 0.0;
+      std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
+      return v[v.size() / 2];
+    };
+    const fw::TimeUs minute = 60 * fw::kUsPerS;
+    const auto bus = [&](std::size_t i) { return static_cast<double>(delay[i]) / fw::kUsPerS; };
+    const auto tick = [&](std::size_t i) { return static_cast<double>(taken_at[i] - received[i].time_us) / fw::kUsPerS; };
+    r.bus_drift_s = median_in(last - minute, last, bus) - median_in(first, first + minute, bus);
+    // Ticks run at whole periods of the estimator's clock: the one due at or after a time.
+    for (std::size_t i = 0; i < delay.size(); ++i) {
+      const fw::TimeUs on_time = played[i].time_us + earliest;
+      const fw::TimeUs due = (on_time + tick_us - 1) / tick_us * tick_us;
+      if (taken_at[i] != due) ++r.moved;
+    }
+    r.tick_drift_s = median_in(last - minute, last, tick) - median_in(first, first + minute, tick);
+  }
+  // The frames on the bus against the record's.
+  const auto on_bus = read_frames(bus_recording, {});
+  r.sent = sent.size();
+  r.on_bus = on_bus.size();
+  // In order, each frame on the bus is the record's next one or a later one: frames may be missing
+  // (a full transmit queue, candump's receive buffer overrun in a stalled guest), none altered.
+  std::size_t next = 0;
+  for (const fw::CandumpRecord& f : on_bus) {
+    std::size_t j = next;
+    while (j < sent.size() && !fw::same_frame(sent[j].frame, f.frame)) ++j;
+    if (j == sent.size()) {
+      ++r.bus_differing;
+      continue;
+    }
+    next = j + 1;
+  }
+  return r;
 }
 
 // Bad input: one line, exit code 2.
@@ -166,9 +310,14 @@ void add_options(CLI::App& app) {
       "with canplayer (time stamps divided by --time-scale), runs lptn-daemon on vcan0 with its timer scaled alike, "
       "records its frames with candump, and compares them tick by tick with `lptn replay` of the same log. Without "
       "--log, generates --minutes of driving and converts it. Needs scripts/setup.sh bench (qemu, busybox, can-utils); "
-      "the kernel package is fetched once into --cache. Exit 1 when the daemon's estimates differ from the replay's by "
-      "more than --tolerance-k plus --tolerance-sigma of the replay's own standard deviation at any tick, or fewer than 95 % of "
-      "its ticks could be compared. Why a tolerance at all: the daemon samples the bus at its own timer's phase, so a "
+      "the kernel package is fetched once into --cache. Exit 1 when the daemon's record (lptn-daemon --record) does not "
+      "account for what it did (the estimator fed the frames it received, at the times it stamped them, makes other "
+      "frames than it recorded; the frames it received are not the log's; a frame on the bus is not the record's), "
+      "when its clock drifts against the bus's by more than a tick over the log, when fewer than 95 % of the replay's "
+      "ticks could be compared, or, where every frame reached the tick it would have reached on time, when the "
+      "daemon's estimates differ from the replay's by "
+      "more than --tolerance-k plus --tolerance-sigma of the replay's own standard deviation at any tick (comparison.csv "
+      "in --out has every tick). Why a tolerance at all: the daemon samples the bus at its own timer's phase, so a "
       "frame may reach it a tick earlier or later than the replay (its ticks are matched with the nearest of the "
       "replay's three around them); a stator reading fused a tick apart meets a slightly different prediction, and "
       "while the filter converges its gain on the unmeasured nodes is large, so the two runs of one filter differ by "
@@ -270,10 +419,12 @@ void add_options(CLI::App& app) {
     {
       std::ofstream run(share / "run.sh");
       run << "# The bench payload (lptn-vcan-bench): daemon on vcan0, its frames recorded, the log played.\n"
+          // The record and the recording go to the guest's memory (tmpfs) while the daemon runs, not
+          // over 9p: writing there costs the one emulated CPU time the daemon and canplayer need.
           << "lptn-daemon --interface vcan0 --time-scale " << scale << (args->open_loop ? " --open-loop" : "")
-          << " 2>daemon.err &\n"
+          << " --record /tmp/record.log 2>daemon.err &\n"
           << "daemon=$!\n"
-          << "candump -L vcan0" << recorded << " >recording.log &\n"
+          << "candump -L vcan0" << recorded << " >/tmp/recording.log &\n"
           << "candump=$!\n"
           // Play only once both listen: the daemon's id filters and candump's show in
           // rcvlist_fil (filtered sockets are not in rcvlist_all).
@@ -284,8 +435,10 @@ void add_options(CLI::App& app) {
           << "kill -TERM $daemon\n"
           << "wait $daemon\n"
           << "rc=$?\n"
+          << "cp /tmp/record.log record.log || rc=1\n"
           << "kill $candump\n"
           << "wait $candump\n"
+          << "cp /tmp/recording.log recording.log || rc=1\n"
           << "cat daemon.err\n"
           << "echo \"daemon exit status $rc\"\n"
           << "exit $rc\n";
@@ -293,8 +446,28 @@ void add_options(CLI::App& app) {
     shell("the guest", quote(scripts / "run-guest.sh") + " --cache " + quote(args->cache) + " --share " + quote(share) +
                            " --timeout " + std::to_string(args->timeout_s));
 
+    // First what the daemon's record shows (exact: no tolerance), then the estimates against the replay.
+    std::vector<std::uint32_t> listened;
+    if (map)
+      for (const bus::MappedMessage& m : map->messages())
+        listened.push_back(m.message->id | (m.message->extended ? 0x80000000u : 0u));
+    else
+      listened.assign(std::begin(lptn::bus::kFilterIds), std::end(lptn::bus::kFilterIds));
+    const RecordCheck rc = check_record(share / "record.log", share / "recording.log", log, listened, cal->config, outputs);
+    std::printf("== the daemon's record (lptn-daemon --record) replayed through the estimator: %zu ticks, %zu with other frames%s\n",
+                rc.ticks, rc.ticks_differing,
+                rc.ticks_differing ? (" (the first at tick " + std::to_string(rc.first_differing_tick) + ")").c_str() : "");
+    std::printf("   frames received %zu of the log's %zu, %zu differing; made %zu, recorded on the bus %zu, %zu of them not "
+                "the record's next ones\n", rc.received, rc.log_frames, rc.received_differing, rc.sent, rc.on_bus, rc.bus_differing);
+    std::printf("   frames reached the estimator up to %.3f s (log time) later than the earliest one did; %zu more than a tick late\n",
+                rc.latest_s, rc.later_than_a_tick);
+    std::printf("   frames a tick other than their own took (the guest's timing): %zu\n", rc.moved);
+    std::printf("   the daemon's clock against the bus's, last minute against first: frames %+.3f s later, ticks %+.3f s later "
+                "after their frames (allowed: a tick, %g s)\n", rc.bus_drift_s, rc.tick_drift_s, cal->config.observer.dt_s);
     const auto replay = replay_estimates(replay_csv);
-    const Comparison c = compare(share / "recording.log", replay, args->tolerance_k, args->tolerance_sigma, outputs);
+    const fs::path per_tick = out / "comparison.csv";
+    const Comparison c = compare(share / "recording.log", replay, args->tolerance_k, args->tolerance_sigma, outputs,
+                                 cal->config.observer.dt_s, per_tick);
     const char* names[kNumNodes] = {"stator winding", "stator core", "rotor winding", "rotor core"};
     std::printf("== daemon on vcan0 vs in-process replay: %zu ticks with estimates (replay %zu), %zu compared\n", c.ticks,
                 replay.size(), c.compared);
@@ -302,10 +475,19 @@ void add_options(CLI::App& app) {
       const double rms = c.compared ? std::sqrt(c.sum_sq[i] / static_cast<double>(c.compared)) : NAN;
       std::printf("   %-15s max |difference| %.3f K, rms %.4f K\n", names[i], c.max_k[i], rms);
     }
-    std::printf("   largest difference against what is allowed (%g K + %g sigma): %.0f %%\n", args->tolerance_k,
-                args->tolerance_sigma, 100 * c.bound_used);
+    std::printf("   largest difference against what is allowed (%g K + %g sigma): %.0f %%, %s at %.1f s of the log (%s)\n",
+                args->tolerance_k, args->tolerance_sigma, 100 * c.bound_used, names[c.worst_node],
+                cal->config.observer.dt_s * static_cast<double>(c.worst_tick), per_tick.c_str());
     std::printf("   status frames %zu, of them %zu not initialised (stale inputs then: mask 0x%03x)\n", c.status_frames,
                 c.uninitialized, c.stale_while_uninitialized);
+    if (rc.ticks == 0 || rc.ticks_differing || rc.bad_lines || rc.received != rc.log_frames || rc.received_differing ||
+        rc.bus_differing)
+      throw std::runtime_error("the daemon's record does not account for what it did: the estimator fed the frames it "
+                               "received does not give the frames it sent, or those are not the log's and the bus's (" +
+                               (share / "record.log").string() + ")");
+    if (!(std::abs(rc.bus_drift_s) <= cal->config.observer.dt_s && std::abs(rc.tick_drift_s) <= cal->config.observer.dt_s))
+      throw std::runtime_error("the daemon's clock drifted against the bus's by more than a tick over the log (" +
+                               (share / "record.log").string() + ")");
     const bool enough = static_cast<double>(c.compared) >= 0.95 * static_cast<double>(replay.size());
     if (!enough)
       throw std::runtime_error("only " + std::to_string(c.compared) + " of " + std::to_string(replay.size()) +
@@ -313,9 +495,17 @@ void add_options(CLI::App& app) {
                                " of its " + std::to_string(c.status_frames) +
                                " status frames said not initialised (see " + (share / "daemon.err").string() + " and " +
                                (share / "console.log").string() + ")");
-    if (!(c.bound_used <= 1.0))
-      throw std::runtime_error("the daemon's estimates differ from the replay's beyond the tolerance (" +
-                               std::to_string(100 * c.bound_used) + " % of it)");
+    // The tolerance covers the sampling phase alone: where the guest's timing moved frames to other
+    // ticks, the two runs had other inputs (a late current frame leaves a rotor difference that
+    // decays over minutes), and a difference beyond it is the guest's, the exact checks above being
+    // what show the daemon right. With no frame moved, beyond the tolerance fails.
+    if (!(c.bound_used <= 1.0)) {
+      if (!rc.moved)
+        throw std::runtime_error("the daemon's estimates differ from the replay's beyond the tolerance (" +
+                                 std::to_string(100 * c.bound_used) + " % of it) with every frame in its own tick");
+      std::printf("   beyond the tolerance where the guest's timing moved %zu frames to another tick: not the daemon's "
+                  "doing (the record replays exactly)\n", rc.moved);
+    }
     std::printf("vcan bench passed: %s\n", out.c_str());
   });
 }

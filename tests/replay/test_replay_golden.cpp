@@ -23,8 +23,10 @@
 
 #include "lptn_testing/temp_dir.hpp"
 #include "lptn_testing/csv_columns.hpp"
+#include "firmware/linux/record.hpp"
 #include "lptn/firmware/candump_line.hpp"
 #include "lptn/can/lptn_frames.hpp"
+#include "tools/replay/calibrated_estimator.hpp"
 #include "trainer/calibrate/calibration_file.hpp"
 #include "trainer/data/dataset.hpp"
 #include "trainer/model/motor_file.hpp"
@@ -156,6 +158,54 @@ TEST_F(ReplayGolden, TheDaemonsTimerLoopSendsWhatTheReplayComputes) {
   const double resolution = can::LptnTemperatures::stator_winding_temp_decode(1) -
                             can::LptnTemperatures::stator_winding_temp_decode(0);
   EXPECT_LE(worst, resolution / 2 + 1e-9) << "the frames' resolution is " << resolution << " K";
+}
+
+// The daemon's record (--record) holds what its estimator was given: the log's frames, in order,
+// and every tick's frames as the daemon sent them; an estimator configured from the JSON
+// calibration, fed the record, makes those frames bit for bit. A record with one received byte
+// changed does not, so the check can fail.
+TEST_F(ReplayGolden, TheDaemonsRecordReplaysToItsFramesBitForBit) {
+  const fs::path frames = dir() / "recorded_run.log", record = dir() / "record.log";
+  const Outcome r = run(LPTN_DAEMON, "--log " + log().string() + " --time-scale 1000 --out " + frames.string() +
+                                         " --record " + record.string(), dir());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto lines = [](const fs::path& file, std::string_view interface) {
+    std::vector<std::pair<fw::TimeUs, std::string>> out;  // time stamp, frame text
+    std::ifstream in(file);
+    for (std::string line; std::getline(in, line);) {
+      fw::CandumpRecord rec;
+      if (fw::parse_candump_line(line, rec) != nullptr || (!interface.empty() && rec.interface != interface)) continue;
+      out.emplace_back(rec.time_us, line.substr(line.rfind(' ') + 1));
+    }
+    return out;
+  };
+  const auto played = lines(log(), ""), received = lines(record, "rx"), sent = lines(frames, "lptn"),
+             recorded = lines(record, "tx");
+  ASSERT_FALSE(played.empty());
+  EXPECT_EQ(received, played) << "the record's received frames are the log's, with the log's time stamps";
+  ASSERT_FALSE(sent.empty());
+  EXPECT_EQ(recorded, sent) << "the record's tick frames are the frames the daemon sent";
+
+  const auto config = replay::estimator_config_from(load_calibration(kCalibration), kCalibration.string());
+  fw::Estimator<double> estimator(config->config);
+  const fw::RecordReplay replayed = fw::replay_record(record, estimator, lptn::bus::kOutputIds);
+  EXPECT_EQ(replayed.received, played.size());
+  EXPECT_GT(replayed.ticks, 10000u);
+  EXPECT_EQ(replayed.ticks_differing, 0u) << "first at tick " << replayed.first_differing;
+  EXPECT_EQ(replayed.bad_lines, 0u);
+
+  // One received current byte changed, a third of the way in: from there the estimates differ.
+  std::string text = slurp(record);
+  const std::size_t at = text.find(" rx 101#", text.size() / 3);
+  ASSERT_NE(at, std::string::npos);
+  char& digit = text[at + 8 + 10];  // StatorCurrent's high byte (the sixth), its high nibble (lptn.dbc)
+  digit = digit == '7' ? '1' : '7';
+  const fs::path altered = dir() / "record_altered.log";
+  std::ofstream(altered) << text;
+  fw::Estimator<double> again(config->config);
+  const fw::RecordReplay differing = fw::replay_record(altered, again, lptn::bus::kOutputIds);
+  EXPECT_GT(differing.ticks_differing, 0u);
+  EXPECT_GT(differing.first_differing, replayed.ticks / 4);
 }
 
 // A converter that never sends its fast frame (speed, current, frequency): the daemon never starts
