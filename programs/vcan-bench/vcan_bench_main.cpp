@@ -503,8 +503,9 @@ void add_options(CLI::App& app) {
       if (!rc.moved)
         throw std::runtime_error("the daemon's estimates differ from the replay's beyond the tolerance (" +
                                  std::to_string(100 * c.bound_used) + " % of it) with every frame in its own tick");
-      std::printf("   beyond the tolerance where the guest's timing moved %zu frames to another tick: not the daemon's "
-                  "doing (the record replays exactly)\n", rc.moved);
+      std::printf("   beyond the tolerance (%.0f %%) where the guest's timing moved %zu frames to another tick: the "
+                  "inputs' sampling, not the daemon's arithmetic (the record replays exactly)\n",
+                  100 * c.bound_used, rc.moved);
     }
     std::printf("vcan bench passed: %s\n", out.c_str());
   });
