@@ -63,6 +63,17 @@ struct Sdirk2 {
     }
     return true;
   }
+  // step() of x, and of `count` more states without the input term, through one factorisation:
+  // how x's response to a change of its start moves (x is affine in its start with A and c held),
+  // for a caller that wants both, at the cost of one assembly and one factorisation a step.
+  template <class R>
+  static bool step_with_responses(const HeatBalance<T>& sys, T* x, T* const* responses, int count, const R& h,
+                                  internal::SmallLu<T>& lu) {
+    if (!factor_stage_matrix(sys, h, lu)) return false;
+    advance(sys, lu, x, h, true);
+    for (int r = 0; r < count; ++r) advance(sys, lu, responses[r], h, false);
+    return true;
+  }
   // step() with the factorisation transition() left for the same sys and h.
   template <class R>
   static void step_factored(const HeatBalance<T>& sys, const internal::SmallLu<T>& lu, T* x, const R& h) {

@@ -147,6 +147,14 @@ class Model {
     return Sdirk2<T>::step(work.sys, x, dt, work.lu);
   }
 
+  // step() of x and of `count` responses of x to its start (Sdirk2::step_with_responses).
+  template <class T>
+  bool step_with_responses(T* x, const PreparedInputs& in, const T* p, R dt, StepWorkspace<T>& work,
+                           T* const* responses, int count) const {
+    assemble(in, p, work.sys);
+    return Sdirk2<T>::step_with_responses(work.sys, x, responses, count, dt, work.lu);
+  }
+
   // Start of a cycle: the stator nodes at the stator reading, the rotor nodes at the rotor reading
   // (or, where the rotor is not measured, also the stator reading: a motor that has stood long
   // enough is soaked through), then each effect's extra states.

@@ -203,5 +203,38 @@ TEST(Integrator, TransitionMatrixIsTheStepsOwnLinearPart) {
   }
 }
 
+// step_with_responses moves the state exactly as step() does, and each response as the step moves
+// a change of the start: step(x + d) - step(x), for any d (the initial offsets' one-run estimate).
+TEST(Integrator, ResponsesSteppedBesideTheStateAreWhatAChangedStartMovesBy) {
+  const EffectSet all = (EffectSet{1} << kNumEffects) - 1;
+  const Model<double> model(testing::example_motor(), all);
+  auto p = default_params<double>();
+  p[param_index("sensor_time_constant_s")] = 20.0;
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> temperature(0.0, 150.0), delta(-20.0, 20.0);
+  const int n = model.num_states();
+  double x[kMaxStates], alone[kMaxStates], shifted[2][kMaxStates], d[2][kMaxStates];
+  for (int i = 0; i < n; ++i) {
+    x[i] = alone[i] = temperature(rng);
+    for (int r = 0; r < 2; ++r) {
+      d[r][i] = delta(rng);
+      shifted[r][i] = x[i] + d[r][i];
+    }
+  }
+  double* responses[2] = {d[0], d[1]};
+  Model<double>::StepWorkspace<double> work;
+  for (int k = 0; k < 600; ++k) {  // a minute of the reference case, everything moving
+    const auto in = model.prepare(reference_inputs(0.1 * k));
+    ASSERT_TRUE(model.step_with_responses(x, in, p.data(), 0.1, work, responses, 2));
+    ASSERT_TRUE(model.step(alone, in, p.data(), 0.1, work));
+    for (double* s : shifted) ASSERT_TRUE(model.step(s, in, p.data(), 0.1, work));
+  }
+  for (int i = 0; i < n; ++i) {
+    EXPECT_EQ(x[i], alone[i]) << "state " << i << ": the state's own step is step()'s, bit for bit";
+    for (int r = 0; r < 2; ++r) EXPECT_NEAR(shifted[r][i] - alone[i], d[r][i], 1e-9) << "response " << r << ", state " << i;
+  }
+  EXPECT_GT(std::abs(d[0][0]), 1e-3) << "a minute in, the start still shows";
+}
+
 }  // namespace
 }  // namespace lptn

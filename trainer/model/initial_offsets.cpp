@@ -9,19 +9,48 @@
 namespace lptn {
 namespace {
 
-// Model minus measurement at every measured grid point of the window, in a fixed order.
-std::vector<double> residuals(const Model<double>& model, const ParamVector<double>& params, const data::Cycle& cycle,
-                              const InitialOffsets<double>& offsets, std::size_t steps, const PreparedCycle* prepared) {
-  std::vector<double> r;
-  run_cycle(model, params.data(), cycle, [&](std::ptrdiff_t k, const double* x) {
-    if (k < 0) return;  // grid step 0 starts at the measurement by construction
-    const auto grid = static_cast<std::size_t>(k + 1);
-    const float ys = cycle.at(data::Channel::stator_winding_c, grid);
-    const float yr = cycle.at(data::Channel::rotor_c, grid);
-    if (!std::isnan(ys)) r.push_back(model.stator_sensor(x) - ys);
-    if (!std::isnan(yr)) r.push_back(model.rotor_sensor(x) - yr);
-  }, offsets, steps, prepared);
-  return r;
+// Model minus measurement at every measured grid point of the window (r0, offsets zero), in a
+// fixed order, and how each moves with a unit stator-core offset (a) and rotor-core offset (b):
+// one run, the two responses stepped beside the state through each step's factorisation.
+struct Window {
+  std::vector<double> r0, a, b;
+};
+
+Window window_residuals(const Model<double>& model, const ParamVector<double>& params, const data::Cycle& cycle,
+                        std::size_t steps, const PreparedCycle* prepared) {
+  Window w;
+  double x[kMaxStates], along_s[kMaxStates], along_t[kMaxStates];
+  initial_state_for(model, cycle, x);
+  {  // the responses start as what a unit offset adds to the start
+    double shifted[kMaxStates];
+    initial_state_for(model, cycle, shifted, InitialOffsets<double>{1.0, 0.0});
+    for (int i = 0; i < kMaxStates; ++i) along_s[i] = shifted[i] - x[i];
+    initial_state_for(model, cycle, shifted, InitialOffsets<double>{0.0, 1.0});
+    for (int i = 0; i < kMaxStates; ++i) along_t[i] = shifted[i] - x[i];
+  }
+  double* responses[2] = {along_s, along_t};
+  typename Model<double>::template StepWorkspace<double> work;
+  const std::size_t n = std::min(cycle.steps, steps);
+  for (std::size_t k = 0; k + 1 < n; ++k) {
+    // Grid step 0 starts at the measurement by construction; step k's result is grid k + 1's.
+    if (prepared)
+      model.step_with_responses(x, (*prepared)[k], params.data(), cycle.dt_s, work, responses, 2);
+    else
+      model.step_with_responses(x, model.prepare(inputs_at(cycle, k)), params.data(), cycle.dt_s, work, responses, 2);
+    const float ys = cycle.at(data::Channel::stator_winding_c, k + 1);
+    const float yr = cycle.at(data::Channel::rotor_c, k + 1);
+    if (!std::isnan(ys)) {
+      w.r0.push_back(model.stator_sensor(x) - ys);
+      w.a.push_back(model.stator_sensor(along_s));
+      w.b.push_back(model.stator_sensor(along_t));
+    }
+    if (!std::isnan(yr)) {
+      w.r0.push_back(model.rotor_sensor(x) - yr);
+      w.a.push_back(model.rotor_sensor(along_s));
+      w.b.push_back(model.rotor_sensor(along_t));
+    }
+  }
+  return w;
 }
 
 // The cost |r0 + s a + t b|^2 of a candidate, from the normal equations' sums.
@@ -45,13 +74,12 @@ InitialOffsets<double> estimate_initial_offsets(const Model<double>& model, cons
                                                const data::Cycle& cycle, double window_s,
                                                const PreparedCycle* prepared) {
   const auto steps = static_cast<std::size_t>(std::max(2.0, window_s / cycle.dt_s));
-  const std::vector<double> r0 = residuals(model, params, cycle, {}, steps, prepared);
+  const Window w = window_residuals(model, params, cycle, steps, prepared);
+  const std::vector<double>& r0 = w.r0;
   if (r0.empty()) return {};
-  const std::vector<double> rs = residuals(model, params, cycle, {1.0, 0.0}, steps, prepared);
-  const std::vector<double> rt = residuals(model, params, cycle, {0.0, 1.0}, steps, prepared);
   Quadratic q;
   for (std::size_t i = 0; i < r0.size(); ++i) {
-    const double a = rs[i] - r0[i], b = rt[i] - r0[i];
+    const double a = w.a[i], b = w.b[i];
     q.aa += a * a;
     q.ab += a * b;
     q.bb += b * b;

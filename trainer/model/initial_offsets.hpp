@@ -21,9 +21,10 @@ inline constexpr double kInitialOffsetWindowS = 600.0;
 //
 // With the parameters held, the model is affine in its initial state (the step is x' = A x + c,
 // A and c set by the inputs and parameters alone), so every output is y0 + a s + b r in the two
-// offsets s and r: three simulations give y0, a and b exactly, and the bounded two-parameter
-// least-squares problem is solved in closed form. A cycle with no measurement in the window, or
-// an offset the window's outputs do not depend on, gets 0.
+// offsets s and r: one run gives y0, with a and b stepped beside it without the input term
+// through each step's one assembly and factorisation (three runs did both three times), and the
+// bounded two-parameter least-squares problem is solved in closed form. A cycle with no
+// measurement in the window, or an offset the window's outputs do not depend on, gets 0.
 // `prepared`, where given, is prepare_cycle()'s for this model and cycle (run_cycle).
 InitialOffsets<double> estimate_initial_offsets(const Model<double>& model, const ParamVector<double>& params,
                                                const data::Cycle& cycle, double window_s = kInitialOffsetWindowS,
