@@ -9,7 +9,8 @@
 //                    estimates as CSV to --csv
 // With --interface or --log, --record FILE keeps what the estimator was given, in the order it was
 // given it (PX4's replay log): every frame it received, stamped with the time the estimator was
-// told, and at every tick the frames the tick produced, stamped with the tick's time. Replaying a
+// told, a receive-buffer overrun the kernel reported (interface overrun, an empty frame), and at
+// every tick the frames the tick produced, stamped with the tick's time. Replaying a
 // record through the estimator (lptn-vcan-bench does) must give the recorded frames bit for bit,
 // however late the timer fired or the frames came.
 #include <getopt.h>
@@ -324,8 +325,11 @@ int run_live(const Options& o) {
           std::fprintf(stderr, "lptn-daemon: error: reading %s: %s\n", o.interface.c_str(), std::strerror(errno));
           return 1;
         }
-        if (overrun) estimator.note_overrun();
         const TimeUs t = now();
+        if (overrun) {
+          estimator.note_overrun();
+          keep(t, "overrun", lptn::fw::CanFrame{});  // the kernel dropped frames before this one
+        }
         estimator.receive(f, t);
         keep(t, "rx", f);
         ++frames_in;

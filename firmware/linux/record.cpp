@@ -37,6 +37,11 @@ RecordReplay replay_record(const std::filesystem::path& record, Estimator<double
       ++r.received;
       continue;
     }
+    if (rec.interface == "overrun") {
+      estimator.note_overrun();
+      ++r.overruns;
+      continue;
+    }
     if (rec.interface != "tx") {
       ++r.bad_lines;
       continue;

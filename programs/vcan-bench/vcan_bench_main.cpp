@@ -196,7 +196,8 @@ struct RecordCheck {
   std::size_t ticks = 0, ticks_differing = 0;   // ticks replayed from the record; of them, ticks whose frames differ
   std::size_t first_differing_tick = 0;
   std::size_t bad_lines = 0;  // record lines that are neither rx nor tx frames
-  std::size_t received = 0, log_frames = 0, received_differing = 0;  // frames received and played; of them, differing
+  std::size_t received = 0, log_frames = 0, received_differing = 0;  // frames received and played; received, not the log's
+  std::size_t lost = 0, overruns = 0;  // the log's frames not received; receive-buffer overruns the daemon was told of
   std::size_t sent = 0, on_bus = 0, bus_differing = 0;  // frames the record says were sent, recorded on the bus; of those, not the record's
   double latest_s = 0;  // how much later than its log time (beyond the earliest frame's delay) a frame reached the estimator
   std::size_t later_than_a_tick = 0;
@@ -208,6 +209,12 @@ struct RecordCheck {
   // its frames' stamps the tick that took them ran. A time scale or a tick period off drifts.
   double bus_drift_s = 0, tick_drift_s = 0;
 };
+
+// The drift allowed over a log: five ticks. Not one: where the ticks fall on the frames' arrival
+// (the CI run at 09546e0), the time from a frame to the tick that takes it is about 0 or about a
+// tick at random, and its median may flip between the two (-0.046 s there). A time scale or tick
+// period off by 0.1 % drifts 0.72 s over the bench's 12 minutes.
+constexpr int kDriftTicks = 5;
 
 // `listened`: the ids the daemon's kernel filters pass (bit 31 for an extended id, as kFilterIds).
 RecordCheck check_record(const fs::path& record_file, const fs::path& bus_recording, const fs::path& log,
@@ -244,40 +251,56 @@ RecordCheck check_record(const fs::path& record_file, const fs::path& bus_record
   });
   r.received = received.size();
   r.log_frames = played.size();
+  r.overruns = replayed.overruns;
+  // In order, each frame received is the log's next one or a later one: frames the kernel dropped
+  // in a receive-buffer overrun are missing (and the daemon must have been told), none altered.
+  struct Pair {
+    std::size_t rx, log;  // indices into received and played
+  };
+  std::vector<Pair> pairs;
+  for (std::size_t i = 0, next = 0; i < received.size(); ++i) {
+    std::size_t j = next;
+    while (j < played.size() && !fw::same_frame(received[i].frame, played[j].frame)) ++j;
+    if (j == played.size()) {
+      ++r.received_differing;
+      continue;
+    }
+    pairs.push_back({i, j});
+    next = j + 1;
+  }
+  r.lost = played.size() - pairs.size();
+  // The record's stamps are the estimator's clock (the monotonic clock times the time scale).
+  const auto delay = [&](const Pair& p) { return received[p.rx].time_us - played[p.log].time_us; };
   fw::TimeUs earliest = 0;
-  std::vector<fw::TimeUs> delay;
-  for (std::size_t i = 0; i < std::min(received.size(), played.size()); ++i) {
-    if (!fw::same_frame(received[i].frame, played[i].frame)) ++r.received_differing;
-    // The record's stamps are the estimator's clock (the monotonic clock times the time scale).
-    delay.push_back(received[i].time_us - played[i].time_us);
-    earliest = i == 0 ? delay.back() : std::min(earliest, delay.back());
-  }
+  for (std::size_t k = 0; k < pairs.size(); ++k) earliest = k == 0 ? delay(pairs[k]) : std::min(earliest, delay(pairs[k]));
   const fw::TimeUs tick_us = static_cast<fw::TimeUs>(config.observer.dt_s * fw::kUsPerS + 0.5);
-  for (fw::TimeUs d : delay) {
-    r.latest_s = std::max(r.latest_s, static_cast<double>(d - earliest) / fw::kUsPerS);
-    if (d - earliest > tick_us) ++r.later_than_a_tick;
+  for (const Pair& p : pairs) {
+    r.latest_s = std::max(r.latest_s, static_cast<double>(delay(p) - earliest) / fw::kUsPerS);
+    if (delay(p) - earliest > tick_us) ++r.later_than_a_tick;
   }
-  if (!delay.empty() && taken_at.size() >= delay.size()) {
-    const fw::TimeUs first = played.front().time_us, last = played[delay.size() - 1].time_us;
+  if (!pairs.empty() && taken_at.size() >= received.size()) {
+    const fw::TimeUs first = played[pairs.front().log].time_us, last = played[pairs.back().log].time_us;
     const auto median_in = [&](fw::TimeUs from, fw::TimeUs to, auto&& value) {
       std::vector<double> v;
-      for (std::size_t i = 0; i < delay.size(); ++i)
-        if (played[i].time_us >= from && played[i].time_us <= to) v.push_back(value(i));
+      for (const Pair& p : pairs)
+        if (played[p.log].time_us >= from && played[p.log].time_us <= to) v.push_back(value(p));
       if (v.empty()) return 0.0;
       std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
       return v[v.size() / 2];
     };
     const fw::TimeUs minute = 60 * fw::kUsPerS;
-    const auto bus = [&](std::size_t i) { return static_cast<double>(delay[i]) / fw::kUsPerS; };
-    const auto tick = [&](std::size_t i) { return static_cast<double>(taken_at[i] - received[i].time_us) / fw::kUsPerS; };
+    const auto bus = [&](const Pair& p) { return static_cast<double>(delay(p)) / fw::kUsPerS; };
+    const auto tick = [&](const Pair& p) {
+      return static_cast<double>(taken_at[p.rx] - received[p.rx].time_us) / fw::kUsPerS;
+    };
     r.bus_drift_s = median_in(last - minute, last, bus) - median_in(first, first + minute, bus);
-    // Ticks run at whole periods of the estimator's clock: the one due at or after a time.
-    for (std::size_t i = 0; i < delay.size(); ++i) {
-      const fw::TimeUs on_time = played[i].time_us + earliest;
-      const fw::TimeUs due = (on_time + tick_us - 1) / tick_us * tick_us;
-      if (taken_at[i] != due) ++r.moved;
-    }
     r.tick_drift_s = median_in(last - minute, last, tick) - median_in(first, first + minute, tick);
+    // Ticks run at whole periods of the estimator's clock: the one due at or after a time.
+    for (const Pair& p : pairs) {
+      const fw::TimeUs on_time = played[p.log].time_us + earliest;
+      const fw::TimeUs due = (on_time + tick_us - 1) / tick_us * tick_us;
+      if (taken_at[p.rx] != due) ++r.moved;
+    }
   }
   // The frames on the bus against the record's.
   const auto on_bus = read_frames(bus_recording, {});
@@ -312,8 +335,9 @@ void add_options(CLI::App& app) {
       "--log, generates --minutes of driving and converts it. Needs scripts/setup.sh bench (qemu, busybox, can-utils); "
       "the kernel package is fetched once into --cache. Exit 1 when the daemon's record (lptn-daemon --record) does not "
       "account for what it did (the estimator fed the frames it received, at the times it stamped them, makes other "
-      "frames than it recorded; the frames it received are not the log's; a frame on the bus is not the record's), "
-      "when its clock drifts against the bus's by more than a tick over the log, when fewer than 95 % of the replay's "
+      "frames than it recorded; a frame it received is not the log's next, or the log's frames went missing without a "
+      "receive-buffer overrun the daemon was told of; a frame on the bus is not the record's), "
+      "when its clock drifts against the bus's by more than five ticks over the log, when fewer than 95 % of the replay's "
       "ticks could be compared, or, where every frame reached the tick it would have reached on time, when the "
       "daemon's estimates differ from the replay's by "
       "more than --tolerance-k plus --tolerance-sigma of the replay's own standard deviation at any tick (comparison.csv "
@@ -457,13 +481,15 @@ void add_options(CLI::App& app) {
     std::printf("== the daemon's record (lptn-daemon --record) replayed through the estimator: %zu ticks, %zu with other frames%s\n",
                 rc.ticks, rc.ticks_differing,
                 rc.ticks_differing ? (" (the first at tick " + std::to_string(rc.first_differing_tick) + ")").c_str() : "");
-    std::printf("   frames received %zu of the log's %zu, %zu differing; made %zu, recorded on the bus %zu, %zu of them not "
-                "the record's next ones\n", rc.received, rc.log_frames, rc.received_differing, rc.sent, rc.on_bus, rc.bus_differing);
+    std::printf("   frames received %zu of the log's %zu, %zu of them not the log's next ones, %zu lost in %zu receive-buffer "
+                "overruns the daemon was told of; made %zu, recorded on the bus %zu, %zu of them not the record's next ones\n",
+                rc.received, rc.log_frames, rc.received_differing, rc.lost, rc.overruns, rc.sent, rc.on_bus, rc.bus_differing);
     std::printf("   frames reached the estimator up to %.3f s (log time) later than the earliest one did; %zu more than a tick late\n",
                 rc.latest_s, rc.later_than_a_tick);
     std::printf("   frames a tick other than their own took (the guest's timing): %zu\n", rc.moved);
     std::printf("   the daemon's clock against the bus's, last minute against first: frames %+.3f s later, ticks %+.3f s later "
-                "after their frames (allowed: a tick, %g s)\n", rc.bus_drift_s, rc.tick_drift_s, cal->config.observer.dt_s);
+                "after their frames (allowed: %d ticks, %g s)\n", rc.bus_drift_s, rc.tick_drift_s, kDriftTicks,
+                kDriftTicks * cal->config.observer.dt_s);
     const auto replay = replay_estimates(replay_csv);
     const fs::path per_tick = out / "comparison.csv";
     const Comparison c = compare(share / "recording.log", replay, args->tolerance_k, args->tolerance_sigma, outputs,
@@ -480,14 +506,16 @@ void add_options(CLI::App& app) {
                 cal->config.observer.dt_s * static_cast<double>(c.worst_tick), per_tick.c_str());
     std::printf("   status frames %zu, of them %zu not initialised (stale inputs then: mask 0x%03x)\n", c.status_frames,
                 c.uninitialized, c.stale_while_uninitialized);
-    if (rc.ticks == 0 || rc.ticks_differing || rc.bad_lines || rc.received != rc.log_frames || rc.received_differing ||
+    if (rc.ticks == 0 || rc.ticks_differing || rc.bad_lines || (rc.lost && !rc.overruns) || rc.received_differing ||
         rc.bus_differing)
       throw std::runtime_error("the daemon's record does not account for what it did: the estimator fed the frames it "
-                               "received does not give the frames it sent, or those are not the log's and the bus's (" +
+                               "received does not give the frames it sent, or those are not the log's (frames lost "
+                               "without an overrun count) and the bus's (" +
                                (share / "record.log").string() + ")");
-    if (!(std::abs(rc.bus_drift_s) <= cal->config.observer.dt_s && std::abs(rc.tick_drift_s) <= cal->config.observer.dt_s))
-      throw std::runtime_error("the daemon's clock drifted against the bus's by more than a tick over the log (" +
-                               (share / "record.log").string() + ")");
+    const double allowed_drift_s = kDriftTicks * cal->config.observer.dt_s;
+    if (!(std::abs(rc.bus_drift_s) <= allowed_drift_s && std::abs(rc.tick_drift_s) <= allowed_drift_s))
+      throw std::runtime_error("the daemon's clock drifted against the bus's by more than " + std::to_string(kDriftTicks) +
+                               " ticks over the log (" + (share / "record.log").string() + ")");
     const bool enough = static_cast<double>(c.compared) >= 0.95 * static_cast<double>(replay.size());
     if (!enough)
       throw std::runtime_error("only " + std::to_string(c.compared) + " of " + std::to_string(replay.size()) +
