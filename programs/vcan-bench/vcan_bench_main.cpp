@@ -190,6 +190,27 @@ std::vector<fw::CandumpRecord> read_frames(const fs::path& file, std::string_vie
   return frames;
 }
 
+// Each of `frames`, in order, matched with the next frame of `within` equal to it (a later one where
+// some are missing): pairs of indices; a frame with no such match counts in `unmatched`.
+struct Pair {
+  std::size_t frame, within;
+};
+std::vector<Pair> in_order(const std::vector<fw::CandumpRecord>& frames, const std::vector<fw::CandumpRecord>& within,
+                           std::size_t& unmatched) {
+  std::vector<Pair> pairs;
+  for (std::size_t i = 0, next = 0; i < frames.size(); ++i) {
+    std::size_t j = next;
+    while (j < within.size() && !fw::same_frame(frames[i].frame, within[j].frame)) ++j;
+    if (j == within.size()) {
+      ++unmatched;
+      continue;
+    }
+    pairs.push_back({i, j});
+    next = j + 1;
+  }
+  return pairs;
+}
+
 // What the daemon's record (lptn-daemon --record) shows: its frames are what the estimator makes of
 // the frames it received, the frames it received are the log's, and the frames on the bus are its.
 struct RecordCheck {
@@ -254,23 +275,10 @@ RecordCheck check_record(const fs::path& record_file, const fs::path& bus_record
   r.overruns = replayed.overruns;
   // In order, each frame received is the log's next one or a later one: frames the kernel dropped
   // in a receive-buffer overrun are missing (and the daemon must have been told), none altered.
-  struct Pair {
-    std::size_t rx, log;  // indices into received and played
-  };
-  std::vector<Pair> pairs;
-  for (std::size_t i = 0, next = 0; i < received.size(); ++i) {
-    std::size_t j = next;
-    while (j < played.size() && !fw::same_frame(received[i].frame, played[j].frame)) ++j;
-    if (j == played.size()) {
-      ++r.received_differing;
-      continue;
-    }
-    pairs.push_back({i, j});
-    next = j + 1;
-  }
+  const std::vector<Pair> pairs = in_order(received, played, r.received_differing);  // frame: received, within: played
   r.lost = played.size() - pairs.size();
   // The record's stamps are the estimator's clock (the monotonic clock times the time scale).
-  const auto delay = [&](const Pair& p) { return received[p.rx].time_us - played[p.log].time_us; };
+  const auto delay = [&](const Pair& p) { return received[p.frame].time_us - played[p.within].time_us; };
   fw::TimeUs earliest = 0;
   for (std::size_t k = 0; k < pairs.size(); ++k) earliest = k == 0 ? delay(pairs[k]) : std::min(earliest, delay(pairs[k]));
   const fw::TimeUs tick_us = static_cast<fw::TimeUs>(config.observer.dt_s * fw::kUsPerS + 0.5);
@@ -279,11 +287,11 @@ RecordCheck check_record(const fs::path& record_file, const fs::path& bus_record
     if (delay(p) - earliest > tick_us) ++r.later_than_a_tick;
   }
   if (!pairs.empty() && taken_at.size() >= received.size()) {
-    const fw::TimeUs first = played[pairs.front().log].time_us, last = played[pairs.back().log].time_us;
+    const fw::TimeUs first = played[pairs.front().within].time_us, last = played[pairs.back().within].time_us;
     const auto median_in = [&](fw::TimeUs from, fw::TimeUs to, auto&& value) {
       std::vector<double> v;
       for (const Pair& p : pairs)
-        if (played[p.log].time_us >= from && played[p.log].time_us <= to) v.push_back(value(p));
+        if (played[p.within].time_us >= from && played[p.within].time_us <= to) v.push_back(value(p));
       if (v.empty()) return 0.0;
       std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
       return v[v.size() / 2];
@@ -291,15 +299,15 @@ RecordCheck check_record(const fs::path& record_file, const fs::path& bus_record
     const fw::TimeUs minute = 60 * fw::kUsPerS;
     const auto bus = [&](const Pair& p) { return static_cast<double>(delay(p)) / fw::kUsPerS; };
     const auto tick = [&](const Pair& p) {
-      return static_cast<double>(taken_at[p.rx] - received[p.rx].time_us) / fw::kUsPerS;
+      return static_cast<double>(taken_at[p.frame] - received[p.frame].time_us) / fw::kUsPerS;
     };
     r.bus_drift_s = median_in(last - minute, last, bus) - median_in(first, first + minute, bus);
     r.tick_drift_s = median_in(last - minute, last, tick) - median_in(first, first + minute, tick);
     // Ticks run at whole periods of the estimator's clock: the one due at or after a time.
     for (const Pair& p : pairs) {
-      const fw::TimeUs on_time = played[p.log].time_us + earliest;
+      const fw::TimeUs on_time = played[p.within].time_us + earliest;
       const fw::TimeUs due = (on_time + tick_us - 1) / tick_us * tick_us;
-      if (taken_at[p.rx] != due) ++r.moved;
+      if (taken_at[p.frame] != due) ++r.moved;
     }
   }
   // The frames on the bus against the record's.
@@ -308,16 +316,7 @@ RecordCheck check_record(const fs::path& record_file, const fs::path& bus_record
   r.on_bus = on_bus.size();
   // In order, each frame on the bus is the record's next one or a later one: frames may be missing
   // (a full transmit queue, candump's receive buffer overrun in a stalled guest), none altered.
-  std::size_t next = 0;
-  for (const fw::CandumpRecord& f : on_bus) {
-    std::size_t j = next;
-    while (j < sent.size() && !fw::same_frame(sent[j].frame, f.frame)) ++j;
-    if (j == sent.size()) {
-      ++r.bus_differing;
-      continue;
-    }
-    next = j + 1;
-  }
+  in_order(on_bus, sent, r.bus_differing);
   return r;
 }
 
