@@ -56,6 +56,20 @@ TEST(CorrelationTime, EqualsTheLagByLagSumOnCyclesOfUnequalLength) {
   }
 }
 
+TEST(CorrelationTime, SumsAreTheSameBitsOnAnyNumberOfThreads) {
+  // The series' transforms run in parallel and are added in the series' order: a fit's correlation
+  // time (and so its parameters' errors) does not depend on the machine's cores. Five series, one
+  // too short to count, over 1, 2, 3 and 8 threads (more threads than series included).
+  const Series s = ar1(0.9, {20000, 7001, 1, 13000, 150}, 5);
+  const std::vector<double> one = correlation_sums(s, 1);
+  for (const int threads : {2, 3, 8}) {
+    const std::vector<double> many = correlation_sums(s, threads);
+    ASSERT_EQ(many.size(), one.size());
+    for (std::size_t i = 0; i < one.size(); ++i) ASSERT_EQ(many[i], one[i]) << "threads " << threads << ", entry " << i;
+  }
+  EXPECT_NEAR(correlation_time_of_sums(one), by_definition(s), 1e-9 * by_definition(s));
+}
+
 TEST(CorrelationTime, IsOnePlusPhiOverOneMinusPhiForAr1Noise) {
   // Summed while positive, the estimate stops early on the noisy tail: within 10 % of the truth.
   for (const double phi : {0.5, 0.9, 0.98}) {

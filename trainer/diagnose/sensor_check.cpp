@@ -27,14 +27,30 @@ struct Run {
   std::vector<unsigned char> sensor;  // 0 stator, 1 rotor
 };
 
-// `prepared`: prepare_cycle()'s for the cycle's inputs (a cycle with changed readings has its
-// cycle's inputs).
+// What a run reports besides its residuals: each response's change of the residuals, one column
+// per response, in the residuals' order (with_responses).
+struct Responses {
+  int count = 0;
+  double* start[4] = {};               // each response's state, starting at its change of the start
+  std::vector<double> column[4];       // the model's change at each residual's sensor
+};
+
+// `prepared`: prepare_cycle()'s for the cycle's inputs. `responses`, where given, are stepped
+// beside the state (the model is affine in its start: a response is exactly how a changed start
+// moves every step, without a run of its own).
 Run run(const Model<double>& model, const ParamVector<double>& params, const data::Cycle& cycle,
-        const InitialOffsets<double>& offsets, const PreparedCycle& prepared) {
+        const InitialOffsets<double>& offsets, const PreparedCycle& prepared, Responses* responses = nullptr) {
   Run out;
-  run_cycle(model, params.data(), cycle, [&](std::ptrdiff_t k, const double* x) {
-    if (k < 0) return;  // grid step 0 starts at the measurement by construction
-    const auto grid = static_cast<std::size_t>(k + 1);
+  double x[kMaxStates];
+  initial_state_for(model, cycle, x, offsets);
+  typename Model<double>::template StepWorkspace<double> work;
+  for (std::size_t k = 0; k + 1 < cycle.steps; ++k) {
+    // Grid step 0 starts at the measurement by construction; step k's result is grid k + 1's.
+    if (responses)
+      model.step_with_responses(x, prepared[k], params.data(), cycle.dt_s, work, responses->start, responses->count);
+    else
+      model.step(x, prepared[k], params.data(), cycle.dt_s, work);
+    const std::size_t grid = k + 1;
     for (int s = 0; s < 2; ++s) {
       const float y = cycle.at(kSensors[s], grid);
       if (std::isnan(y)) continue;
@@ -43,8 +59,12 @@ Run run(const Model<double>& model, const ParamVector<double>& params, const dat
       out.model.push_back(static_cast<float>(m));
       out.reading.push_back(y);
       out.sensor.push_back(static_cast<unsigned char>(s));
+      if (responses)
+        for (int c = 0; c < responses->count; ++c)
+          responses->column[c].push_back(s == 0 ? model.stator_sensor(responses->start[c])
+                                                : model.rotor_sensor(responses->start[c]));
     }
-  }, offsets, SIZE_MAX, &prepared);
+  }
   return out;
 }
 
@@ -72,32 +92,63 @@ struct CycleFit {
   double sse_offset[2] = {0, 0}, sse_gain[2] = {0, 0}, sse_cooling = 0, sse_losses = 0;
 };
 
-data::Cycle changed_readings(const data::Cycle& cycle, data::Channel sensor, double scale, double shift) {
-  data::Cycle c = cycle;
-  for (float& v : c.samples[data::index_of(sensor)])
-    if (!std::isnan(v)) v = static_cast<float>(v * scale + shift);
-  return c;
-}
+// What reading `v` becomes when a sensor's readings are shifted by `shift` K (stored in float, as a
+// reading is): the comparison's change, to the bit what a run of the shifted readings compared.
+double shifted_reading_change(float v, double shift) { return static_cast<double>(static_cast<float>(v + shift)) - v; }
 
 CycleFit fit_cycle(const Model<double>& model, const ParamVector<double>& params, const data::Cycle& cycle) {
   CycleFit f;
-  const PreparedCycle prepared = prepare_cycle(model, cycle);  // the losses once for its seven runs
-  const Run base = run(model, params, cycle, {}, prepared);
+  const PreparedCycle prepared = prepare_cycle(model, cycle);  // the losses once for its runs
+  // The start's changes whose responses one run steps beside the state: a unit offset of each core
+  // node, and the start each sensor's readings 1 K higher give (its first reading stored in float).
+  const double stator = first_valid(cycle, kSensors[0]), rotor = first_valid(cycle, kSensors[1]);
+  double start[kMaxStates], changed[4][kMaxStates];
+  initial_state_for(model, cycle, start);
+  int response_of[kColumns];
+  Responses responses;
+  auto add_response = [&](int column, const double* shifted) {
+    const int r = responses.count++;
+    for (int i = 0; i < kMaxStates; ++i) changed[r][i] = shifted[i] - start[i];
+    responses.start[r] = changed[r];
+    response_of[column] = r;
+  };
+  double shifted[kMaxStates];
+  initial_state_for(model, cycle, shifted, InitialOffsets<double>{1.0, 0.0});
+  add_response(kStatorCore, shifted);
+  initial_state_for(model, cycle, shifted, InitialOffsets<double>{0.0, 1.0});
+  add_response(kRotorCore, shifted);
+  for (int s = 0; s < 2; ++s) {
+    f.measured[s] = cycle.has(kSensors[s]);
+    if (!f.measured[s]) continue;
+    const double ds = s == 0 ? shifted_reading_change(static_cast<float>(stator), 1.0) : 0.0;
+    const double dr = s == 1 ? shifted_reading_change(static_cast<float>(rotor), 1.0) : 0.0;
+    // initial_state_for's rule: where the rotor is not measured, it starts at the stator's reading.
+    model.initial_state(shifted, stator + ds, std::isnan(rotor) ? stator + ds : rotor + dr);
+    add_response(kOffsetColumn[s], shifted);
+  }
+  const Run base = run(model, params, cycle, {}, prepared, &responses);
   const std::size_t m = base.r.size();
   if (m == 0) return f;
   std::vector<std::vector<double>> col(kColumns);
   col[kR0] = base.r;
+  // A start's column: the model's response, less the readings' own change where they moved.
+  for (int c : {kStatorCore, kRotorCore, kStatorOffset, kRotorOffset}) {
+    const bool sensor_column = c == kStatorOffset || c == kRotorOffset;
+    const int s = c == kRotorOffset ? 1 : 0;
+    if (sensor_column && !f.measured[s]) continue;
+    std::vector<double>& column = col[static_cast<std::size_t>(c)];
+    column = std::move(responses.column[response_of[c]]);
+    if (sensor_column)
+      for (std::size_t i = 0; i < m; ++i)
+        if (base.sensor[i] == s) column[i] -= shifted_reading_change(base.reading[i], 1.0);
+  }
   auto difference = [&](int c, const Run& other, double per) {
     col[static_cast<std::size_t>(c)].resize(m);
     for (std::size_t i = 0; i < m; ++i) col[static_cast<std::size_t>(c)][i] = (other.r[i] - base.r[i]) / per;
   };
-  difference(kStatorCore, run(model, params, cycle, {1.0, 0.0}, prepared), 1.0);
-  difference(kRotorCore, run(model, params, cycle, {0.0, 1.0}, prepared), 1.0);
   for (int s = 0; s < 2; ++s) {
-    f.measured[s] = cycle.has(kSensors[s]);
     if (!f.measured[s]) continue;
     const std::vector<double>& offset = col[static_cast<std::size_t>(kOffsetColumn[s])];
-    difference(kOffsetColumn[s], run(model, params, changed_readings(cycle, kSensors[s], 1.0, 1.0), {}, prepared), 1.0);
     const double first = first_valid(cycle, kSensors[s]);
     std::vector<double>& gain = col[static_cast<std::size_t>(kGainColumn[s])];
     gain.resize(m);
@@ -169,21 +220,21 @@ struct Fit {
 // A cycle's gain is not more precise than kOffsetResolution at 100 °C.
 constexpr double kGainResolution = kOffsetResolution / 100.0;
 
-// The largest reduction of a series' squared deviation by one shape of fault from some position
-// on: the offset and the drift on the offsets b, the gain on the gains g (a gain fault's offset
-// changes with each cycle's temperatures, and the initial offsets take up part of it differently
-// in each; its gain does not).
-Fit best_fit(const std::vector<Point>& points, const std::vector<std::size_t>& file, std::size_t files) {
-  const std::size_t n = points.size();
-  Fit best;
-  std::vector<double> x(n), y(n);
+// The regressors of every shape of fault from every position on, centred, with their sums of
+// squares: they depend on the positions' files alone, which the orderings of the permutation test
+// keep, so they are computed once for the observed series and its 4000 orderings.
+struct Regressor {
+  data::FaultShape shape;
+  std::size_t k;           // the first faulty position
+  std::vector<double> xc;  // the fault's weight at each position, less its mean
+  double sxx;
+};
+
+std::vector<Regressor> regressors(const std::vector<std::size_t>& file, std::size_t files) {
+  const std::size_t n = file.size();
+  std::vector<Regressor> out;
+  std::vector<double> x(n);
   for (data::FaultShape shape : kShapes) {
-    const bool gain = shape == data::FaultShape::gain;
-    const double resolution = gain ? kGainResolution : kOffsetResolution;
-    double ym = 0;
-    for (std::size_t j = 0; j < n; ++j) ym += (y[j] = gain ? points[j].g : points[j].b) / static_cast<double>(n);
-    double syy = 0;
-    for (std::size_t j = 0; j < n; ++j) syy += (y[j] - ym) * (y[j] - ym);
     // An offset or a gain needs two cycles on either side; a drift may grow from the first cycle.
     const std::size_t k_min = shape == data::FaultShape::drift ? 0 : 2;
     for (std::size_t k = k_min; k + 2 <= n; ++k) {
@@ -192,13 +243,37 @@ Fit best_fit(const std::vector<Point>& points, const std::vector<std::size_t>& f
       f.first = file[k];
       double xm = 0;
       for (std::size_t j = 0; j < n; ++j) xm += (x[j] = f.weight(file[j], files)) / static_cast<double>(n);
-      double sxx = 0, sxy = 0;
-      for (std::size_t j = 0; j < n; ++j) sxx += (x[j] - xm) * (x[j] - xm), sxy += (x[j] - xm) * (y[j] - ym);
-      if (!(sxx > 0)) continue;
-      const double explained = sxy * sxy / sxx;
+      Regressor r{shape, k, std::vector<double>(n), 0.0};
+      for (std::size_t j = 0; j < n; ++j) r.sxx += (r.xc[j] = x[j] - xm) * (x[j] - xm);
+      if (r.sxx > 0) out.push_back(std::move(r));
+    }
+  }
+  return out;
+}
+
+// The largest reduction of a series' squared deviation by one shape of fault from some position
+// on: the offset and the drift on the offsets b, the gain on the gains g (a gain fault's offset
+// changes with each cycle's temperatures, and the initial offsets take up part of it differently
+// in each; its gain does not).
+Fit best_fit(const std::vector<Point>& points, const std::vector<Regressor>& regressors) {
+  const std::size_t n = points.size();
+  Fit best;
+  std::vector<double> y(n);
+  for (data::FaultShape shape : kShapes) {
+    const bool gain = shape == data::FaultShape::gain;
+    const double resolution = gain ? kGainResolution : kOffsetResolution;
+    double ym = 0;
+    for (std::size_t j = 0; j < n; ++j) ym += (y[j] = gain ? points[j].g : points[j].b) / static_cast<double>(n);
+    double syy = 0;
+    for (std::size_t j = 0; j < n; ++j) syy += (y[j] - ym) * (y[j] - ym);
+    for (const Regressor& r : regressors) {
+      if (r.shape != shape) continue;
+      double sxy = 0;
+      for (std::size_t j = 0; j < n; ++j) sxy += r.xc[j] * (y[j] - ym);
+      const double explained = sxy * sxy / r.sxx;
       const double left = std::max((syy - explained) / static_cast<double>(n - 2), resolution * resolution);
       const double t = explained / left;
-      if (t > best.statistic) best = {t, shape, k, sxy / sxx};
+      if (t > best.statistic) best = {t, shape, r.k, sxy / r.sxx};
     }
   }
   return best;
@@ -257,11 +332,12 @@ SensorFinding check_sensor(int s, const std::vector<CycleFit>& fits, const data:
     f.finding = std::string("fewer than four cycles read the ") + data::sensor_name(f.sensor) + " sensor: not checked";
     return f;
   }
-  const Fit fit = best_fit(points, file, order.files);
+  const std::vector<Regressor> fault_regressors = regressors(file, order.files);
+  const Fit fit = best_fit(points, fault_regressors);
   f.statistic = fit.statistic;
   // The positions keep their files; the cycles' (b, M) move between them.
   f.p_value = internal::p_value(points, fit.statistic,
-                                [&](const std::vector<Point>& p) { return best_fit(p, file, order.files).statistic; });
+                                [&](const std::vector<Point>& p) { return best_fit(p, fault_regressors).statistic; });
   f.fault.shape = fit.shape;
   f.fault.size = fit.size;
   f.fault.first = file[fit.k];

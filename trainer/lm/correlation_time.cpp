@@ -5,9 +5,11 @@
 #include <complex>
 #include <unsupported/Eigen/FFT>
 
+#include "hostio/worker_threads.hpp"
+
 namespace lptn {
 
-std::vector<double> correlation_sums(const std::vector<std::vector<double>>& series) {
+std::vector<double> correlation_sums(const std::vector<std::vector<double>>& series, int threads) {
   // [0] sum of squares, [1] count, [2 + lag] products at lag, [2 + kMaxCorrelationLag + lag] pairs.
   std::vector<double> sums(2 + 2 * kMaxCorrelationLag, 0.0);
   double* products = sums.data() + 2;
@@ -18,23 +20,33 @@ std::vector<double> correlation_sums(const std::vector<std::vector<double>>& ser
       sums[1] += 1;
     }
   // Per lag: the sum of r[k] r[k - lag] over every series, and how many products it holds. A
-  // series zero-padded to twice its length has that sum as the inverse transform of |X|^2.
-  Eigen::FFT<double> fft;
-  fft.SetFlag(Eigen::FFT<double>::HalfSpectrum);
-  std::vector<double> padded, acf;
-  std::vector<std::complex<double>> spectrum;
-  for (const auto& r : series) {
-    if (r.size() < 2) continue;
+  // series zero-padded to twice its length has that sum as the inverse transform of |X|^2. The
+  // series' transforms run in parallel (one FFT, with its cached plans, per thread) and are added
+  // in the series' order, so the sums are the same bits whatever the threads.
+  const std::size_t workers = std::clamp<std::size_t>(static_cast<std::size_t>(std::max(1, threads)), 1,
+                                                      std::max<std::size_t>(1, series.size()));
+  std::vector<Eigen::FFT<double>> ffts(workers);
+  for (auto& fft : ffts) fft.SetFlag(Eigen::FFT<double>::HalfSpectrum);
+  std::vector<std::vector<double>> lag_products(series.size());
+  parallel_for(series.size(), static_cast<int>(workers), [&](std::size_t i) {
+    const std::vector<double>& r = series[i];
+    if (r.size() < 2) return;
+    Eigen::FFT<double>& fft = ffts[i % workers];  // parallel_for: item i on thread i mod workers
     const std::size_t n = std::bit_ceil(2 * r.size());
-    padded.assign(n, 0.0);
+    std::vector<double> padded(n, 0.0), acf;
+    std::vector<std::complex<double>> spectrum;
     std::copy(r.begin(), r.end(), padded.begin());
     fft.fwd(spectrum, padded);
     for (auto& x : spectrum) x = std::norm(x);
     fft.inv(acf, spectrum, static_cast<Eigen::Index>(n));
-    const std::size_t lags = std::min(kMaxCorrelationLag, r.size());
-    for (std::size_t lag = 1; lag < lags; ++lag) {
+    acf.resize(std::min(kMaxCorrelationLag, r.size()));
+    lag_products[i] = std::move(acf);
+  });
+  for (std::size_t i = 0; i < series.size(); ++i) {
+    const std::vector<double>& acf = lag_products[i];
+    for (std::size_t lag = 1; lag < acf.size(); ++lag) {
       products[lag] += acf[lag];
-      pairs[lag] += static_cast<double>(r.size() - lag);
+      pairs[lag] += static_cast<double>(series[i].size() - lag);
     }
   }
   return sums;
@@ -56,8 +68,8 @@ double correlation_time_of_sums(const std::vector<double>& sums) {
   return tau;
 }
 
-double correlation_time(const std::vector<std::vector<double>>& series) {
-  return correlation_time_of_sums(correlation_sums(series));
+double correlation_time(const std::vector<std::vector<double>>& series, int threads) {
+  return correlation_time_of_sums(correlation_sums(series, threads));
 }
 
 }  // namespace lptn

@@ -14,12 +14,13 @@ namespace lptn {
 // linear in the data whatever the lag at which the sum stops.
 inline constexpr std::size_t kMaxCorrelationLag = 6000;  // ten minutes at 10 Hz
 
-double correlation_time(const std::vector<std::vector<double>>& series);
+// `threads`: the series' transforms run over that many threads; the result does not depend on it.
+double correlation_time(const std::vector<std::vector<double>>& series, int threads = 1);
 
 // The same in two halves, for series spread over processes: the sums over this process's series
 // (the residuals' square sum and count, then per lag the sum of products and their number), which
 // add element by element over processes, and the correlation time of the added sums.
-std::vector<double> correlation_sums(const std::vector<std::vector<double>>& series);
+std::vector<double> correlation_sums(const std::vector<std::vector<double>>& series, int threads = 1);
 double correlation_time_of_sums(const std::vector<double>& sums);
 
 }  // namespace lptn

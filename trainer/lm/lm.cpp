@@ -615,7 +615,7 @@ LmReport fit_once(const MotorFile& motor, const ParamVector<double>& start, Data
                                       extras.judge ? &noise : nullptr);
   std::array<double, 2> tau{};
   for (std::size_t s = 0; s < 2; ++s) {
-    std::vector<double> sums = correlation_sums(series[s]);
+    std::vector<double> sums = correlation_sums(series[s], settings.threads);
     group.sum(sums);
     tau[s] = correlation_time_of_sums(sums);
   }
