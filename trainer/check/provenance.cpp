@@ -82,8 +82,8 @@ Provenance provenance(const CalibrationResult& calibration, const data::Dataset&
                       const std::optional<MotorFile>& data_motor) {
   std::map<std::string, std::string> hash_of;  // the calibration's cycle -> its file's hash
   for (const DataFile& f : calibration.data) hash_of[f.cycle] = f.sha256;
-  // A file is hashed once however many segments it holds, the files over the cores (200 h of
-  // dump is 3 GB of CSV: a second of one core's hashing).
+  // A file is hashed once however many segments it holds, the files over the cores (a 200 h
+  // dump is 600 MB of CSV: about a second of one core's hashing here).
   std::map<std::string, std::string> file_hash;
   std::vector<std::filesystem::path> to_hash;
   for (const data::Cycle& c : dataset.cycles)
