@@ -204,7 +204,7 @@ ParamVector<double> scaled_group(const ParamVector<double>& p, DriftGroup g, dou
 
 namespace {
 // The drift of one group, from every cycle's factor of it (in the dump's order).
-Drift drift_of(DriftGroup group, const data::Dataset& dataset, const std::vector<double>& factors) {
+Drift drift_of(DriftGroup group, const data::Dataset& dataset, const std::vector<double>& factors, int threads) {
   Drift d;
   d.group = group;
   const std::size_t n = dataset.cycles.size();
@@ -215,8 +215,9 @@ Drift drift_of(DriftGroup group, const data::Dataset& dataset, const std::vector
   for (std::size_t i = 0; i < n; ++i) y[i] = std::log(d.factors[i].factor);
   const Statistic step = step_statistic(y);
   const Trend trend = trend_of(y);
-  const double p_step = internal::p_value(y, step.t, [](const std::vector<double>& v) { return step_statistic(v).t; });
-  const double p_trend = internal::p_value(y, trend.t, trend_statistic);
+  const double p_step =
+      internal::p_value(y, step.t, [](const std::vector<double>& v) { return step_statistic(v).t; }, threads);
+  const double p_trend = internal::p_value(y, trend.t, trend_statistic, threads);
 
   if (p_step <= p_trend) {
     d.shape = "step";
@@ -272,9 +273,9 @@ Drift find_drift(const Model<double>& model, const ParamVector<double>& params, 
     cooling[i] = best_factor(model, params, DriftGroup::cooling, cycle, prepared, f0);
     losses[i] = best_factor(model, params, DriftGroup::losses, cycle, prepared, f0);
   });
-  Drift by_cooling = drift_of(DriftGroup::cooling, dataset, cooling);
+  Drift by_cooling = drift_of(DriftGroup::cooling, dataset, cooling, threads);
   if (by_cooling.found) return by_cooling;
-  Drift by_losses = drift_of(DriftGroup::losses, dataset, losses);
+  Drift by_losses = drift_of(DriftGroup::losses, dataset, losses, threads);
   return by_losses.found ? by_losses : by_cooling;
 }
 

@@ -312,7 +312,7 @@ void describe(SensorFinding& f, const std::string& first_cycle) {
 
 // Sensor `s` (0 stator, 1 rotor) over the cycles that measure it.
 SensorFinding check_sensor(int s, const std::vector<CycleFit>& fits, const data::Dataset& dataset,
-                           const data::CycleOrder& order, int sensors_checked) {
+                           const data::CycleOrder& order, int sensors_checked, int threads) {
   SensorFinding f;
   f.sensor = kSensors[s];
   f.level = kSensorLevel / sensors_checked;
@@ -337,7 +337,7 @@ SensorFinding check_sensor(int s, const std::vector<CycleFit>& fits, const data:
   f.statistic = fit.statistic;
   // The positions keep their files; the cycles' (b, M) move between them.
   f.p_value = internal::p_value(points, fit.statistic,
-                                [&](const std::vector<Point>& p) { return best_fit(p, fault_regressors).statistic; });
+                                [&](const std::vector<Point>& p) { return best_fit(p, fault_regressors).statistic; }, threads);
   f.fault.shape = fit.shape;
   f.fault.size = fit.size;
   f.fault.first = file[fit.k];
@@ -398,7 +398,7 @@ std::vector<SensorFinding> check_sensors(const Model<double>& model, const Param
       }
   std::vector<SensorFinding> out;
   for (int s : measured)
-    out.push_back(check_sensor(s, fits, dataset, order, static_cast<int>(measured.size())));
+    out.push_back(check_sensor(s, fits, dataset, order, static_cast<int>(measured.size()), threads));
   return out;
 }
 
