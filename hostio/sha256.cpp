@@ -1,9 +1,11 @@
 #include "hostio/sha256.hpp"
 
+#include <exception>
 #include <fstream>
 #include <stdexcept>
 
 #include "hostio/internal/sha256.hpp"
+#include "hostio/worker_threads.hpp"
 
 namespace lptn {
 
@@ -24,6 +26,21 @@ std::string sha256_file(const std::filesystem::path& path) {
   }
   if (in.bad()) throw std::runtime_error(path.string() + ": read failed");
   return h.hex();
+}
+
+std::vector<std::string> sha256_files(const std::vector<std::filesystem::path>& paths, int threads) {
+  std::vector<std::string> hashes(paths.size());
+  std::vector<std::exception_ptr> failed(paths.size());  // a thread's exception, rethrown here in order
+  parallel_for(paths.size(), threads, [&](std::size_t i) {
+    try {
+      hashes[i] = sha256_file(paths[i]);
+    } catch (...) {
+      failed[i] = std::current_exception();
+    }
+  });
+  for (const std::exception_ptr& e : failed)
+    if (e) std::rethrow_exception(e);
+  return hashes;
 }
 
 }  // namespace lptn

@@ -3,6 +3,7 @@
 
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include "lptn_testing/temp_dir.hpp"
 #include "hostio/internal/sha256.hpp"
@@ -44,6 +45,33 @@ TEST(Sha256, File) {
   std::ofstream(path, std::ios::binary) << "abc";
   EXPECT_EQ(sha256_file(path), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
   EXPECT_THROW(sha256_file(t.path() / "missing.csv"), std::runtime_error);
+}
+
+TEST(Sha256, FilesOverThreadsAreEachFilesHashInOrder) {
+  testing::TempDir t;
+  std::vector<std::filesystem::path> paths;
+  for (int i = 0; i < 7; ++i) {
+    paths.push_back(t.path() / ("cycle_" + std::to_string(i) + ".csv"));
+    std::ofstream(paths.back(), std::ios::binary) << std::string(static_cast<std::size_t>(1000 * i), static_cast<char>('a' + i));
+  }
+  for (const int threads : {1, 2, 3, 16}) {
+    const std::vector<std::string> hashes = sha256_files(paths, threads);
+    ASSERT_EQ(hashes.size(), paths.size());
+    for (std::size_t i = 0; i < paths.size(); ++i) EXPECT_EQ(hashes[i], sha256_file(paths[i])) << "threads " << threads;
+  }
+  EXPECT_TRUE(sha256_files({}, 2).empty());
+  // Two unreadable files: the error names the first in order, whichever thread met it first.
+  std::vector<std::filesystem::path> with_missing = paths;
+  with_missing.insert(with_missing.begin() + 2, t.path() / "first_missing.csv");
+  with_missing.push_back(t.path() / "second_missing.csv");
+  for (const int threads : {1, 2, 5}) {
+    try {
+      sha256_files(with_missing, threads);
+      ADD_FAILURE() << "no error on " << threads << " threads";
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find("first_missing.csv"), std::string::npos) << e.what();
+    }
+  }
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 
 #include "hostio/bad_input.hpp"
 #include "hostio/sha256.hpp"
+#include "hostio/worker_threads.hpp"
 #include "hostio/utc_stamp.hpp"
 #include "lptn/version.hpp"
 
@@ -32,18 +33,23 @@ CalibrationResult new_calibration(const MotorFile& motor, const std::string& mot
   r.motor.path = motor_path;
   r.effects = motor.effects;
   for (int i = 0; i < kNumParams; ++i) r.parameters.push_back(parameter_result(motor, i));
-  // The files behind the cycles, hashed, and one hash over them all (in cycle order).
+  // The files behind the cycles, hashed (each once, over the cores), and one hash over them all
+  // (in cycle order).
   std::map<std::string, std::string> hashes;
-  std::string all;
+  std::vector<std::filesystem::path> to_hash;
   for (std::size_t i = 0; i < dataset.cycles.size(); ++i) {
-    const data::Cycle& c = dataset.cycles[i];
-    const std::string file = c.file.string();
-    if (!hashes.count(file)) {
-      const std::string taken = dataset.file_sha256(i);  // a shared load hashed every file on its process
-      hashes[file] = taken.empty() ? sha256_file(c.file) : taken;
-    }
-    r.data.push_back({c.name, c.file.filename().string(), hashes[file]});
-    all += hashes[file];
+    const std::string file = dataset.cycles[i].file.string();
+    if (hashes.count(file)) continue;
+    hashes[file] = dataset.file_sha256(i);  // a shared load hashed every file on its process
+    if (hashes[file].empty()) to_hash.push_back(dataset.cycles[i].file);
+  }
+  const std::vector<std::string> taken = sha256_files(to_hash, worker_threads());
+  for (std::size_t i = 0; i < to_hash.size(); ++i) hashes[to_hash[i].string()] = taken[i];
+  std::string all;
+  for (const data::Cycle& c : dataset.cycles) {
+    const std::string& hash = hashes.at(c.file.string());
+    r.data.push_back({c.name, c.file.filename().string(), hash});
+    all += hash;
   }
   r.data_sha256 = sha256_hex(all.data(), all.size());
   for (std::size_t c : split.train) r.train_cycles.push_back(dataset.cycles[c].name);

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <exception>
 #include <filesystem>
 #include <map>
 #include <type_traits>
@@ -88,19 +87,8 @@ Provenance provenance(const CalibrationResult& calibration, const data::Dataset&
   std::vector<std::filesystem::path> to_hash;
   for (const data::Cycle& c : dataset.cycles)
     if (hash_of.count(c.name) && file_hash.emplace(c.file.string(), std::string()).second) to_hash.push_back(c.file);
-  std::vector<std::string> hashes(to_hash.size());
-  std::vector<std::exception_ptr> failed(to_hash.size());  // a file that cannot be read, in the files' order
-  parallel_for(to_hash.size(), worker_threads(), [&](std::size_t i) {
-    try {
-      hashes[i] = sha256_file(to_hash[i]);
-    } catch (...) {
-      failed[i] = std::current_exception();
-    }
-  });
-  for (std::size_t i = 0; i < to_hash.size(); ++i) {
-    if (failed[i]) std::rethrow_exception(failed[i]);
-    file_hash[to_hash[i].string()] = hashes[i];
-  }
+  const std::vector<std::string> hashes = sha256_files(to_hash, worker_threads());
+  for (std::size_t i = 0; i < to_hash.size(); ++i) file_hash[to_hash[i].string()] = hashes[i];
   Provenance p;
   for (const data::Cycle& c : dataset.cycles) {
     CycleProvenance cp;
