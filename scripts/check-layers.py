@@ -20,14 +20,14 @@ import re
 import sys
 
 # Longest prefix first wins. The generated headers (lptn/can/*, lptn/bus/*, lptn/version.hpp) belong to the
-# modules that generate them.
+# modules whose build generates them (can/codecs: its CMakeLists.txt runs can/codegen's programs).
 MODULES = [
     "common", "can/codecs", "hostio",
     "firmware/include", "firmware/linux", "firmware/baremetal", "firmware/calibration", "firmware/bench",
     "trainer/data", "trainer/model", "trainer/calibrate", "trainer/lm", "trainer/td3", "trainer/search", "trainer/diagnose",
     "trainer/fleet", "trainer/check", "trainer/workflow",
     "simulator/plant", "simulator/generate",
-    "can/dbc", "can/bus", "can/canfile", "can/canlog",
+    "can/dbc", "can/bus", "can/codegen", "can/canfile", "can/canlog",
     "tools/export", "tools/replay", "tools/report",
     "programs/cli", "programs/vcan-bench",
     "tests",
@@ -65,6 +65,9 @@ DEPENDS = {
     "can/dbc": ["hostio"],
     # A bus map read at run time: the firmware's decoder interface over a DBC read at run time.
     "can/bus": ["firmware/include", "can/dbc"],
+    # The build's generators of the codecs and the bus glue (can/codecs' headers), programs for the
+    # build host built from the two readers: the readers are the one description of the CAN bus.
+    "can/codegen": ["can/dbc", "can/bus", "hostio"],
     "can/canfile": ["firmware/linux"],
     "can/canlog": ["trainer/data", "can/canfile", "can/bus"],
     "tools/export": ["trainer/calibrate"],

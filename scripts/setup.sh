@@ -15,7 +15,8 @@ HOST=(
   libeigen3-dev libceres-dev                            # model on the host, Levenberg-Marquardt
   libtorch-dev libopenblas0-pthread                     # TD3; OpenBLAS, or torch runs on reference BLAS (16x slower)
   libgtest-dev libgmock-dev googletest libbenchmark-dev # tests and benchmarks; googletest's sources are built for aarch64
-  libcli11-dev libtomlplusplus-dev nlohmann-json3-dev   # command line, motor files, JSON
+  libcli11-dev libtomlplusplus-dev nlohmann-json3-dev   # command line, motor files and bus maps, JSON
+  libgmp-dev                                            # the DBC reader's exact range arithmetic (can/dbc; the CAN generators)
   libjs-dygraphs                                        # lptn report's charts, embedded at build time
   time                                                  # GNU time: scripts/bench-scale.sh's peak memory
   zlib1g-dev                                            # Vector BLF logs' containers, MDF4's DZ blocks
@@ -36,7 +37,8 @@ REPORT=(
 )
 FUZZ=(
   clang libclang-rt-14-dev                              # clang-14; libFuzzer, ASan and UBSan runtimes
-  cmake ninja-build python3                             # the fuzz preset's build; python3 generates the CAN codecs
+  cmake ninja-build python3                             # the fuzz preset's build; python3 for the project's scripts
+  libgmp-dev                                            # the CAN generators' DBC reader (exact range arithmetic)
   libtomlplusplus-dev nlohmann-json3-dev                # the fuzzed trainer/ libraries (no libtorch, no Ceres)
   zlib1g-dev                                            # the fuzzed CAN log readers (BLF, MDF4)
 )

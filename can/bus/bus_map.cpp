@@ -9,17 +9,16 @@
 #include <string_view>
 #include <toml++/toml.h>
 
-#include "lptn/bus/bus_vocabulary.hpp"
+#include "can/bus/bus_vocabulary.hpp"
 #include "lptn/firmware/e2e.hpp"
-#include "lptn/firmware/output_frames.hpp"
 
 namespace lptn::bus {
 namespace {
 
 namespace fs = std::filesystem;
 
-// The messages below are can/codecs/bus_codegen.py's, word for word: a map is refused alike on both
-// routes (tests/bus runs both on the same bad maps).
+// The messages below are the words the Python glue generator used, word for word (tests/bus's
+// check_bad_maps.py expects them); the build's generator reads maps with this same reader.
 
 std::string one_line(std::string message) {
   std::replace_if(message.begin(), message.end(), [](char c) { return c == '\n' || c == '\r'; }, ' ');
@@ -54,6 +53,20 @@ class Reader {
   fs::path file_;
 };
 
+// A table's entries in the order the file writes them (toml++ keeps them sorted by key): the first
+// bad entry is the one refused, and the inputs come in the map's order, as the generated glue lists
+// them.
+std::vector<std::pair<std::string, const toml::node*>> in_file_order(const toml::table& t) {
+  std::vector<std::pair<std::string, const toml::node*>> entries;
+  for (const auto& [key, node] : t) entries.emplace_back(std::string(key.str()), &node);
+  std::stable_sort(entries.begin(), entries.end(), [](const auto& a, const auto& b) {
+    const auto& x = a.second->source().begin;
+    const auto& y = b.second->source().begin;
+    return x.line != y.line ? x.line < y.line : x.column < y.column;
+  });
+  return entries;
+}
+
 const InputWord* input_word(std::string_view column) {
   for (const InputWord& w : kInputWords)
     if (column == w.column) return &w;
@@ -85,7 +98,7 @@ std::string g6(double v) {
   return buf;
 }
 
-// bus_vocabulary.unit_problem(): empty if the signal's unit can carry the input.
+// Empty if the signal's unit can carry the input; else why not, one clause.
 std::string unit_problem(const std::string& unit, std::string_view canonical, double scale, double offset) {
   const UnitWord* w = unit_word(unit);
   if (!w) return {};
@@ -106,12 +119,13 @@ std::string hex(std::uint32_t v) {
   return buf;
 }
 
-// [outputs]: bus_codegen.output_ids(). The CAN id of each of the estimator's frames; lptn.dbc's
-// where the map gives none; above 0x7FF an extended one. None may be another frame's.
+// [outputs]: the CAN id of each of the estimator's frames; `defaults` (lptn.dbc's) where the map
+// gives none; above 0x7FF an extended one. None may be another frame's.
 std::array<fw::OutputId, fw::kMaxOutputFrames> read_output_ids(const Reader& r, const toml::table& doc,
-                                                               const std::vector<MappedMessage>& uses) {
-  std::array<fw::OutputId, fw::kMaxOutputFrames> ids{};
-  for (int k = 0; k < fw::kMaxOutputFrames; ++k) ids[static_cast<std::size_t>(k)] = fw::kOutputFrames[k].dbc;
+                                                               const std::vector<MappedMessage>& uses,
+                                                               const std::array<fw::OutputId, fw::kMaxOutputFrames>& defaults) {
+  static_assert(std::size(kOutputFrameNames) == static_cast<std::size_t>(fw::kMaxOutputFrames));
+  std::array<fw::OutputId, fw::kMaxOutputFrames> ids = defaults;
   const toml::table* outputs = nullptr;
   std::uint32_t table_line = 1;
   if (const toml::node* node = doc.get("outputs")) {
@@ -121,16 +135,17 @@ std::array<fw::OutputId, fw::kMaxOutputFrames> read_output_ids(const Reader& r, 
   }
   const auto index_of = [](std::string_view name) {
     for (int k = 0; k < fw::kMaxOutputFrames; ++k)
-      if (name == fw::kOutputFrames[k].name) return k;
+      if (name == kOutputFrameNames[k]) return k;
     return -1;
   };
   if (outputs) {
-    for (const auto& [key, node] : *outputs) {
-      const std::string name(key.str());
+    for (const auto& [key, node_ptr] : in_file_order(*outputs)) {
+      const toml::node& node = *node_ptr;
+      const std::string name(key);
       const int k = index_of(name);
       if (k < 0) {
         std::string names;
-        for (const auto& f : fw::kOutputFrames) names += (names.empty() ? "" : ", ") + std::string(f.name);
+        for (const char* f : kOutputFrameNames) names += (names.empty() ? "" : ", ") + std::string(f);
         r.fail(Reader::line_of(node), "[outputs]: unknown key '" + name + "' (" + names + ")");
       }
       const auto* i = node.as_integer();
@@ -142,7 +157,7 @@ std::array<fw::OutputId, fw::kMaxOutputFrames> read_output_ids(const Reader& r, 
   std::vector<std::pair<fw::OutputId, std::string>> taken;
   for (const MappedMessage& u : uses) taken.push_back({{u.message->id, u.message->extended}, u.message->name});
   for (int k = 0; k < fw::kMaxOutputFrames; ++k) {
-    const std::string name = fw::kOutputFrames[k].name;
+    const std::string name = kOutputFrameNames[k];
     const fw::OutputId id = ids[static_cast<std::size_t>(k)];
     const toml::node* given = outputs ? outputs->get(name) : nullptr;
     for (const auto& [other, owner] : taken)
@@ -156,7 +171,7 @@ std::array<fw::OutputId, fw::kMaxOutputFrames> read_output_ids(const Reader& r, 
 
 }  // namespace
 
-std::unique_ptr<BusMap> BusMap::read(const fs::path& map_file) {
+std::unique_ptr<BusMap> BusMap::read(const fs::path& map_file, const std::array<fw::OutputId, fw::kMaxOutputFrames>& default_outputs) {
   Reader r(map_file);
   toml::table doc;
   try {
@@ -197,8 +212,9 @@ std::unique_ptr<BusMap> BusMap::read(const fs::path& map_file) {
   if (const toml::node* inputs_node = doc.get("inputs")) {
     const toml::table* inputs = inputs_node->as_table();
     if (!inputs) r.fail(Reader::line_of(*inputs_node), "inputs must be tables [inputs.NAME]");
-    for (const auto& [key, node] : *inputs) {
-      const std::string column(key.str());
+    for (const auto& [key, node_ptr] : in_file_order(*inputs)) {
+      const toml::node& node = *node_ptr;
+      const std::string column(key);
       const std::string table = "inputs." + column;
       const InputWord* word = input_word(column);
       if (!word) r.fail(Reader::line_of(node), "[" + table + "]: unknown input '" + column + "' (one of " + input_list() + ")");
@@ -246,8 +262,9 @@ std::unique_ptr<BusMap> BusMap::read(const fs::path& map_file) {
   if (const toml::node* messages_node = doc.get("messages")) {
     const toml::table* messages = messages_node->as_table();
     if (!messages) r.fail(Reader::line_of(*messages_node), "messages must be tables [messages.NAME]");
-    for (const auto& [key, node] : *messages) {
-      const std::string name(key.str());
+    for (const auto& [key, node_ptr] : in_file_order(*messages)) {
+      const toml::node& node = *node_ptr;
+      const std::string name(key);
       const std::string table = "messages." + name;
       const lptn::dbc::Message* message = map->dbc_.find(name);
       auto used = std::find_if(uses.begin(), uses.end(), [&](const MappedMessage& u) { return u.message == message; });
@@ -312,7 +329,7 @@ std::unique_ptr<BusMap> BusMap::read(const fs::path& map_file) {
   if (uses.size() > static_cast<std::size_t>(fw::kMaxBusMessages))
     r.fail(1, "the map uses " + std::to_string(uses.size()) + " messages; the estimator keeps counters for " +
                   std::to_string(fw::kMaxBusMessages));
-  map->outputs_ = read_output_ids(r, doc, uses);
+  map->outputs_ = read_output_ids(r, doc, uses, default_outputs);
   // The DBC's order, as the generated glue numbers them.
   for (const lptn::dbc::Message& m : map->dbc_.messages)
     for (MappedMessage& u : uses)

@@ -1,9 +1,8 @@
-// A converter's bus map (bus.toml) read at run time, with the converter's DBC it names: what
-// `lptn replay --bus`, `lptn convert --bus` and `lptn vcan-bench --bus` use. The firmware takes the
-// same map at build time instead (can/codecs/bus_codegen.py, -DLPTN_BUS): a generated decoder, no DBC
-// parsing on the target. Both check a map by the same rules (the vocabulary is one file,
-// can/codecs/bus_vocabulary.py) and give the estimator the same BusReading; tests/bus holds the two
-// routes equal on one log.
+// A converter's bus map (bus.toml) with the converter's DBC it names, read at run time for `lptn
+// replay --bus`, `lptn convert --bus` and `lptn vcan-bench --bus`, and at build time by the glue
+// generator (can/codegen's lptn-bus-codegen, -DLPTN_BUS), which writes a decoder from this reading:
+// no DBC parsing on the target. One reader, one vocabulary (bus_vocabulary.hpp); tests/bus holds the
+// decoder and the generated glue equal on one log.
 #pragma once
 
 #include <array>
@@ -47,8 +46,12 @@ struct MappedMessage {
 
 class BusMap {
  public:
-  // Throws MapError (the map) or lptn::dbc::Error (its DBC).
+  // Throws MapError (the map) or lptn::dbc::Error (its DBC). [outputs] moves the estimator's frames
+  // from lptn.dbc's ids (fw::kOutputFrames).
   static std::unique_ptr<BusMap> read(const std::filesystem::path& map_file);
+  // The same with the estimator's frames' default ids given, in kOutputFrameNames' order.
+  static std::unique_ptr<BusMap> read(const std::filesystem::path& map_file,
+                                      const std::array<fw::OutputId, fw::kMaxOutputFrames>& default_outputs);
 
   // Points into this map: keep the map alive while the estimator runs.
   fw::BusDecoder decoder() const;

@@ -1,6 +1,6 @@
-// Tokens and statements of a DBC file, in can/codecs/dbc_codegen.py's grammar (its tokenize() and
-// Parser): the same file is read the same way at build time and at run time. Messages are the
-// generator's, word for word.
+// Tokens and statements of a DBC file: the one grammar the build (lptn-can-codegen) and the run-time
+// readers read it by. Messages are word for word those of the Python generator this replaced, so
+// that the refusals the tests expect stay.
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -108,14 +108,14 @@ class Parser {
       else if (k == "BU_") nodes(token);
       else if (k == "BO_") message_def(token);
       else if (k == "SG_") signal_def(token);
-      else if (k == "CM_") comment();
+      else if (k == "CM_") comment(token);
       else if (k == "BA_DEF_") attribute_def(token);
       else if (k == "BA_DEF_DEF_") attribute_default(token);
       else if (k == "BA_") attribute_value(token);
       else if (k == "VAL_") value_descriptions(token);
       else if (k == "VAL_TABLE_") value_table(token);
       else if (k == "SIG_VALTYPE_") value_type(token);
-      else if (k == "BO_TX_BU_") transmitters();
+      else if (k == "BO_TX_BU_") transmitters(token);
       else if (k == "SG_MUL_VAL_") multiplexing(token);
       else if (kSkipped.count(k)) skip(token);
       else throw ParseError{token.line, "unknown section '" + k + "'"};
@@ -309,18 +309,26 @@ class Parser {
     if (sign.kind != Token::Kind::punct || (sign.text != "+" && sign.text != "-"))
       fail(sign, "'+' (unsigned) or '-' (signed) after the byte order");
     punct('(', "before the factor");
-    s.factor = number("the factor").value;
+    r.factor = number("the factor");
     punct(',', "between factor and offset");
-    s.offset = number("the offset").value;
+    r.offset = number("the offset");
     punct(')', "after the offset");
     punct('[', "before the minimum");
-    s.minimum = number("the minimum").value;
+    r.minimum = number("the minimum");
     punct('|', "between minimum and maximum");
-    s.maximum = number("the maximum").value;
+    r.maximum = number("the maximum");
     punct(']', "after the maximum");
+    s.factor = r.factor.value;
+    s.offset = r.offset.value;
+    s.minimum = r.minimum.value;
+    s.maximum = r.maximum.value;
+    s.factor_text = r.factor.text;
+    s.offset_text = r.offset.text;
+    s.minimum_text = r.minimum.text;
+    s.maximum_text = r.maximum.text;
     s.unit = string("the unit string");
-    r.receivers.push_back(ident("a receiving node"));
-    while (accept_punct(',')) r.receivers.push_back(ident("a receiving node after ','"));
+    s.receivers.push_back(ident("a receiving node"));
+    while (accept_punct(',')) s.receivers.push_back(ident("a receiving node after ','"));
     // Positions beyond any frame are caught by the overflow check; clamp so the int fields hold them.
     s.start = static_cast<int>(std::min<std::uint64_t>(start, 1u << 20));
     s.length = static_cast<int>(std::min<std::uint64_t>(length, 1u << 20));
@@ -341,11 +349,12 @@ class Parser {
       st.signal = ident(st.object_kind == "BU_" ? "a node name" : "an environment variable");
     }
   }
-  void comment() {
-    Statement st{};
+  void comment(const Token& keyword) {
+    Statement st = statement(Statement::Kind::comment, keyword.line);
     object_ref(st);
-    string("the comment string");
+    st.text = string("the comment string");
     end("CM_");
+    doc_.statements.push_back(std::move(st));
   }
   void attribute_def(const Token& keyword) {
     AttributeDef d;
@@ -390,17 +399,17 @@ class Parser {
     end("BA_");
     doc_.statements.push_back(std::move(st));
   }
-  void value_pairs(const std::string& section) {
+  std::vector<std::pair<long long, std::string>> value_pairs(const std::string& section) {
+    std::vector<std::pair<long long, std::string>> pairs;
     std::set<long long> seen;
-    bool any = false;
     while (!accept_punct(';')) {
-      if (any && missing_semicolon(section)) break;
+      if (!pairs.empty() && missing_semicolon(section)) break;
       const Token& t = peek();
       const long long raw = integer("a raw value or the ';' that ends " + section);
       if (!seen.insert(raw).second) throw ParseError{t.line, "value " + std::to_string(raw) + " is described twice"};
-      string("the value's description");
-      any = true;
+      pairs.emplace_back(raw, string("the value's description"));
     }
+    return pairs;
   }
   void value_descriptions(const Token& keyword) {
     if (peek().kind == Token::Kind::ident) {  // an environment variable's: not a frame's business
@@ -411,7 +420,7 @@ class Parser {
     Statement st = statement(Statement::Kind::values, keyword.line);
     st.message_id = static_cast<std::uint64_t>(integer("a message id or environment variable after VAL_"));
     st.signal = ident("a signal name");
-    value_pairs("VAL_");
+    st.pairs = value_pairs("VAL_");
     doc_.statements.push_back(std::move(st));
   }
   void value_table(const Token& keyword) {
@@ -428,12 +437,14 @@ class Parser {
     end("SIG_VALTYPE_");
     doc_.statements.push_back(std::move(st));
   }
-  void transmitters() {
-    integer("a message id after BO_TX_BU_");
+  void transmitters(const Token& keyword) {
+    Statement st = statement(Statement::Kind::transmitters, keyword.line);
+    st.message_id = static_cast<std::uint64_t>(integer("a message id after BO_TX_BU_"));
     punct(':', "after the message id");
-    ident("a node name");
-    while (accept_punct(',')) ident("a node name after ','");
+    st.nodes.push_back(ident("a node name"));
+    while (accept_punct(',')) st.nodes.push_back(ident("a node name after ','"));
     end("BO_TX_BU_");
+    doc_.statements.push_back(std::move(st));
   }
   void multiplexing(const Token& keyword) {
     Statement st = statement(Statement::Kind::mux_values, keyword.line);

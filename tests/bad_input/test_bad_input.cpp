@@ -84,8 +84,8 @@ TEST_P(BadInput, ProducesItsErrorAndNothingHalfWritten) {
     return replace_all(s, "{out}", out.path().string());
   };
   std::vector<std::string> argv;
-  if (spec.value("program", "lptn") == "dbc_codegen") {
-    argv = {LPTN_PYTHON, LPTN_DBC_CODEGEN};
+  if (spec.value("program", "lptn") == "lptn-dbc-codegen") {
+    argv = {LPTN_DBC_CODEGEN};
   } else {
     argv = {LPTN_BINARY};
   }

@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
-"""Bad bus maps, both routes: the build's generator (can/codecs/bus_codegen.py) and `lptn convert
---bus` (the run-time reader, can/bus) must refuse each with one line naming the map, the line
-and the key, and say the same thing; nothing is written.
+"""Bad bus maps, both routes: the build's glue generator (lptn-bus-codegen) and `lptn convert --bus`
+must refuse each with one line naming the map, the line and the key, and say the same thing;
+nothing is written. Both read the map with can/bus, so they agree by construction; the words, the
+lines and that nothing is written are what this holds.
 
     check_bad_maps.py BUS_CODEGEN LPTN FOREIGN_DIR
 
@@ -81,7 +82,7 @@ def main():
             bad = os.path.join(scratch, "bad.toml")
             open(bad, "w", encoding="utf-8").write(text)
             out = os.path.join(scratch, "glue.hpp")
-            build_code, build = refusal([sys.executable, codegen, "--bus", bad, "--codecs", "c.hpp", "--codec-namespace",
+            build_code, build = refusal([codegen, "--bus", bad, "--codecs", "c.hpp", "--codec-namespace",
                                          "n::dbc", "--out", out], scratch)
             log = os.path.join(scratch, "out.log")
             run_code, runtime = refusal([lptn, "convert", "--bus", bad, "--in", bad, "--out", log], scratch)

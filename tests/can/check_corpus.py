@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
-"""Runs can/codecs/dbc_codegen.py over the real DBC files in tests/can/corpus/ and compiles what it
-writes (ctest can.corpus).
+"""Runs the DBC codecs generator (lptn-dbc-codegen) over the real DBC files in tests/can/corpus/ and
+compiles what it writes (ctest can.corpus).
 
     check_corpus.py --generator GEN --compiler CXX --corpus DIR --work DIR [--jobs N]
 
@@ -116,7 +116,7 @@ def check_file(dbc, args):
     include_dir = os.path.join(args.work, "include")
     out = os.path.join(include_dir, header)
     # Vector__XXX: a header for the whole bus, as a logger would have it (no node's ids listed).
-    result = subprocess.run([sys.executable, args.generator, "--dbc", dbc, "--node", "Vector__XXX",
+    result = subprocess.run([args.generator, "--dbc", dbc, "--node", "Vector__XXX",
                              "--namespace", namespace, "--out", out], capture_output=True, text=True, check=False)
     warnings = []
     for line in result.stderr.splitlines():

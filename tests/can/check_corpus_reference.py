@@ -149,7 +149,7 @@ def generate(args, dbc):
     safe = re.sub(r"\W", "_", os.path.splitext(dbc)[0])
     out = os.path.join(args.work, "include", "reference", f"{safe}.hpp")
     path = os.path.join(args.corpus, dbc)
-    result = subprocess.run([sys.executable, args.generator, "--dbc", path, "--node", "Vector__XXX",
+    result = subprocess.run([args.generator, "--dbc", path, "--node", "Vector__XXX",
                              "--namespace", f"reference::{safe}", "--out", out],
                             capture_output=True, text=True, check=False)
     if result.returncode != 0:

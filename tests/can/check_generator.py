@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""Runs can/codecs/dbc_codegen.py as the build does and checks what it did (ctest, label can).
+"""Runs the DBC codecs generator (lptn-dbc-codegen, can/codegen) as the build does and checks what it
+did (ctest, label can).
 
     check_generator.py rejects GENERATOR DBC LINE REASON
         exit status 1, stderr exactly one line "DBC:LINE: ..." that contains REASON, nothing on
@@ -25,7 +26,7 @@ import tempfile
 def run(generator, dbc, node, out_dir, *extra):
     out = os.path.join(out_dir, "lptn", "can", "frames.hpp")
     result = subprocess.run(
-        [sys.executable, generator, "--dbc", dbc, "--node", node, "--namespace", "lptn::can", "--out", out, *extra],
+        [generator, "--dbc", dbc, "--node", node, "--namespace", "lptn::can", "--out", out, *extra],
         capture_output=True, text=True, check=False)
     return result, out
 

@@ -1,5 +1,4 @@
-// The DBC grammar, as can/codecs/dbc_codegen.py's Tokenizer and Parser read it: what dbc.cpp checks
-// and resolves. Internal to can/dbc.
+// The DBC grammar: tokens and statements, what check.cpp checks and resolves. Internal to can/dbc.
 #pragma once
 
 #include <cstdint>
@@ -40,8 +39,8 @@ struct Number {
 using Value = std::variant<Number, std::string>;
 
 struct RawSignal {
-  Signal signal;
-  std::vector<std::string> receivers;
+  Signal signal;  // its receivers, texts and layout; check.cpp fills in the rest
+  Number factor, offset, minimum, maximum;
 };
 
 struct RawMessage {
@@ -61,13 +60,16 @@ struct AttributeDef {
 
 // Statements naming other objects, resolved in file order once the file is read.
 struct Statement {
-  enum class Kind { attr_default, attr_value, values, value_type, mux_values };
+  enum class Kind { comment, attr_default, attr_value, values, value_type, transmitters, mux_values };
   Kind kind;
   int line;
   std::string name;        // attribute name, or the signal's
-  std::string object_kind;  // BA_: BU_, BO_, SG_, EV_ or "" (the network)
-  std::uint64_t message_id = 0;
-  std::string signal;      // BA_ SG_, VAL_, SIG_VALTYPE_, SG_MUL_VAL_
+  std::string object_kind;  // CM_, BA_: BU_, BO_, SG_, EV_ or "" (the network)
+  std::uint64_t message_id = 0;  // an integer as written: negative ids wrap (and name no message)
+  std::string signal;      // CM_/BA_ SG_, VAL_, SIG_VALTYPE_, SG_MUL_VAL_; CM_/BA_ BU_ and EV_: the name
+  std::string text;        // CM_
+  std::vector<std::pair<long long, std::string>> pairs;  // VAL_
+  std::vector<std::string> nodes;  // BO_TX_BU_
   Value value;
   long long value_type = 0;
   std::string multiplexor;

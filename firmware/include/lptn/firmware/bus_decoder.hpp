@@ -1,6 +1,6 @@
 // The converter's bus as the estimator sees it: a decoder turns a CAN frame into the inputs it
 // carries. Which messages and signals those are is the bus map's (bus.toml): at build time its
-// generated glue (can/codecs/bus_codegen.py, lptn/bus/bus_glue.hpp) decodes through the converter
+// generated glue (lptn-bus-codegen, lptn/bus/bus_glue.hpp) decodes through the converter
 // DBC's generated codecs; `lptn replay --bus` reads the map and the DBC at run time
 // (can/bus). Both fill the same BusReading, so the estimator cannot tell them apart.
 #pragma once

@@ -13,26 +13,12 @@
 #include "lptn/bus/bus_glue.hpp"
 #include "lptn/can/lptn_frames.hpp"
 #include "lptn/firmware/bus_decoder.hpp"
+#include "lptn/firmware/output_ids.hpp"
 #include "lptn/firmware/can_frame.hpp"
 #include "lptn/firmware/e2e.hpp"
 #include "lptn/firmware/estimator.hpp"
 
 namespace lptn::fw {
-
-// The frames in the order pack_outputs fills them, with lptn.dbc's ids. can/codecs/bus_vocabulary.py
-// lists the same names for the maps' [outputs]; the assertion below holds the two lists equal.
-struct OutputFrame {
-  const char* name;
-  OutputId dbc;
-};
-inline constexpr OutputFrame kOutputFrames[kMaxOutputFrames] = {
-    {can::LptnTemperatures::kName, {can::LptnTemperatures::kId, can::LptnTemperatures::kExtended}},
-    {can::LptnTemperatureStd::kName, {can::LptnTemperatureStd::kId, can::LptnTemperatureStd::kExtended}},
-    {can::LptnMargin::kName, {can::LptnMargin::kId, can::LptnMargin::kExtended}},
-    {can::LptnStatus::kName, {can::LptnStatus::kId, can::LptnStatus::kExtended}},
-    {can::LptnInnovation::kName, {can::LptnInnovation::kId, can::LptnInnovation::kExtended}},
-    {can::LptnCooling::kName, {can::LptnCooling::kId, can::LptnCooling::kExtended}},
-};
 
 namespace internal {
 
@@ -67,7 +53,7 @@ constexpr bool same_output_names() {
     if (std::string_view(lptn::bus::kOutputNames[i]) != kOutputFrames[i].name) return false;
   return true;
 }
-static_assert(same_output_names(), "can/codecs/bus_vocabulary.py's OUTPUTS and kOutputFrames list the frames alike");
+static_assert(same_output_names(), "can/bus/bus_vocabulary.hpp's kOutputFrameNames (the glue's kOutputNames) and kOutputFrames list the frames alike");
 
 }  // namespace internal
 

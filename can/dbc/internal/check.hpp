@@ -1,0 +1,16 @@
+// A parsed DBC document checked and resolved into the Database both routes use. Internal to can/dbc.
+#pragma once
+
+#include <string>
+#include <string_view>
+
+#include "can/dbc/dbc.hpp"
+#include "can/dbc/internal/parser.hpp"
+
+namespace lptn::dbc::internal {
+
+// Throws ParseError for what would make a frame undecodable; what it reads past goes into
+// Database::warnings, in the order of their lines.
+Database check(Document& doc, const std::string& path, std::string_view node);
+
+}  // namespace lptn::dbc::internal
