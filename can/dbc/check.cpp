@@ -13,6 +13,22 @@
 #include "can/dbc/internal/exact.hpp"
 
 namespace lptn::dbc::internal {
+
+std::vector<int> frame_bits(const Signal& s) {
+  std::vector<int> bits(static_cast<std::size_t>(s.length));
+  if (!s.big_endian) {
+    for (int i = 0; i < s.length; ++i) bits[static_cast<std::size_t>(i)] = s.start + i;
+    return bits;
+  }
+  // Motorola: the start bit is the MSB; after bit 0 of a byte the signal goes on at bit 7 of the next.
+  int position = s.start;
+  for (int i = s.length - 1; i >= 0; --i) {
+    bits[static_cast<std::size_t>(i)] = position;
+    position = position % 8 == 0 ? position + 15 : position - 1;
+  }
+  return bits;
+}
+
 namespace {
 
 constexpr std::uint64_t kExtendedFlag = 0x80000000u;
@@ -27,19 +43,6 @@ std::string hex(std::uint64_t v) {
 // A statement's message id as written: integer() read it as a (possibly negative) long long.
 std::string id_text(std::uint64_t id) { return std::to_string(static_cast<long long>(id)); }
 
-std::vector<int> frame_bits(const Signal& s) {
-  std::vector<int> bits(static_cast<std::size_t>(s.length));
-  if (!s.big_endian) {
-    for (int i = 0; i < s.length; ++i) bits[static_cast<std::size_t>(i)] = s.start + i;
-    return bits;
-  }
-  int position = s.start;
-  for (int i = s.length - 1; i >= 0; --i) {
-    bits[static_cast<std::size_t>(i)] = position;
-    position = position % 8 == 0 ? position + 15 : position - 1;
-  }
-  return bits;
-}
 
 // What `length` bits hold, up to 2^64 - 1: exact in a long double.
 std::pair<long double, long double> raw_limits(const Signal& s) {

@@ -16,22 +16,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// Frame bit (8 * byte + bit in byte) of each value bit, least significant first.
-std::vector<int> frame_bits(const Signal& s) {
-  std::vector<int> bits(static_cast<std::size_t>(s.length));
-  if (!s.big_endian) {
-    for (int i = 0; i < s.length; ++i) bits[static_cast<std::size_t>(i)] = s.start + i;
-    return bits;
-  }
-  // Motorola: the start bit is the MSB; after bit 0 of a byte the signal goes on at bit 7 of the next.
-  int position = s.start;
-  for (int i = s.length - 1; i >= 0; --i) {
-    bits[static_cast<std::size_t>(i)] = position;
-    position = position % 8 == 0 ? position + 15 : position - 1;
-  }
-  return bits;
-}
-
 std::pair<long long, long long> raw_limits(const Signal& s) {
   if (s.length >= 64)
     return s.is_signed ? std::pair{std::numeric_limits<long long>::min(), std::numeric_limits<long long>::max()}
@@ -87,7 +71,7 @@ Database read(const fs::path& file, std::string_view node) { return parse(read_t
 
 bool extract_raw(const Signal& s, const std::uint8_t* data, int len, std::int64_t& raw) {
   std::uint64_t bits = 0;
-  const std::vector<int> where = frame_bits(s);
+  const std::vector<int> where = internal::frame_bits(s);
   for (int i = 0; i < s.length; ++i) {
     const int bit = where[static_cast<std::size_t>(i)];
     if (bit < 0 || bit / 8 >= len) return false;
@@ -100,7 +84,7 @@ bool extract_raw(const Signal& s, const std::uint8_t* data, int len, std::int64_
 
 void insert_raw(const Signal& s, std::int64_t raw, std::uint8_t* data, int len) {
   const auto bits = static_cast<std::uint64_t>(raw);
-  const std::vector<int> where = frame_bits(s);
+  const std::vector<int> where = internal::frame_bits(s);
   for (int i = 0; i < s.length; ++i) {
     const int bit = where[static_cast<std::size_t>(i)];
     if (bit < 0 || bit / 8 >= len) continue;
