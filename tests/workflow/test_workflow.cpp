@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
+#include <nlohmann/json.hpp>
 #include <memory>
 #include <string>
 #include <vector>
@@ -14,7 +16,10 @@
 #include "lptn_testing/temp_dir.hpp"
 #include "simulator/generate/generate.hpp"
 #include "simulator/generate/plant_physics.hpp"
+#include "trainer/calibrate/calibration_file.hpp"
 #include "trainer/calibrate/calibration_result.hpp"
+#include "trainer/check/provenance.hpp"
+#include "trainer/data/dataset.hpp"
 #include "trainer/diagnose/diagnosis_text.hpp"
 #include "trainer/workflow/calibrate.hpp"
 #include "trainer/workflow/diagnose.hpp"
@@ -218,6 +223,53 @@ TEST_F(Workflow, ASensorFaultOnACycleTheDataLacksNamesItsOption) {
     EXPECT_EQ(std::string(e.what()).rfind("--sensor-fault: no cycle named 'no_such_cycle' in the data (cycles: cycle_01_", 0), 0u)
         << e.what();
   }
+}
+
+// The calibration records the data map each file was read through; the same files read through
+// another map (or none) are not the data it was fitted to, and a diagnosis or check says so with
+// both maps named. A calibration file from before that record compares the files alone.
+TEST_F(Workflow, TheSameFilesReadThroughAnotherDataMapAreNotTheCalibrationsData) {
+  testing::TempDir t;
+  // A current transducer's factor: the files still read without the map, as other currents.
+  const std::filesystem::path map = t.path() / "export.toml";
+  std::ofstream(map) << "[columns]\ncurrent_a = { column = \"current_a\", scale = 1.02 }\n";
+  CalibrationRequest q = request("lm");
+  q.map = map.string();
+  const std::filesystem::path file = t.path() / "calibration.json";
+  save_calibration(calibrate(q), file);
+  const CalibrationResult calibration = load_calibration(file);
+  ASSERT_EQ(calibration.data.size(), 3u);
+  for (const DataFile& f : calibration.data) {
+    EXPECT_TRUE(f.map_recorded);
+    EXPECT_EQ(f.map_file, map.string());
+    EXPECT_EQ(f.map_sha256.size(), 64u);
+  }
+
+  const std::vector<std::filesystem::path> paths{dir_->path()};
+  const check::Provenance same = check::provenance(calibration, data::load_fleet_dump(paths, data::with_data_map(map)));
+  EXPECT_TRUE(same.all_seen()) << same.summary();
+  EXPECT_FALSE(same.other_map());
+
+  const check::Provenance plain = check::provenance(calibration, data::load_fleet_dump(paths));
+  EXPECT_EQ(plain.unseen(), 3u);
+  EXPECT_TRUE(plain.other_map());  // diagnose then says to read them through the calibration's map
+  for (const check::CycleProvenance& c : plain.cycles) EXPECT_EQ(c.why, "same file, read through another data map");
+  EXPECT_EQ(plain.summary(), "3 of 3 cycles (the calibration's files read through another data map: the calibration's " +
+                                 map.string() + ", this reading's none (lptn's own CSV))");
+
+  // Another map that reads the files alike (its comments and layout aside) is the same reading.
+  const std::filesystem::path alike = t.path() / "alike.toml";
+  std::ofstream(alike) << "# the same map, written otherwise\n\n[columns]\ncurrent_a = {scale = 1.02, column = \"current_a\"}\n";
+  EXPECT_TRUE(check::provenance(calibration, data::load_fleet_dump(paths, data::with_data_map(alike))).all_seen());
+
+  // A calibration file without the record (written before it): the files alone are compared.
+  nlohmann::json j;
+  std::ifstream(file) >> j;
+  for (auto& f : j["data"]["files"]) f.erase("map");
+  std::ofstream(file) << j.dump(2);
+  const CalibrationResult older = load_calibration(file);
+  EXPECT_FALSE(older.data.front().map_recorded);
+  EXPECT_TRUE(check::provenance(older, data::load_fleet_dump(paths)).all_seen());
 }
 
 // The calibration's own data: diagnosed on its split, said to be its data, the words beside it.

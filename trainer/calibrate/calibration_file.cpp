@@ -121,7 +121,13 @@ ordered_json build(const CalibrationResult& r) {
   j["method"] = {{"name", r.method}, {"settings", ordered_json(r.settings)}, {"details", ordered_json(r.details)}, {"seconds", r.seconds}};
 
   ordered_json files = ordered_json::array();
-  for (const DataFile& f : r.data) files.push_back({{"cycle", f.cycle}, {"file", f.file}, {"sha256", f.sha256}});
+  for (const DataFile& f : r.data) {
+    ordered_json file = {{"cycle", f.cycle}, {"file", f.file}, {"sha256", f.sha256}};
+    // The data map it was read through: null for lptn's own CSV.
+    if (f.map_recorded)
+      file["map"] = f.map_sha256.empty() ? ordered_json(nullptr) : ordered_json{{"file", f.map_file}, {"sha256", f.map_sha256}};
+    files.push_back(std::move(file));
+  }
   j["data"] = {{"sha256", r.data_sha256},
                {"files", files},
                {"split", {{"rule", r.split_rule}, {"train", r.train_cycles}, {"test", r.test_cycles}}}};
@@ -371,8 +377,20 @@ CalibrationResult calibration_from_json(const nlohmann::json& j, const std::stri
   const JsonField data = root["data"];
   r.data_sha256 = data["sha256"].string();
   const JsonField files = data["files"];
-  for (std::size_t i = 0; i < files.size(); ++i)
-    r.data.push_back({files.at(i)["cycle"].string(), files.at(i)["file"].string(), files.at(i)["sha256"].string()});
+  for (std::size_t i = 0; i < files.size(); ++i) {
+    const JsonField f = files.at(i);
+    DataFile d;
+    d.cycle = f["cycle"].string();
+    d.file = f["file"].string();
+    d.sha256 = f["sha256"].string();
+    d.map_recorded = f.has("map");
+    if (d.map_recorded && !f["map"].json().is_null()) {
+      d.map_file = f["map"]["file"].string();
+      d.map_sha256 = f["map"]["sha256"].string();
+      if (d.map_sha256.empty()) f["map"]["sha256"].fail("must not be empty (null for no data map)");
+    }
+    r.data.push_back(std::move(d));
+  }
   const JsonField split = data["split"];
   r.split_rule = split["rule"].string();
   r.train_cycles = strings(split["train"]);

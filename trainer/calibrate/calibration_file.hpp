@@ -90,6 +90,10 @@ struct DataFile {
   std::string cycle;  // cycle name
   std::string file;   // file name as given
   std::string sha256;  // of the file's bytes
+  // The data map the file was read through (data::Cycle::map_file, map_sha256; both empty: read as
+  // lptn's own CSV). Not recorded in a calibration file older than this field: nothing to compare.
+  bool map_recorded = true;
+  std::string map_file, map_sha256;
 };
 
 struct CalibrationResult {

@@ -48,7 +48,13 @@ CalibrationResult new_calibration(const MotorFile& motor, const std::string& mot
   std::string all;
   for (const data::Cycle& c : dataset.cycles) {
     const std::string& hash = hashes.at(c.file.string());
-    r.data.push_back({c.name, c.file.filename().string(), hash});
+    DataFile f;
+    f.cycle = c.name;
+    f.file = c.file.filename().string();
+    f.sha256 = hash;
+    f.map_file = c.map_file.string();
+    f.map_sha256 = c.map_sha256;
+    r.data.push_back(std::move(f));
     all += hash;
   }
   r.data_sha256 = sha256_hex(all.data(), all.size());

@@ -33,7 +33,8 @@ SharedDataset join_units(std::size_t units, std::vector<LoadedUnit> mine, const 
       share.residuals = count_grid_residuals(c);
       share.file_sha256 = hashes[file];
       stubs.push_back({{"unit", u.unit}, {"name", c.name}, {"file", file}, {"t0", c.t0_s}, {"dt", c.dt_s},
-                       {"steps", c.steps}, {"residuals", share.residuals}, {"sha256", share.file_sha256}});
+                       {"steps", c.steps}, {"residuals", share.residuals}, {"sha256", share.file_sha256},
+                       {"map_file", c.map_file.string()}, {"map_sha256", c.map_sha256}});
       per_unit[u.unit].emplace_back(std::move(c), std::move(share));
     }
     for (data::CycleReport& r : u.data.reports) out.data.reports.push_back(std::move(r));
@@ -49,6 +50,8 @@ SharedDataset join_units(std::size_t units, std::vector<LoadedUnit> mine, const 
       c.t0_s = s.at("t0").get<double>();
       c.dt_s = s.at("dt").get<double>();
       c.steps = s.at("steps").get<std::size_t>();
+      c.map_file = s.at("map_file").get<std::string>();
+      c.map_sha256 = s.at("map_sha256").get<std::string>();
       CycleShare share;
       share.remote = true;
       share.residuals = s.at("residuals").get<std::size_t>();

@@ -15,6 +15,8 @@
 namespace lptn::check {
 namespace {
 
+constexpr const char* kOtherMap = "same file, read through another data map";
+
 // "3" or "0.14": a constant as a person reads it.
 std::string shown(double v) {
   char buf[32];
@@ -42,6 +44,12 @@ void compare_member(std::string_view name, const T& data, const T& calibration, 
   }
 }
 
+// A data map as the words name it: its file, or that there was none.
+std::string map_name(const std::string& file, const std::string& sha256) {
+  if (sha256.empty()) return "none (lptn's own CSV)";
+  return file.empty() ? "data map (given in code)" : file;
+}
+
 }  // namespace
 
 bool Provenance::all_seen() const { return unseen() == 0 && constants.empty(); }
@@ -57,16 +65,34 @@ std::vector<std::string> Provenance::unseen_names() const {
   return out;
 }
 
+bool Provenance::other_map() const {
+  return std::any_of(cycles.begin(), cycles.end(), [](const auto& c) { return !c.seen && c.why == kOtherMap; });
+}
+
 std::string Provenance::summary() const {
   std::string out;
   const std::size_t n = unseen();
   if (n > 0) {
-    std::size_t renamed = 0;
-    for (const CycleProvenance& c : cycles) renamed += !c.seen && c.why == "same name, another file";
-    out = std::to_string(n) + " of " + std::to_string(cycles.size()) + " cycles";
-    if (renamed == n) out += " (the calibration's cycle names, other files)";
-    else if (renamed == 0) out += " (names it does not know)";
-    else out += " (" + std::to_string(renamed) + " with the calibration's cycle names but other files)";
+    std::size_t renamed = 0, remapped = 0;
+    const CycleProvenance* first_remapped = nullptr;
+    for (const CycleProvenance& c : cycles) {
+      if (c.seen) continue;
+      renamed += c.why == "same name, another file";
+      if (c.why == kOtherMap && remapped++ == 0) first_remapped = &c;
+    }
+    const std::size_t unknown = n - renamed - remapped;
+    std::vector<std::string> parts;
+    if (remapped > 0)
+      parts.push_back((remapped == n ? std::string("the calibration's files") : std::to_string(remapped) + " of them its files") +
+                      " read through another data map: " + first_remapped->maps);
+    if (renamed > 0)
+      parts.push_back(renamed == n ? "the calibration's cycle names, other files"
+                                   : std::to_string(renamed) + " with the calibration's cycle names but other files");
+    if (unknown == n) parts.push_back("names it does not know");
+    else if (unknown > 0 && remapped > 0) parts.push_back(std::to_string(unknown) + " with names it does not know");
+    out = std::to_string(n) + " of " + std::to_string(cycles.size()) + " cycles (";
+    for (std::size_t i = 0; i < parts.size(); ++i) out += (i ? "; " : "") + parts[i];
+    out += ")";
   }
   if (!constants.empty()) {
     out += out.empty() ? "the data's motor.toml has other motor constants than the calibration's: "
@@ -79,8 +105,8 @@ std::string Provenance::summary() const {
 
 Provenance provenance(const CalibrationResult& calibration, const data::Dataset& dataset,
                       const std::optional<MotorFile>& data_motor) {
-  std::map<std::string, std::string> hash_of;  // the calibration's cycle -> its file's hash
-  for (const DataFile& f : calibration.data) hash_of[f.cycle] = f.sha256;
+  std::map<std::string, const DataFile*> hash_of;  // the calibration's cycle -> its file's record
+  for (const DataFile& f : calibration.data) hash_of[f.cycle] = &f;
   // A file is hashed once however many segments it holds, the files over the cores (a 200 h
   // dump is 600 MB of CSV: about a second of one core's hashing here).
   std::map<std::string, std::string> file_hash;
@@ -97,8 +123,17 @@ Provenance provenance(const CalibrationResult& calibration, const data::Dataset&
     if (known == hash_of.end()) {
       cp.why = "not among the calibration's cycles";
     } else {
-      cp.seen = file_hash.at(c.file.string()) == known->second;
-      if (!cp.seen) cp.why = "same name, another file";
+      const DataFile& seen = *known->second;
+      cp.seen = file_hash.at(c.file.string()) == seen.sha256;
+      if (!cp.seen) {
+        cp.why = "same name, another file";
+      } else if (seen.map_recorded && seen.map_sha256 != c.map_sha256) {
+        // The same bytes read as other columns, units or drives are not the data it was fitted to.
+        cp.seen = false;
+        cp.why = kOtherMap;
+        cp.maps = "the calibration's " + map_name(seen.map_file, seen.map_sha256) + ", this reading's " +
+                  map_name(c.map_file.string(), c.map_sha256);
+      }
     }
     if (cp.seen) {
       const auto in = [&](const std::vector<std::string>& v) { return std::find(v.begin(), v.end(), c.name) != v.end(); };

@@ -18,7 +18,12 @@ struct CycleProvenance {
   std::string name;
   bool seen = false;  // the calibration read this very file under this name
   std::string role;   // seen: "train", "test" or "" (read but in neither list); else ""
-  std::string why;    // not seen: "not among the calibration's cycles" or "same name, another file"
+  // not seen: "not among the calibration's cycles", "same name, another file", or "same file, read
+  // through another data map"
+  std::string why;
+  // read through another data map: which the calibration read it through, which this reading,
+  // e.g. "the calibration's export/data.toml, this reading's none (lptn's own CSV)"
+  std::string maps;
 };
 
 struct Provenance {
@@ -32,6 +37,8 @@ struct Provenance {
   // What of the data this calibration never saw, e.g. "4 of 4 cycles (the calibration's cycle
   // names, other files)", and constants that differ; "" for the calibration's own data.
   std::string summary() const;
+  // Some cycle is the calibration's own file read through another data map than it read it through.
+  bool other_map() const;
 };
 
 // `data_motor`: the motor file found beside the data (DIR/motor.toml), if any. Hashes the cycles'

@@ -13,6 +13,7 @@
 #include <toml++/toml.h>
 
 #include "hostio/civil_time.hpp"
+#include "hostio/sha256.hpp"
 #include "hostio/utf8.hpp"
 #include "trainer/data/dataset.hpp"
 #include "trainer/data/did_you_mean.hpp"
@@ -314,6 +315,11 @@ DataMap load_data_map(const std::filesystem::path& file) {
   std::ostringstream s;
   s << in.rdbuf();
   return parse_data_map(s.str(), file);
+}
+
+std::string data_map_sha256(const DataMap& map) {
+  const std::string text = format_data_map(map);
+  return sha256_hex(text.data(), text.size());
 }
 
 std::string format_data_map(const DataMap& m, std::string_view header_comment) {

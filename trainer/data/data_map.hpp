@@ -68,6 +68,11 @@ DataMap parse_data_map(std::string_view text, const std::filesystem::path& shown
 // `header_comment` (lines without '#') goes on top.
 std::string format_data_map(const DataMap& map, std::string_view header_comment = {});
 
+// What the map reads a file as, as one SHA-256: of its format_data_map() text, so that two maps that
+// read alike (comments, key order and layout aside) have the same. A calibration records it for
+// each file, and a later reading of the same file through another map is not the data it saw.
+std::string data_map_sha256(const DataMap& map);
+
 // The units a channel's column may be given in, and what each converts by (scale, offset).
 struct UnitConversion {
   std::string_view unit;

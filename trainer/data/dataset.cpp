@@ -153,8 +153,13 @@ namespace {
 Dataset parse_and_assemble(std::string_view text, const fs::path& file, const LoadOptions& options,
                            const DataMap* map) {
   Dataset out;
+  const std::string map_sha256 = map != nullptr ? data_map_sha256(*map) : std::string();
   for (internal::RawCycle& raw : internal::parse_csv(text, file, map)) {
     Dataset one = internal::assemble(std::move(raw), options);
+    for (Cycle& c : one.cycles) {
+      if (map != nullptr) c.map_file = map->file;
+      c.map_sha256 = map_sha256;
+    }
     if (map != nullptr && out.reports.empty())
       one.reports.front().findings.insert(
           one.reports.front().findings.begin(),

@@ -47,6 +47,10 @@ struct Cycle {
   // "name-2", "name-3"... for the segments after the first when a gap splits it.
   std::string name;
   std::filesystem::path file;
+  // The data map the file was read through: where from, and data_map_sha256() of it (what it
+  // reads the file as); both empty where the file was read as lptn's own CSV.
+  std::filesystem::path map_file;
+  std::string map_sha256;
   double t0_s = 0, dt_s = 0.1;  // grid: t0 + k*dt, k < steps; t0 is on the file's grid
   std::size_t steps = 0;
   // NaN = missing or masked. Either empty (the column is absent from the file) or `steps` long.

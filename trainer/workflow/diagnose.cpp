@@ -49,7 +49,10 @@ std::string not_its_data(const DiagnosisRequest& q, const check::Provenance& p) 
          " never seen by it. The training and test cycles below are diagnose's own split of this data (" +
          (q.test_cycles.empty() ? "by the calibration's cycle names" : "--test-cycles") +
          "), and every figure below is a refit's on it, not the calibration's. Whether the calibration holds on "
-         "this data: lptn check --data " + data + " --calibration " + q.calibration;
+         "this data: lptn check --data " + data + " --calibration " + q.calibration +
+         (p.other_map() ? ". Where these are the calibration's files, read them through the data map it read them "
+                          "through (--map)"
+                        : "");
 }
 
 }  // namespace
