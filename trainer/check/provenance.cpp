@@ -15,6 +15,8 @@
 namespace lptn::check {
 namespace {
 
+// Why a cycle with one of the calibration's names is not its data.
+constexpr const char* kOtherFile = "same name, another file";
 constexpr const char* kOtherMap = "same file, read through another data map";
 
 // "3" or "0.14": a constant as a person reads it.
@@ -77,7 +79,7 @@ std::string Provenance::summary() const {
     const CycleProvenance* first_remapped = nullptr;
     for (const CycleProvenance& c : cycles) {
       if (c.seen) continue;
-      renamed += c.why == "same name, another file";
+      renamed += c.why == kOtherFile;
       if (c.why == kOtherMap && remapped++ == 0) first_remapped = &c;
     }
     const std::size_t unknown = n - renamed - remapped;
@@ -105,28 +107,28 @@ std::string Provenance::summary() const {
 
 Provenance provenance(const CalibrationResult& calibration, const data::Dataset& dataset,
                       const std::optional<MotorFile>& data_motor) {
-  std::map<std::string, const DataFile*> hash_of;  // the calibration's cycle -> its file's record
-  for (const DataFile& f : calibration.data) hash_of[f.cycle] = &f;
+  std::map<std::string, const DataFile*> record_of;  // the calibration's cycle -> its file's record
+  for (const DataFile& f : calibration.data) record_of[f.cycle] = &f;
   // A file is hashed once however many segments it holds, the files over the cores (a 200 h
   // dump is 600 MB of CSV: about a second of one core's hashing here).
   std::map<std::string, std::string> file_hash;
   std::vector<std::filesystem::path> to_hash;
   for (const data::Cycle& c : dataset.cycles)
-    if (hash_of.count(c.name) && file_hash.emplace(c.file.string(), std::string()).second) to_hash.push_back(c.file);
+    if (record_of.count(c.name) && file_hash.emplace(c.file.string(), std::string()).second) to_hash.push_back(c.file);
   const std::vector<std::string> hashes = sha256_files(to_hash, worker_threads());
   for (std::size_t i = 0; i < to_hash.size(); ++i) file_hash[to_hash[i].string()] = hashes[i];
   Provenance p;
   for (const data::Cycle& c : dataset.cycles) {
     CycleProvenance cp;
     cp.name = c.name;
-    const auto known = hash_of.find(c.name);
-    if (known == hash_of.end()) {
+    const auto known = record_of.find(c.name);
+    if (known == record_of.end()) {
       cp.why = "not among the calibration's cycles";
     } else {
       const DataFile& seen = *known->second;
       cp.seen = file_hash.at(c.file.string()) == seen.sha256;
       if (!cp.seen) {
-        cp.why = "same name, another file";
+        cp.why = kOtherFile;
       } else if (seen.map_recorded && seen.map_sha256 != c.map_sha256) {
         // The same bytes read as other columns, units or drives are not the data it was fitted to.
         cp.seen = false;
