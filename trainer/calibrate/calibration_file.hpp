@@ -93,7 +93,7 @@ struct DataFile {
   // The data map the file was read through (data::Cycle::map_file, map_sha256; both empty: read as
   // lptn's own CSV). Not recorded in a calibration file older than this field: nothing to compare.
   bool map_recorded = true;
-  std::string map_file, map_sha256;
+  std::string map_file{}, map_sha256{};  // initialised here: {cycle, file, sha256} alone is a whole record
 };
 
 struct CalibrationResult {
