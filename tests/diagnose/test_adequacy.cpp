@@ -75,7 +75,7 @@ TEST(Adequacy, NamesTheSensorThatMissesPhysicsAndTurnsOnceTheModelHasIt) {
 
   MotorFile with = g->motor;
   enable_effect(with, effect_index("windage"));
-  const LmReport fit = fit_lm(with, with.initial_values(), g->dataset, g->split.train, LmSettings{});
+  const lm::LmReport fit = lm::fit_lm(with, with.initial_values(), g->dataset, g->split.train, lm::LmSettings{});
   const diagnose::Adequacy after = diagnose::assess_adequacy(with.model(), fit.values, g->dataset, g->split, 2);
   std::printf("with windage: %s | %s\n", diagnose::describe(*sensor(after, "stator")).c_str(),
               diagnose::describe(*sensor(after, "rotor")).c_str());

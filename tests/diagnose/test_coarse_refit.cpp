@@ -27,7 +27,7 @@ TEST(CoarseRefit, EndsWhereTheFineRefitEndsWhereTheDataPinTheEffect) {
   const int windage = effect_index("windage");
   MotorFile with = g->motor;
   enable_effect(with, windage);
-  LmSettings lm;
+  lm::LmSettings lm;
   lm.threads = 2;
   const SharedDataset coarse = internal::coarse_dataset(g->dataset, kCoarse);
   const auto fine = internal::refit_with(with, windage, g->calibrated.values, g->dataset, g->split.train, lm, {});
@@ -54,7 +54,7 @@ TEST(CoarseRefit, WithoutAReadingOnTheCoarseGridTheFineRefitRunsAlone) {
   const int windage = effect_index("windage");
   MotorFile with = g->motor;
   enable_effect(with, windage);
-  LmSettings lm;
+  lm::LmSettings lm;
   lm.threads = 2;
   lm.max_iterations = 5;
   const SharedDataset coarse = internal::coarse_dataset(g->dataset, kCoarse);
@@ -72,7 +72,7 @@ TEST(CoarseRefit, WithoutAReadingOnTheCoarseGridTheFineRefitRunsAlone) {
 TEST(CoarseRefit, TheCorrectedGridSeesTheDataGridsMisfitAtTheBaseline) {
   const auto g = testing::generate({}, 3, 20, 25, 8);
   const Model<double> model = g->motor.model();
-  const LmReport& at = g->calibrated;
+  const lm::LmReport& at = g->calibrated;
   ASSERT_EQ(at.offsets.size(), g->split.train.size());
   const SharedDataset coarse = internal::coarse_dataset(g->dataset, kCoarse);
   SharedDataset corrected = coarse;
@@ -120,14 +120,14 @@ double cost_on(const MotorFile& motor, const ParamVector<double>& values, const 
 // a crawl is evaluated there without a step (kCrawlPolishIterations).
 TEST(CoarseRefit, APolishStartsFromTheCoarseFitMovedByTheBaselinesDifferenceOrItsOwnPoint) {
   const auto g = testing::generate({"windage"}, 4, 20, 25, 5);
-  const LmReport& fine_baseline = g->calibrated;
+  const lm::LmReport& fine_baseline = g->calibrated;
   SharedDataset coarse = internal::coarse_dataset(g->dataset, kCoarse);
   internal::correct_for_grid(coarse, g->dataset, g->motor.model(), fine_baseline.values, g->split.train,
                              fine_baseline.offsets, 2);
-  LmSettings lm;
+  lm::LmSettings lm;
   lm.threads = 2;
   lm.max_iterations = 15;
-  LmSettings from_baseline = lm;
+  lm::LmSettings from_baseline = lm;
   from_baseline.start_offsets = fine_baseline.offsets;
   const auto coarse_baseline = internal::coarse_stage(g->motor, fine_baseline.values, coarse, g->split.train, from_baseline, {});
   ASSERT_TRUE(coarse_baseline.has_value());
@@ -136,7 +136,7 @@ TEST(CoarseRefit, APolishStartsFromTheCoarseFitMovedByTheBaselinesDifferenceOrIt
   enable_effect(with, windage);
 
   // The coarse baseline moved is the data grid's baseline (its windage fixed at the motor file's).
-  const LmReport landed = internal::moved_to_fine(with, *coarse_baseline, fine_baseline, *coarse_baseline);
+  const lm::LmReport landed = internal::moved_to_fine(with, *coarse_baseline, fine_baseline, *coarse_baseline);
   for (int i = 0; i < kNumParams; ++i)
     EXPECT_NEAR(landed.values[i], fine_baseline.values[i], 1e-12 * std::abs(fine_baseline.values[i])) << param_spec(i).name;
   for (std::size_t k = 0; k < landed.offsets.size(); ++k) {
@@ -147,21 +147,21 @@ TEST(CoarseRefit, APolishStartsFromTheCoarseFitMovedByTheBaselinesDifferenceOrIt
   // From the baseline's offsets the refit finds the windage; from none (diagnose's starts) it ends
   // far above the baseline in its iterations. The polish starts from the cheaper point either way.
   const data::Dataset& fine = g->dataset;
-  for (const LmSettings& settings : {from_baseline, lm}) {
+  for (const lm::LmSettings& settings : {from_baseline, lm}) {
     const auto on_coarse = internal::coarse_stage(with, internal::neutral_point(fine_baseline.values, windage), coarse,
                                                   g->split.train, settings, {});
     ASSERT_TRUE(on_coarse.has_value());
-    const LmReport moved = internal::moved_to_fine(with, *on_coarse, fine_baseline, *coarse_baseline);
+    const lm::LmReport moved = internal::moved_to_fine(with, *on_coarse, fine_baseline, *coarse_baseline);
     const double unmoved_cost = cost_on(with, on_coarse->values, fine, g->split.train, on_coarse->offsets);
     const double moved_cost = cost_on(with, moved.values, fine, g->split.train, moved.offsets);
     std::printf("cost on the data's grid: baseline %.3f, the coarse fit's point %.3f, moved %.3f K^2\n",
                 fine_baseline.final_cost, unmoved_cost, moved_cost);
     ASSERT_NE(unmoved_cost, moved_cost);
-    const LmReport start = internal::polish_start(with, *on_coarse, fine_baseline, *coarse_baseline, g->dataset,
+    const lm::LmReport start = internal::polish_start(with, *on_coarse, fine_baseline, *coarse_baseline, g->dataset,
                                                   g->split.train, 2);
     EXPECT_EQ(start.values, moved_cost < unmoved_cost ? moved.values : on_coarse->values);
 
-    LmReport crawled = start;
+    lm::LmReport crawled = start;
     crawled.converged = false;
     const internal::Refit polished = internal::polish(with, windage, crawled, g->dataset, g->split.train, lm, {});
     EXPECT_EQ(polished.fit.iterations, 0);

@@ -128,7 +128,7 @@ TEST(HiddenPhysics, AFifthThermalMassIsFoundAsAMassOnTheStatorSide) {
   EXPECT_LE(best->test_rmse_k_after, d.test_rmse_k / 3);
   MotorFile with = g->motor;
   enable_effect(with, best->effect);
-  const LmReport calibrated = fit_lm(with, best->refit.values, g->dataset, g->split.train, LmSettings{});
+  const lm::LmReport calibrated = lm::fit_lm(with, best->refit.values, g->dataset, g->split.train, lm::LmSettings{});
   std::printf("  calibrated with %s: %d iterations, training RMSE %.3f K\n", best->name.c_str(), calibrated.iterations,
               calibrated.rmse_k);
   const std::pair<const char*, double> frame[] = {

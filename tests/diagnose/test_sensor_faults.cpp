@@ -71,14 +71,14 @@ std::vector<std::string> cycles_from(const data::Dataset& dataset, std::size_t f
 }
 
 // The paper's free parameters calibrated on `g`'s dump with `spec` taken out of its readings.
-LmReport calibrated_around(const testing::Generated& g, const std::string& spec) {
+lm::LmReport calibrated_around(const testing::Generated& g, const std::string& spec) {
   data::Dataset corrected = g.dataset;
   data::correct_readings(corrected, std::vector<std::string>{spec});
-  return fit_lm(g.motor, g.motor.initial_values(), corrected, g.split.train, LmSettings{});
+  return lm::fit_lm(g.motor, g.motor.initial_values(), corrected, g.split.train, lm::LmSettings{});
 }
 
 // Every free parameter of `around` within `share` of `clean`'s.
-void expect_parameters_near(const MotorFile& motor, const LmReport& around, const LmReport& clean, double share,
+void expect_parameters_near(const MotorFile& motor, const lm::LmReport& around, const lm::LmReport& clean, double share,
                             const char* label) {
   const FreeParameters free = FreeParameters::from_motor(motor);
   for (int i : free.index) {

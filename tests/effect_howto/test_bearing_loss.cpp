@@ -35,7 +35,7 @@ TEST(EffectHowTo, TheDiagnosisReadsTheHeadersKnowledge) {
 
 TEST(EffectHowTo, BearingLossHiddenInTheDataIsFoundAndFitted) {
   const auto g = testing::generate({"bearing_loss"}, 6, 25, 30, 3, {{"bearing_loss_w", kTrueBearingLossW}});
-  LmReport fit;
+  lm::LmReport fit;
   expect_found_and_fixed("bearing_loss", *g, &fit);
   const int p = param_index("bearing_loss_w");
   std::printf("bearing_loss_w = %.1f +- %.1f W (truth %.0f)\n", fit.values[p], fit.std_error[p], kTrueBearingLossW);

@@ -91,7 +91,7 @@ TEST(FleetCalibration, FindsEveryMotorsCoolingAndNamesTheWeakMotorAlone) {
 
   // fleet.json: written, read back, one motor exported as a calibration of its own.
   CalibrationResult pooled = new_calibration(c->motor, "motor.toml", c->fleet.dataset, c->split);
-  record_lm_fit(pooled, c->fit.shared, FreeParameters::from_motor(c->motor), pooled.train_cycles, to_json(LmSettings{}));
+  lm::record_lm_fit(pooled, c->fit.shared, FreeParameters::from_motor(c->motor), pooled.train_cycles, lm::to_json(lm::LmSettings{}));
   score_calibration(pooled, c->motor, c->fleet.dataset, c->split);
   const auto path = c->dir.path() / "fleet.json";
   save_fleet(path, pooled, c->fit, FleetSettings{});

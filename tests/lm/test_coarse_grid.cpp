@@ -17,7 +17,7 @@ namespace {
 
 struct Fixture : testing::Dump {
   data::Dataset coarse;
-  LmReport fine_fit;
+  lm::LmReport fine_fit;
 };
 
 const Fixture& generated() {
@@ -25,7 +25,7 @@ const Fixture& generated() {
     auto* fx = new Fixture;
     testing::generate_dump(*fx, 6, 3, 1800, 2400, 1.0 / 3.0);
     for (const data::Cycle& c : fx->dataset.cycles) fx->coarse.cycles.push_back(data::coarse_grid(c, 10));
-    fx->fine_fit = fit_lm(fx->motor, fx->motor.initial_values(), fx->dataset, fx->split.train, LmSettings{});
+    fx->fine_fit = lm::fit_lm(fx->motor, fx->motor.initial_values(), fx->dataset, fx->split.train, lm::LmSettings{});
     return fx;
   }();
   return *f;
@@ -69,7 +69,7 @@ TEST(CoarseGrid, OneSecondGridMovesTheErrorAtLmsOptimumByLessThanTwoHundredthsOf
   const ParamVector<double>& best = f.fine_fit.values;
   const double fine_train = pooled(evaluate_split(model, best, f.dataset, f.split.train));
   const double coarse_train = pooled(evaluate_split(model, best, f.coarse, f.split.train));
-  const LmReport coarse_fit = fit_lm(f.motor, f.motor.initial_values(), f.coarse, f.split.train, LmSettings{});
+  const lm::LmReport coarse_fit = lm::fit_lm(f.motor, f.motor.initial_values(), f.coarse, f.split.train, lm::LmSettings{});
   const double fine_test = pooled(evaluate_split(model, best, f.dataset, f.split.test));
   const double coarse_fit_test = pooled(evaluate_split(model, coarse_fit.values, f.dataset, f.split.test));
   const double coarse_fit_train = pooled(evaluate_split(model, coarse_fit.values, f.dataset, f.split.train));

@@ -20,7 +20,7 @@ double by_definition(const Series& series) {
     for (double e : r) var += e * e, count += 1;
   var /= count;
   double tau = 1;
-  for (std::size_t lag = 1; lag < kMaxCorrelationLag; ++lag) {
+  for (std::size_t lag = 1; lag < lm::kMaxCorrelationLag; ++lag) {
     double c = 0, n = 0;
     for (const auto& r : series)
       for (std::size_t k = lag; k < r.size(); ++k) c += r[k] * r[k - lag], n += 1;
@@ -51,7 +51,7 @@ Series ar1(double phi, const std::vector<std::size_t>& lengths, unsigned seed) {
 TEST(CorrelationTime, EqualsTheLagByLagSumOnCyclesOfUnequalLength) {
   for (const double phi : {0.0, 0.5, 0.9, 0.995}) {
     const Series s = ar1(phi, {20000, 7001, 13000, 150}, 3);
-    const double fast = correlation_time(s), slow = by_definition(s);
+    const double fast = lm::correlation_time(s), slow = by_definition(s);
     EXPECT_NEAR(fast, slow, 1e-9 * slow) << "phi " << phi;
   }
 }
@@ -61,30 +61,30 @@ TEST(CorrelationTime, SumsAreTheSameBitsOnAnyNumberOfThreads) {
   // time (and so its parameters' errors) does not depend on the machine's cores. Five series, one
   // too short to count, over 1, 2, 3 and 8 threads (more threads than series included).
   const Series s = ar1(0.9, {20000, 7001, 1, 13000, 150}, 5);
-  const std::vector<double> one = correlation_sums(s, 1);
+  const std::vector<double> one = lm::correlation_sums(s, 1);
   for (const int threads : {2, 3, 8}) {
-    const std::vector<double> many = correlation_sums(s, threads);
+    const std::vector<double> many = lm::correlation_sums(s, threads);
     ASSERT_EQ(many.size(), one.size());
     for (std::size_t i = 0; i < one.size(); ++i) ASSERT_EQ(many[i], one[i]) << "threads " << threads << ", entry " << i;
   }
-  EXPECT_NEAR(correlation_time_of_sums(one), by_definition(s), 1e-9 * by_definition(s));
+  EXPECT_NEAR(lm::correlation_time_of_sums(one), by_definition(s), 1e-9 * by_definition(s));
 }
 
 TEST(CorrelationTime, IsOnePlusPhiOverOneMinusPhiForAr1Noise) {
   // Summed while positive, the estimate stops early on the noisy tail: within 10 % of the truth.
   for (const double phi : {0.5, 0.9, 0.98}) {
     const double truth = (1 + phi) / (1 - phi);
-    EXPECT_NEAR(correlation_time(ar1(phi, {200000, 200000}, 7)), truth, 0.1 * truth) << "phi " << phi;
+    EXPECT_NEAR(lm::correlation_time(ar1(phi, {200000, 200000}, 7)), truth, 0.1 * truth) << "phi " << phi;
   }
-  EXPECT_NEAR(correlation_time(ar1(0.0, {100000}, 9)), 1.0, 0.05);
+  EXPECT_NEAR(lm::correlation_time(ar1(0.0, {100000}, 9)), 1.0, 0.05);
 }
 
 TEST(CorrelationTime, StopsAtTheFirstLagThatIsNotPositive) {
   std::vector<double> alternating(1000);
   for (std::size_t k = 0; k < alternating.size(); ++k) alternating[k] = k % 2 ? 1.0 : -1.0;
-  EXPECT_DOUBLE_EQ(correlation_time({alternating}), 1.0);
-  EXPECT_DOUBLE_EQ(correlation_time({}), 1.0);
-  EXPECT_DOUBLE_EQ(correlation_time({std::vector<double>(500, 0.0)}), 1.0);
+  EXPECT_DOUBLE_EQ(lm::correlation_time({alternating}), 1.0);
+  EXPECT_DOUBLE_EQ(lm::correlation_time({}), 1.0);
+  EXPECT_DOUBLE_EQ(lm::correlation_time({std::vector<double>(500, 0.0)}), 1.0);
 }
 
 }  // namespace

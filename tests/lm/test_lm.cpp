@@ -34,7 +34,7 @@ TEST(LevenbergMarquardt, RecoversTrueConductancesAndFitsUnseenCyclesToTheNoise) 
   ASSERT_EQ(f.split.train.size(), 6u);
   ASSERT_EQ(f.split.test.size(), 3u);
   const ParamVector<double> start = f.motor.initial_values();
-  const LmReport r = fit_lm(f.motor, start, f.dataset, f.split.train, LmSettings{});
+  const lm::LmReport r = lm::fit_lm(f.motor, start, f.dataset, f.split.train, lm::LmSettings{});
   const ParamVector<double> truth = gen::true_parameters();
   for (int i = 0; i < kNumPaperParams; ++i) {
     if (!f.motor.parameters[static_cast<std::size_t>(i)].calibrate) continue;
@@ -54,7 +54,7 @@ TEST(LevenbergMarquardt, RecoversTrueConductancesAndFitsUnseenCyclesToTheNoise) 
 
 TEST(LevenbergMarquardt, ReportsStandardErrorsThatCoverTheTruth) {
   const testing::Dump& f = generated();
-  const LmReport r = fit_lm(f.motor, f.motor.initial_values(), f.dataset, f.split.train, LmSettings{});
+  const lm::LmReport r = lm::fit_lm(f.motor, f.motor.initial_values(), f.dataset, f.split.train, lm::LmSettings{});
   const ParamVector<double> truth = gen::true_parameters();
   const FreeParameters free = FreeParameters::from_motor(f.motor);
   for (std::size_t j = 0; j < free.size(); ++j) {
@@ -80,7 +80,7 @@ TEST(LevenbergMarquardt, FlagsParametersTheDataCannotTellApart) {
   const data::Dataset d = data::load_fleet_dump({dir.path()});
   MotorFile motor = load_motor_file(dir.path() / "motor.toml");
   std::vector<std::size_t> all{0, 1, 2};
-  const LmReport r = fit_lm(motor, motor.initial_values(), d, all, LmSettings{});
+  const lm::LmReport r = lm::fit_lm(motor, motor.initial_values(), d, all, lm::LmSettings{});
   bool rotor_flagged = false;
   for (const CorrelatedPair& p : r.correlated) rotor_flagged |= p.a.find("r") != std::string::npos;
   const int rotor_param = param_index("lambda_1r");

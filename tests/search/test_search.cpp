@@ -26,7 +26,7 @@ TEST(Search, BothMethodsBeatTheGuessAndCmaEsComesCloseToLm) {
   const testing::Dump& f = generated();
   const Model<double> model = f.motor.model();
   const double guess = pooled(evaluate_split(model, f.motor.initial_values(), f.dataset, f.split.test));
-  const LmReport lm = fit_lm(f.motor, f.motor.initial_values(), f.dataset, f.split.train, LmSettings{});
+  const lm::LmReport lm = lm::fit_lm(f.motor, f.motor.initial_values(), f.dataset, f.split.train, lm::LmSettings{});
   const double lm_test = pooled(evaluate_split(model, lm.values, f.dataset, f.split.test));
   SearchSettings s;
   s.budget_steps = 40'000'000;

@@ -26,22 +26,22 @@ constexpr double kNoTest = std::numeric_limits<double>::quiet_NaN();
 // the polish on the data's own grid removes even that.
 constexpr int kRefitCoarseFactor = 10;
 
-LmSettings lm_settings(const Settings& s) {
-  LmSettings lm;
+lm::LmSettings lm_settings(const Settings& s) {
+  lm::LmSettings lm;
   lm.threads = s.threads;
   lm.correlation_flag = s.correlation_flag;
   return lm;
 }
 
 // A refit's settings: at most Settings::refit_iterations (the candidates' and the coarse baseline's).
-LmSettings refit_settings(const Settings& s) {
-  LmSettings lm = lm_settings(s);
+lm::LmSettings refit_settings(const Settings& s) {
+  lm::LmSettings lm = lm_settings(s);
   lm.max_iterations = s.refit_iterations;
   return lm;
 }
 
 // LM's per-iteration report as a progress line of the stage it belongs to.
-LmProgress lm_progress(const Progress& progress, const std::string& stage) {
+lm::LmProgress lm_progress(const Progress& progress, const std::string& stage) {
   if (!progress) return {};
   return [progress, stage](int iteration, double rmse, double) {
     char buf[160];
@@ -102,7 +102,7 @@ struct Scored {
 // a likelihood ratio's resolution: the baseline's fine-grid cost is not a coarse fit's footing).
 struct CoarseGrid {
   SharedDataset dataset;
-  std::optional<LmReport> baseline;  // none where the coarse grid keeps no reading
+  std::optional<lm::LmReport> baseline;  // none where the coarse grid keeps no reading
 };
 
 // A refit whose likelihood ratio on the coarse grid (against the baseline refit there) is below
@@ -225,10 +225,10 @@ Candidate examine(const MotorFile& motor, const Scored& scored, const Diagnosis&
   // where it ends lower, and one that cannot at twice its pace is ended there (on the clean 200 h
   // dump the neutral value ended lower for each of the three candidates polished, and each step's
   // refit crawled its 15 coarse iterations, 4 s a candidate, to end above it).
-  const LmSettings lm = refit_settings(settings);
+  const lm::LmSettings lm = refit_settings(settings);
   // The refit settings that stop a refit whose likelihood ratio against `base_cost` cannot reach `mark`.
   auto stopping_short_of = [&](double mark, double base_cost, int pace_iterations = internal::kPaceIterations) {
-    LmSettings stopping = lm;
+    lm::LmSettings stopping = lm;
     stopping.stop = internal::stop_short_of(mark, base_cost, before.effective_residuals, lm.max_iterations, kAtBaselineLr,
                                             pace_iterations);
     return stopping;
@@ -236,7 +236,7 @@ Candidate examine(const MotorFile& motor, const Scored& scored, const Diagnosis&
   const std::pair<const char*, ParamVector<double>> starts[] = {
       {"the score test's step", score.predicted}, {"the neutral value", neutral_start(with, effect, before.baseline.values)}};
   std::optional<internal::Refit> kept;
-  std::optional<LmReport> best_coarse;
+  std::optional<lm::LmReport> best_coarse;
   std::size_t best_start = 0;  // in `starts` while they run, then in c.starts
   std::optional<RefitStart> tried[std::size(starts)];
   for (const std::size_t k : {std::size_t{1}, std::size_t{0}}) {
@@ -244,7 +244,7 @@ Candidate examine(const MotorFile& motor, const Scored& scored, const Diagnosis&
     if (k == 1 && values == starts[0].second) continue;
     RefitStart s;
     s.from = from;
-    const LmProgress report = lm_progress(progress, c.name + ": refit from " + from);
+    const lm::LmProgress report = lm_progress(progress, c.name + ": refit from " + from);
     // On the coarse grid its mark is the polish (below it the verdict is the coarse fit's), or what
     // the start before it reached where higher; on the data's the threshold.
     const double coarse_mark =
@@ -252,7 +252,7 @@ Candidate examine(const MotorFile& motor, const Scored& scored, const Diagnosis&
                                before.effective_residuals * std::log(coarse.baseline->final_cost / best_coarse->final_cost))
                     : kPolishShare * c.threshold;
     try {
-      if (std::optional<LmReport> on_coarse =
+      if (std::optional<lm::LmReport> on_coarse =
               coarse.baseline
                   ? internal::coarse_stage(with, values, coarse.dataset, split.train,
                                            stopping_short_of(coarse_mark, coarse.baseline->final_cost), report)
@@ -276,7 +276,7 @@ Candidate examine(const MotorFile& motor, const Scored& scored, const Diagnosis&
           c.start = from;
         }
       }
-    } catch (const ModelNotSimulable& error) {
+    } catch (const lm::ModelNotSimulable& error) {
       s.rmse_k = kNoTest;
       s.error = error.what();
     }
@@ -315,7 +315,7 @@ Candidate examine(const MotorFile& motor, const Scored& scored, const Diagnosis&
       s.converged = kept->fit.converged;
       s.coarse_only = false;
       c.start = s.from;
-    } catch (const ModelNotSimulable& error) {
+    } catch (const lm::ModelNotSimulable& error) {
       s.rmse_k = kNoTest;
       s.error = error.what();
     }
@@ -469,7 +469,7 @@ Diagnosis diagnose(const MotorFile& motor, const ParamVector<double>& calibrated
   Diagnosis d;
   // Refit from the calibration (a few iterations at most): it gives the per-cycle initial
   // offsets and the residuals' correlation time, and an RSS on exactly the footing of the refits.
-  d.baseline = fit_lm(motor, calibrated, dataset, split.train, lm_settings(settings),
+  d.baseline = lm::fit_lm(motor, calibrated, dataset, split.train, lm_settings(settings),
                       lm_progress(progress, "the model as calibrated"));
   d.rmse_k = d.baseline.rmse_k;
   d.effective_residuals = static_cast<double>(d.baseline.residuals) / d.baseline.correlation_time;
@@ -499,7 +499,7 @@ Diagnosis diagnose(const MotorFile& motor, const ParamVector<double>& calibrated
   internal::correct_for_grid(coarse.dataset, dataset, model, d.baseline.values, split.train, d.baseline.offsets,
                              settings.threads);
   {
-    LmSettings lm = refit_settings(settings);
+    lm::LmSettings lm = refit_settings(settings);
     lm.start_offsets = d.baseline.offsets;
     coarse.baseline =
         internal::coarse_stage(motor, d.baseline.values, coarse.dataset, split.train, lm,

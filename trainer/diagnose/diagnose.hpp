@@ -116,7 +116,7 @@ struct Candidate {
   double train_stator_rmse_k = 0;   // after the refit, stator sensor (offsets estimated per cycle)
   double test_stator_rmse_k = 0;    // after the refit; NaN without test cycles
   double test_rmse_k_after = 0;     // after the refit, every measured sensor (NaN without test cycles)
-  LmReport refit;                   // values, standard errors, correlated pairs (of the start kept)
+  lm::LmReport refit;                   // values, standard errors, correlated pairs (of the start kept)
   std::vector<RefitStart> starts;   // every start tried, in order; `refit` is the best that ended
   std::string start;                // the start kept
   Verdict verdict = Verdict::not_significant;
@@ -125,7 +125,7 @@ struct Candidate {
 };
 
 struct Diagnosis {
-  LmReport baseline;                 // the calibrated model refit on the training cycles (offsets, RSS)
+  lm::LmReport baseline;                 // the calibrated model refit on the training cycles (offsets, RSS)
   Adequacy adequacy;                 // the model as it stands, against each sensor's noise
   double rmse_k = 0;                 // training RMSE before (fit_lm's pooled residuals)
   double train_stator_rmse_k = 0;    // before, stator sensor
@@ -186,7 +186,7 @@ Selection select_effects(const MotorFile& motor, const ParamVector<double>& cali
 
 // `calibration` updated to `motor` (effects, text) and the fit `fit` (values, standard errors,
 // correlated pairs) with metrics recomputed on its split; the method stays "lm".
-CalibrationResult updated_calibration(const CalibrationResult& calibration, const MotorFile& motor, const LmReport& fit,
+CalibrationResult updated_calibration(const CalibrationResult& calibration, const MotorFile& motor, const lm::LmReport& fit,
                                       DatasetRef dataset, const Split& split, const std::string& note);
 
 // The diagnosis file's format (lptn diagnose --json, --json-out; docs/diagnosis.md): 2 added the

@@ -5,7 +5,7 @@
 
 namespace lptn::diagnose {
 
-CalibrationResult updated_calibration(const CalibrationResult& calibration, const MotorFile& motor, const LmReport& fit,
+CalibrationResult updated_calibration(const CalibrationResult& calibration, const MotorFile& motor, const lm::LmReport& fit,
                                       DatasetRef dataset, const Split& split, const std::string& note) {
   CalibrationResult r = calibration;
   r.motor = motor;
@@ -19,7 +19,7 @@ CalibrationResult updated_calibration(const CalibrationResult& calibration, cons
   }
   std::vector<std::string> fitted;
   for (std::size_t c : split.train) fitted.push_back(dataset.cycles[c].name);
-  record_lm_fit(r, fit, FreeParameters::from_motor(motor), fitted, {{"refit", note}});
+  lm::record_lm_fit(r, fit, FreeParameters::from_motor(motor), fitted, {{"refit", note}});
   r.details["note"] = note;
   score_calibration(r, motor, dataset, split);
   return r;

@@ -151,7 +151,7 @@ CoolingFactorFit fit_cooling_factor(const Model<double>& model, const ParamVecto
       series[s].push_back(std::move(*sensor[s]));
     }
   }
-  out.correlation_time = std::max(correlation_time(series[0]), correlation_time(series[1]));
+  out.correlation_time = std::max(lm::correlation_time(series[0]), lm::correlation_time(series[1]));
   const double dof = std::max(1.0, static_cast<double>(out.residuals) - static_cast<double>(jacobian.num_cols));
   const double s2 = 2.0 * cost / dof * out.correlation_time;
   const Eigen::MatrixXd cov = s2 * jtj.completeOrthogonalDecomposition().pseudoInverse();

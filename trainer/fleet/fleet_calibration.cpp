@@ -58,7 +58,7 @@ FleetFit fit_fleet(const MotorFile& motor, const FleetDump& fleet, const std::ve
     std::snprintf(line, sizeof line, "round %d: the motor type's parameters (LM) on %zu cycles of %zu motors", round,
                   train.size(), n);
     say(line);
-    out.shared = fit_lm(motor, start, fleet.dataset, train, settings.lm, {}, cooling);
+    out.shared = lm::fit_lm(motor, start, fleet.dataset, train, settings.lm, {}, cooling);
     std::vector<double> next(n);
     fit_motors(model, out.shared.values, fleet, settings.lm.threads, out.motors);
     for (std::size_t m = 0; m < n; ++m) next[m] = std::log(out.motors[m].fit.factor);

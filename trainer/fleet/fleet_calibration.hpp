@@ -23,7 +23,7 @@
 namespace lptn::fleet {
 
 struct FleetSettings {
-  LmSettings lm;
+  lm::LmSettings lm;
   int max_rounds = 6;
   double round_tolerance = 1e-3;  // on ln(factor)
   double family_alpha = 0.05;     // chance that a fleet without outliers names one (outlier_test.hpp)
@@ -40,7 +40,7 @@ struct FleetMotorResult {
 };
 
 struct FleetFit {
-  LmReport shared;  // the motor type: the parameters of the fleet's median motor
+  lm::LmReport shared;  // the motor type: the parameters of the fleet's median motor
   std::vector<FleetMotorResult> motors;  // in FleetDump order
   int rounds = 0;
   double log_factor_spread = 0;  // standard deviation of the motors' ln(factor)

@@ -7,7 +7,7 @@
 
 #include "hostio/worker_threads.hpp"
 
-namespace lptn {
+namespace lptn::lm {
 
 std::vector<double> correlation_sums(const std::vector<std::vector<double>>& series, int threads) {
   // [0] sum of squares, [1] count, [2 + lag] products at lag, [2 + kMaxCorrelationLag + lag] pairs.
@@ -74,4 +74,4 @@ double correlation_time(const std::vector<std::vector<double>>& series, int thre
   return correlation_time_of_sums(correlation_sums(series, threads));
 }
 
-}  // namespace lptn
+}  // namespace lptn::lm

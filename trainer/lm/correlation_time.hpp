@@ -4,7 +4,7 @@
 #include <cstddef>
 #include <vector>
 
-namespace lptn {
+namespace lptn::lm {
 
 // 1 + 2 sum rho_k over the residuals' autocorrelation (pooled over the series, each demeaned by
 // the caller), summed while it stays positive (Geyer's initial positive sequence) and up to
@@ -23,4 +23,4 @@ double correlation_time(const std::vector<std::vector<double>>& series, int thre
 std::vector<double> correlation_sums(const std::vector<std::vector<double>>& series, int threads = 1);
 double correlation_time_of_sums(const std::vector<double>& sums);
 
-}  // namespace lptn
+}  // namespace lptn::lm

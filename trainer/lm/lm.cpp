@@ -22,7 +22,7 @@
 #include "trainer/model/initial_offsets.hpp"
 #include "trainer/model/simulate.hpp"
 
-namespace lptn {
+namespace lptn::lm {
 namespace {
 
 constexpr int kOffsets = 2;  // per cycle: the stator core's and the rotor core's initial offset
@@ -851,4 +851,4 @@ NormalEquations normal_equations(const Model<double>& model, const FreeParameter
   return out;
 }
 
-}  // namespace lptn
+}  // namespace lptn::lm

@@ -14,7 +14,7 @@
 #include "trainer/calibrate/calibration_file.hpp"  // CorrelatedPair
 #include "trainer/calibrate/problem.hpp"
 
-namespace lptn {
+namespace lptn::lm {
 
 struct LmSettings {
   int max_iterations = 60;
@@ -116,4 +116,4 @@ NormalEquations normal_equations(const Model<double>& model, const FreeParameter
                                  DatasetRef dataset, const std::vector<std::size_t>& cycles,
                                  const std::vector<InitialOffsets<double>>& offsets, int threads = worker_threads());
 
-}  // namespace lptn
+}  // namespace lptn::lm

@@ -5,7 +5,7 @@
 
 #include "hostio/progress_line.hpp"
 
-namespace lptn {
+namespace lptn::lm {
 
 nlohmann::json to_json(const LmSettings& s) {
   return {{"max_iterations", s.max_iterations}, {"function_tolerance", s.function_tolerance},
@@ -83,4 +83,4 @@ void calibrate_lm(const CalibrationRequest& /*request*/, const MotorFile& motor,
   record_lm_fit(result, fit, FreeParameters::from_motor(motor), result.train_cycles, to_json(settings));
 }
 
-}  // namespace lptn
+}  // namespace lptn::lm

@@ -11,7 +11,7 @@
 #include "trainer/calibrate/calibration_request.hpp"
 #include "trainer/lm/lm.hpp"
 
-namespace lptn {
+namespace lptn::lm {
 
 // The settings as method.settings records them.
 nlohmann::json to_json(const LmSettings& settings);
@@ -33,4 +33,4 @@ void mark_not_identifiable(CalibrationResult& result, const std::vector<NotIdent
 void calibrate_lm(const CalibrationRequest& request, const MotorFile& motor, DatasetRef dataset,
                   const Split& split, CalibrationResult& result, const CalibrationProgress& progress);
 
-}  // namespace lptn
+}  // namespace lptn::lm

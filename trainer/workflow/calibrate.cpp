@@ -47,13 +47,13 @@ std::vector<std::string> doubtful_input(const data::Dataset& dataset, const Moto
 }
 
 // The model ran away at the motor file's values: bad input, naming the most implausible value.
-BadInput not_simulable(const std::string& path, const MotorFile& motor, const ModelNotSimulable& e) {
+BadInput not_simulable(const std::string& path, const MotorFile& motor, const lm::ModelNotSimulable& e) {
   const std::string why = implausible_values_summary(motor);
   return BadInput(path + ": " + e.what() + (why.empty() ? std::string() : "; the most implausible value: " + why));
 }
 
 CalibrationMethod method_for(const std::string& method, CalibrationMethod td3) {
-  if (method == "lm") return &calibrate_lm;
+  if (method == "lm") return &lm::calibrate_lm;
   if (is_search(method)) return &search::calibrate_by_search;
   return td3;
 }
@@ -112,20 +112,20 @@ CalibrationResult calibrate(const CalibrationRequest& q, const CalibrationEvents
 
   // LM judges what the data pins as it fits; the other methods would move a parameter the data
   // cannot see at random and call it calibrated: it stays the motor file's, said so.
-  std::vector<NotIdentifiable> unseen;
+  std::vector<lm::NotIdentifiable> unseen;
   try {
-    if (q.method != "lm") unseen = unseen_parameters(motor, motor.initial_values(), dataset, split.train);
-  } catch (const ModelNotSimulable& e) {
+    if (q.method != "lm") unseen = lm::unseen_parameters(motor, motor.initial_values(), dataset, split.train);
+  } catch (const lm::ModelNotSimulable& e) {
     throw not_simulable(q.motor, motor, e);
   }
-  for (const NotIdentifiable& n : unseen) motor.parameters[static_cast<std::size_t>(n.index)].calibrate = false;
+  for (const lm::NotIdentifiable& n : unseen) motor.parameters[static_cast<std::size_t>(n.index)].calibrate = false;
   CalibrationResult r = new_calibration(motor, q.motor, dataset, split);
   r.sensor_faults = q.sensor_faults;
-  mark_not_identifiable(r, unseen);
+  lm::mark_not_identifiable(r, unseen);
   if (events.started) events.started({motor.name, q.method, split.train.size(), split.test.size(), split.rule, 0});
   try {
     method_for(q.method, td3)(q, motor, dataset, split, r, events.progress);
-  } catch (const ModelNotSimulable& e) {
+  } catch (const lm::ModelNotSimulable& e) {
     throw not_simulable(q.motor, motor, e);
   }
   const std::vector<CalibrationWarning> inadequate = score_and_judge_adequacy(r, motor, dataset, split);
@@ -150,11 +150,11 @@ FleetCalibration calibrate_fleet(const CalibrationRequest& q, const CalibrationE
     out.fit = fleet::fit_fleet(motor, fleet, split.train, out.settings, [&](const std::string& s) {
       if (events.progress) events.progress(s, true);
     });
-  } catch (const ModelNotSimulable& e) {
+  } catch (const lm::ModelNotSimulable& e) {
     throw not_simulable(q.motor, motor, e);
   }
   CalibrationResult& r = out.result;
-  record_lm_fit(r, out.fit.shared, FreeParameters::from_motor(motor), r.train_cycles, to_json(out.settings.lm));
+  lm::record_lm_fit(r, out.fit.shared, FreeParameters::from_motor(motor), r.train_cycles, lm::to_json(out.settings.lm));
   r.seconds = out.fit.seconds;
   score_calibration(r, motor, fleet.dataset, split);
   if (events.input_warnings) events.input_warnings(input_warnings(fleet.dataset.data, motor));

@@ -37,7 +37,7 @@ inline void print(const Diagnosis& d) {
 // The effect ranks first and is significant; recalibrated with it (from the motor file's
 // starting point, as `lptn calibrate --effect` does), the test error falls to the noise. The refit
 // is handed back through `refit` for checks of its own.
-inline void expect_found_and_fixed(const std::string& effect, const testing::Generated& g, LmReport* refit = nullptr) {
+inline void expect_found_and_fixed(const std::string& effect, const testing::Generated& g, lm::LmReport* refit = nullptr) {
   const Diagnosis d = diagnose(g.motor, g.calibrated.values, g.dataset, g.split, Settings{});
   print(d);
   expect_sound_candidates(d, effect);
@@ -47,7 +47,7 @@ inline void expect_found_and_fixed(const std::string& effect, const testing::Gen
 
   MotorFile with = g.motor;
   enable_effect(with, effect_index(effect));
-  const LmReport fit = fit_lm(with, with.initial_values(), g.dataset, g.split.train, LmSettings{});
+  const lm::LmReport fit = lm::fit_lm(with, with.initial_values(), g.dataset, g.split.train, lm::LmSettings{});
   if (refit) *refit = fit;
   const TestErrors before = test_errors(g.motor, g.calibrated.values, g), after = test_errors(with, fit.values, g);
   std::printf("%s: test RMSE stator %.3f -> %.3f K, rotor %.3f -> %.3f K; %s = %.4g +- %.2g\n", effect.c_str(),

@@ -14,7 +14,7 @@
 namespace lptn::testing {
 
 struct Generated : Dump {
-  LmReport calibrated;  // the paper's model (the motor file's), on split.train
+  lm::LmReport calibrated;  // the paper's model (the motor file's), on split.train
 };
 
 // `cycles` cycles of `minutes_min`..`minutes_max`; the generator rotates blower modes
@@ -27,7 +27,7 @@ inline std::unique_ptr<Generated> generate(const gen::GenerateOptions& options) 
   write_and_load(*g, options);
   const std::size_t n = g->dataset.cycles.size();
   g->split = split_cycles(g->dataset, {g->dataset.cycles[n - 2].name, g->dataset.cycles[n - 1].name}, 0, 0);
-  g->calibrated = fit_lm(g->motor, g->motor.initial_values(), g->dataset, g->split.train, LmSettings{});
+  g->calibrated = lm::fit_lm(g->motor, g->motor.initial_values(), g->dataset, g->split.train, lm::LmSettings{});
   return g;
 }
 

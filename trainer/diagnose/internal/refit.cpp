@@ -20,7 +20,7 @@ namespace {
 // trading off against each other make its form imprecise, not the effect indistinguishable; a
 // parameter with no heat path to the effect (a rotor conductance for a stator term, the sides
 // unlinked) cannot stand in for it, whatever the fit's ill-conditioning makes of the pair.
-std::string confounded(const LmReport& fit, int i, int effect, EffectSet effects) {
+std::string confounded(const lm::LmReport& fit, int i, int effect, EffectSet effects) {
   const std::string name(param_spec(i).name);
   for (const CorrelatedPair& c : fit.correlated) {
     if (c.a != name && c.b != name) continue;
@@ -36,7 +36,7 @@ std::string confounded(const LmReport& fit, int i, int effect, EffectSet effects
 }
 
 // "P = v +- se: its standard error exceeds its value", or empty.
-std::string imprecise(const LmReport& fit, int i) {
+std::string imprecise(const lm::LmReport& fit, int i) {
   const std::string name(param_spec(i).name);
   const double v = fit.values[i], se = fit.std_error[i];
   if (std::isnan(se)) return name + " has no standard error (the data's information about it is singular)";
@@ -87,14 +87,14 @@ void correct_for_grid(SharedDataset& coarse, DatasetRef fine, const Model<double
   });
 }
 
-std::optional<LmReport> coarse_stage(const MotorFile& with_effect, const ParamVector<double>& start,
+std::optional<lm::LmReport> coarse_stage(const MotorFile& with_effect, const ParamVector<double>& start,
                                      DatasetRef coarse, const std::vector<std::size_t>& train,
-                                     const LmSettings& settings, const LmProgress& progress) {
+                                     const lm::LmSettings& settings, const lm::LmProgress& progress) {
   // The counts include remote cycles', so every process decides alike.
   std::size_t coarse_readings = 0;
   for (std::size_t c : train) coarse_readings += coarse.residuals(c);
   if (coarse_readings == 0) return std::nullopt;
-  return fit_lm(with_effect, start, coarse, train, settings, progress);
+  return lm::fit_lm(with_effect, start, coarse, train, settings, progress);
 }
 
 std::function<bool(int, double)> stop_short_of(double mark, double base_cost, double effective_residuals,
@@ -111,7 +111,7 @@ std::function<bool(int, double)> stop_short_of(double mark, double base_cost, do
   };
 }
 
-Refit judged(LmReport fit, const MotorFile& with_effect, int effect) {
+Refit judged(lm::LmReport fit, const MotorFile& with_effect, int effect) {
   Refit out;
   out.fit = std::move(fit);
   // Whether the effect is there at all is its first parameter's question (a term's size; its
@@ -125,9 +125,9 @@ Refit judged(LmReport fit, const MotorFile& with_effect, int effect) {
   return out;
 }
 
-LmReport moved_to_fine(const MotorFile& with_effect, const LmReport& on_coarse, const LmReport& fine_baseline,
-                       const LmReport& coarse_baseline) {
-  LmReport out = on_coarse;
+lm::LmReport moved_to_fine(const MotorFile& with_effect, const lm::LmReport& on_coarse, const lm::LmReport& fine_baseline,
+                       const lm::LmReport& coarse_baseline) {
+  lm::LmReport out = on_coarse;
   const FreeParameters free = FreeParameters::from_motor(with_effect);
   for (std::size_t j = 0; j < free.size(); ++j) {
     const int i = free.index[j];
@@ -149,7 +149,7 @@ namespace {
 // Half the sum of squared residuals of `dataset`'s training cycles on its grid at `fit`'s values and
 // initial offsets (infinite where the model does not stay finite). Every process sums every cycle
 // (diagnose's shared dataset keeps each cycle's samples on each rank), so all decide alike.
-double cost_on(const MotorFile& motor, const LmReport& fit, DatasetRef dataset, const std::vector<std::size_t>& train,
+double cost_on(const MotorFile& motor, const lm::LmReport& fit, DatasetRef dataset, const std::vector<std::size_t>& train,
                int threads) {
   const Model<double> model = motor.model();
   std::vector<double> per_cycle(train.size(), 0.0);
@@ -166,19 +166,19 @@ double cost_on(const MotorFile& motor, const LmReport& fit, DatasetRef dataset, 
 
 }  // namespace
 
-LmReport polish_start(const MotorFile& with_effect, const LmReport& on_coarse, const LmReport& fine_baseline,
-                      const LmReport& coarse_baseline, DatasetRef dataset, const std::vector<std::size_t>& train,
+lm::LmReport polish_start(const MotorFile& with_effect, const lm::LmReport& on_coarse, const lm::LmReport& fine_baseline,
+                      const lm::LmReport& coarse_baseline, DatasetRef dataset, const std::vector<std::size_t>& train,
                       int threads) {
-  LmReport moved = moved_to_fine(with_effect, on_coarse, fine_baseline, coarse_baseline);
+  lm::LmReport moved = moved_to_fine(with_effect, on_coarse, fine_baseline, coarse_baseline);
   if (on_coarse.offsets.size() != train.size()) return moved;
   return cost_on(with_effect, moved, dataset, train, threads) <= cost_on(with_effect, on_coarse, dataset, train, threads)
              ? moved
              : on_coarse;
 }
 
-Refit polish(const MotorFile& with_effect, int effect, const LmReport& on_coarse, DatasetRef dataset,
-             const std::vector<std::size_t>& train, const LmSettings& settings, const LmProgress& progress) {
-  LmSettings fine = settings;
+Refit polish(const MotorFile& with_effect, int effect, const lm::LmReport& on_coarse, DatasetRef dataset,
+             const std::vector<std::size_t>& train, const lm::LmSettings& settings, const lm::LmProgress& progress) {
+  lm::LmSettings fine = settings;
   fine.start_offsets = on_coarse.offsets;
   // A coarse fit that used up its iterations is crawling along a direction the data barely
   // supports, and where it got is its verdict's ground (Settings::refit_iterations): the polish
@@ -187,16 +187,16 @@ Refit polish(const MotorFile& with_effect, int effect, const LmReport& on_coarse
   // From moved_to_fine's start that bias is out already: the fit is evaluated there (its cost, its
   // Jacobian for the standard errors) and takes no step.
   if (!on_coarse.converged) fine.max_iterations = std::min(fine.max_iterations, kCrawlPolishIterations);
-  return judged(fit_lm(with_effect, on_coarse.values, dataset, train, fine, progress), with_effect, effect);
+  return judged(lm::fit_lm(with_effect, on_coarse.values, dataset, train, fine, progress), with_effect, effect);
 }
 
 Refit refit_with(const MotorFile& with_effect, int effect, const ParamVector<double>& start, DatasetRef dataset,
-                 const std::vector<std::size_t>& train, const LmSettings& settings, const LmProgress& progress,
+                 const std::vector<std::size_t>& train, const lm::LmSettings& settings, const lm::LmProgress& progress,
                  const SharedDataset* coarse) {
   if (coarse != nullptr)
-    if (const std::optional<LmReport> on_coarse = coarse_stage(with_effect, start, *coarse, train, settings, progress))
+    if (const std::optional<lm::LmReport> on_coarse = coarse_stage(with_effect, start, *coarse, train, settings, progress))
       return polish(with_effect, effect, *on_coarse, dataset, train, settings, progress);
-  return judged(fit_lm(with_effect, start, dataset, train, settings, progress), with_effect, effect);
+  return judged(lm::fit_lm(with_effect, start, dataset, train, settings, progress), with_effect, effect);
 }
 
 }  // namespace lptn::diagnose::internal

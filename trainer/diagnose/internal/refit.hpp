@@ -12,7 +12,7 @@ namespace lptn::diagnose::internal {
 
 // Why the refit cannot pin the effect, as sentence fragments naming the parameter (empty: it can).
 struct Refit {
-  LmReport fit;
+  lm::LmReport fit;
   std::string confounded;  // correlated beyond the flag with a parameter the model has: a property of the data
   std::string imprecise;   // a standard error beyond the value (or none at all)
 };
@@ -40,16 +40,16 @@ void correct_for_grid(SharedDataset& coarse, DatasetRef fine, const Model<double
 // With `coarse` (coarse_dataset of `dataset`): coarse_stage, then polish (below). Without a
 // reading on the coarse grid, the fine fit alone.
 Refit refit_with(const MotorFile& with_effect, int effect, const ParamVector<double>& start, DatasetRef dataset,
-                 const std::vector<std::size_t>& train, const LmSettings& settings, const LmProgress& progress,
+                 const std::vector<std::size_t>& train, const lm::LmSettings& settings, const lm::LmProgress& progress,
                  const SharedDataset* coarse = nullptr);
 
 // The fit on `coarse` alone, a tenth of the work per iteration: where a start leads. Empty where
 // the coarse grid keeps no reading of the training cycles (a sensor sampled off its 1 s instants:
 // the fit must run on the data's own grid). diagnose compares its starts here and polishes the
 // better one only: the polish costs ten times a coarse iteration.
-std::optional<LmReport> coarse_stage(const MotorFile& with_effect, const ParamVector<double>& start,
+std::optional<lm::LmReport> coarse_stage(const MotorFile& with_effect, const ParamVector<double>& start,
                                      DatasetRef coarse, const std::vector<std::size_t>& train,
-                                     const LmSettings& settings, const LmProgress& progress);
+                                     const lm::LmSettings& settings, const lm::LmProgress& progress);
 
 // `on_coarse` (a refit of `with_effect` on the coarse grid) moved onto the data's grid by what the
 // baseline's fit there (`fine_baseline`) differs from its refit on the coarse grid
@@ -59,8 +59,8 @@ std::optional<LmReport> coarse_stage(const MotorFile& with_effect, const ParamVe
 // start on the data's grid: on the clean 200 h dump it was 0.393 K there against the baseline's
 // 0.3755, and the polish spent its iterations coming back down (windage's likelihood ratio 2.7
 // after three of them; from the moved point 4.7 at the start and after three alike).
-LmReport moved_to_fine(const MotorFile& with_effect, const LmReport& on_coarse, const LmReport& fine_baseline,
-                       const LmReport& coarse_baseline);
+lm::LmReport moved_to_fine(const MotorFile& with_effect, const lm::LmReport& on_coarse, const lm::LmReport& fine_baseline,
+                       const lm::LmReport& coarse_baseline);
 
 // Where diagnose polishes `on_coarse`: moved_to_fine of it, or the coarse fit's own point where
 // that costs less on `dataset`'s grid (two simulations of the training cycles, against one
@@ -68,8 +68,8 @@ LmReport moved_to_fine(const MotorFile& with_effect, const LmReport& on_coarse, 
 // dump's crawls it is what makes the polish start at the baseline's footing (the cycles' initial
 // offsets most of all: the parameters moved alone started a likelihood ratio of -5500 below it),
 // but on short cycles with a windage that the data pin, the coarse fit's own offsets were closer.
-LmReport polish_start(const MotorFile& with_effect, const LmReport& on_coarse, const LmReport& fine_baseline,
-                      const LmReport& coarse_baseline, DatasetRef dataset, const std::vector<std::size_t>& train,
+lm::LmReport polish_start(const MotorFile& with_effect, const lm::LmReport& on_coarse, const lm::LmReport& fine_baseline,
+                      const lm::LmReport& coarse_baseline, DatasetRef dataset, const std::vector<std::size_t>& train,
                       int threads);
 
 // The fit on `dataset` from where `on_coarse` ended (its parameters and the cycles' initial
@@ -80,8 +80,8 @@ LmReport polish_start(const MotorFile& with_effect, const LmReport& on_coarse, c
 // kCrawlPolishIterations: none, which from moved_to_fine's start is the fit there (on the clean
 // 200 h dump three iterations from it moved the crawls' likelihood ratios by 0.0 to 0.16, at 2.6 s
 // each). diagnose polishes moved_to_fine of the coarse fit; refit_with the coarse fit itself.
-Refit polish(const MotorFile& with_effect, int effect, const LmReport& on_coarse, DatasetRef dataset,
-             const std::vector<std::size_t>& train, const LmSettings& settings, const LmProgress& progress);
+Refit polish(const MotorFile& with_effect, int effect, const lm::LmReport& on_coarse, DatasetRef dataset,
+             const std::vector<std::size_t>& train, const lm::LmSettings& settings, const lm::LmProgress& progress);
 
 constexpr int kCrawlPolishIterations = 0;
 
@@ -109,6 +109,6 @@ std::function<bool(int iteration, double cost)> stop_short_of(double mark, doubl
                                                               int pace_iterations = kPaceIterations);
 
 // `fit` (of `with_effect`, on any grid) with what the data can tell of the effect in it.
-Refit judged(LmReport fit, const MotorFile& with_effect, int effect);
+Refit judged(lm::LmReport fit, const MotorFile& with_effect, int effect);
 
 }  // namespace lptn::diagnose::internal

@@ -52,7 +52,7 @@ namespace {
 
 // The score from the normal equations of `free` (the baseline's free parameters and the effect's,
 // then the cycles' offsets) at `at`, `jtj` and `g` in that column order.
-Score score_from(const FreeParameters& free, const ParamVector<double>& at, int effect, const LmReport& baseline,
+Score score_from(const FreeParameters& free, const ParamVector<double>& at, int effect, const lm::LmReport& baseline,
                  const Eigen::MatrixXd& jtj, const Eigen::VectorXd& g, double rss, std::size_t residuals) {
   // Columns in W/K, s, log units and kelvin differ by decades: equilibrate before solving, so
   // that the rank decision sees the data's information and not the units.
@@ -92,19 +92,19 @@ bool scored_jointly(int effect) {
 
 }  // namespace
 
-Score score_test(const MotorFile& with_effect, int effect, const LmReport& baseline, DatasetRef dataset,
+Score score_test(const MotorFile& with_effect, int effect, const lm::LmReport& baseline, DatasetRef dataset,
                  const std::vector<std::size_t>& train, int threads) {
   const FreeParameters free = linear_in_effect(with_effect, effect);
   const ParamVector<double> at = neutral_point(baseline.values, effect);
-  const NormalEquations ne =
-      normal_equations(with_effect.model(), free, at, dataset, train, baseline.offsets, threads);
+  const lm::NormalEquations ne =
+      lm::normal_equations(with_effect.model(), free, at, dataset, train, baseline.offsets, threads);
   const auto m = static_cast<Eigen::Index>(ne.columns);
   const Eigen::Map<const Eigen::MatrixXd> jtj(ne.jtj.data(), m, m);
   const Eigen::Map<const Eigen::VectorXd> g(ne.jtr.data(), m);
   return score_from(free, at, effect, baseline, jtj, g, ne.rss, ne.residuals);
 }
 
-std::vector<Score> score_tests(const MotorFile& motor, const std::vector<int>& effects, const LmReport& baseline,
+std::vector<Score> score_tests(const MotorFile& motor, const std::vector<int>& effects, const lm::LmReport& baseline,
                                DatasetRef dataset, const std::vector<std::size_t>& train, int threads,
                                const std::function<void(int)>& scoring) {
   std::vector<Score> out(effects.size());
@@ -140,7 +140,7 @@ std::vector<Score> score_tests(const MotorFile& motor, const std::vector<int>& e
       if (effect_of_param(free_all.index[j]) == e) free_all.log_scale[j] = false;
   }
   if (scoring) scoring(-1);
-  const NormalEquations ne = normal_equations(all.model(), free_all, at, dataset, train, baseline.offsets, threads);
+  const lm::NormalEquations ne = lm::normal_equations(all.model(), free_all, at, dataset, train, baseline.offsets, threads);
   const auto m_all = static_cast<Eigen::Index>(ne.columns);
   const Eigen::Map<const Eigen::MatrixXd> jtj_all(ne.jtj.data(), m_all, m_all);
   const Eigen::Map<const Eigen::VectorXd> g_all(ne.jtr.data(), m_all);
