@@ -8,7 +8,7 @@
 #include <stdexcept>
 #include <system_error>
 
-namespace lptn {
+namespace lptn::hostio {
 namespace fs = std::filesystem;
 
 namespace {
@@ -137,4 +137,4 @@ void AtomicDirectory::commit() {
   committed_ = true;
 }
 
-}  // namespace lptn
+}  // namespace lptn::hostio

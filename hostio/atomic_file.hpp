@@ -6,7 +6,7 @@
 #include <filesystem>
 #include <string>
 
-namespace lptn {
+namespace lptn::hostio {
 
 // Every writer here names its temporary ".NAME.tmp-PID" beside NAME, and removes the temporaries
 // that writers of the same NAME left when they were killed (their process is gone).
@@ -54,4 +54,4 @@ class AtomicDirectory {
   bool committed_ = false;
 };
 
-}  // namespace lptn
+}  // namespace lptn::hostio

@@ -9,7 +9,7 @@
 #include <stdexcept>
 #include <string>
 
-namespace lptn {
+namespace lptn::hostio {
 
 class BadInput : public std::runtime_error {
  public:
@@ -42,4 +42,4 @@ class BadInput : public std::runtime_error {
   }
 };
 
-}  // namespace lptn
+}  // namespace lptn::hostio

@@ -2,7 +2,7 @@
 // ISO-8601 in a CSV export).
 #pragma once
 
-namespace lptn {
+namespace lptn::hostio {
 
 // Days from 1970-01-01 to y-m-d in the proleptic Gregorian calendar (Howard Hinnant's
 // days_from_civil); m in 1..12, d in 1..31, not checked.
@@ -17,4 +17,4 @@ constexpr long long days_from_civil(long long y, unsigned m, unsigned d) {
 
 static_assert(days_from_civil(1970, 1, 1) == 0 && days_from_civil(2000, 3, 1) == 11017);
 
-}  // namespace lptn
+}  // namespace lptn::hostio

@@ -5,7 +5,7 @@
 #include <fstream>
 #include <iterator>
 
-namespace lptn {
+namespace lptn::hostio {
 namespace {
 
 std::size_t line_at(const std::string& text, std::size_t offset) {
@@ -93,4 +93,4 @@ std::string JsonField::string() const {
   return value_->get<std::string>();
 }
 
-}  // namespace lptn
+}  // namespace lptn::hostio

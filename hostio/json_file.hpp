@@ -11,7 +11,7 @@
 
 #include "hostio/bad_input.hpp"
 
-namespace lptn {
+namespace lptn::hostio {
 
 // A bad JSON file; one line: "FILE: line N: reason" or "FILE: field 'a.b[3].c': reason".
 class JsonFileError : public BadInput {
@@ -59,4 +59,4 @@ class JsonField {
   const std::string* file_;
 };
 
-}  // namespace lptn
+}  // namespace lptn::hostio

@@ -7,7 +7,7 @@
 #include <cstdio>
 #include <string_view>
 
-namespace lptn {
+namespace lptn::hostio {
 
 class LineReader {
  public:
@@ -47,4 +47,4 @@ class LineReader {
   std::size_t number_ = 0;
 };
 
-}  // namespace lptn
+}  // namespace lptn::hostio

@@ -9,7 +9,7 @@
 #include <mpi.h>
 #endif
 
-namespace lptn {
+namespace lptn::hostio {
 namespace {
 bool joined_ranks = false;
 }  // namespace
@@ -135,4 +135,4 @@ const ProcessGroup& ProcessGroup::alone() {
   return group;
 }
 
-}  // namespace lptn
+}  // namespace lptn::hostio

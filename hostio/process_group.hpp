@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-namespace lptn {
+namespace lptn::hostio {
 
 class ProcessGroup {
  public:
@@ -53,4 +53,4 @@ class ProcessGroup {
 // Whether an MPI launcher (mpirun, mpiexec, srun) started this process, from its environment.
 bool launched_by_mpi();
 
-}  // namespace lptn
+}  // namespace lptn::hostio

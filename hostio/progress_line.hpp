@@ -8,7 +8,7 @@
 #include <cstdio>
 #include <string>
 
-namespace lptn {
+namespace lptn::hostio {
 
 class ProgressLine {
  public:
@@ -56,4 +56,4 @@ class ProgressLine {
   std::chrono::steady_clock::time_point last_{};
 };
 
-}  // namespace lptn
+}  // namespace lptn::hostio

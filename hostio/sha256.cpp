@@ -7,7 +7,7 @@
 #include "hostio/internal/sha256.hpp"
 #include "hostio/worker_threads.hpp"
 
-namespace lptn {
+namespace lptn::hostio {
 
 std::string sha256_hex(const void* data, std::size_t size) {
   internal::Sha256 h;
@@ -43,4 +43,4 @@ std::vector<std::string> sha256_files(const std::vector<std::filesystem::path>& 
   return hashes;
 }
 
-}  // namespace lptn
+}  // namespace lptn::hostio

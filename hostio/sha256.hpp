@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-namespace lptn {
+namespace lptn::hostio {
 
 std::string sha256_hex(const void* data, std::size_t size);
 // Throws std::runtime_error "FILE: cannot read (missing or not readable)" or "FILE: read failed".
@@ -17,4 +17,4 @@ std::string sha256_file(const std::filesystem::path& path);
 // seconds of one core); a file that cannot be read throws as sha256_file does, the first in order.
 std::vector<std::string> sha256_files(const std::vector<std::filesystem::path>& paths, int threads);
 
-}  // namespace lptn
+}  // namespace lptn::hostio

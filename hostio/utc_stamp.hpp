@@ -5,7 +5,7 @@
 #include <ctime>
 #include <string>
 
-namespace lptn {
+namespace lptn::hostio {
 
 inline std::string utc_now() {
   const std::time_t now = std::time(nullptr);
@@ -16,4 +16,4 @@ inline std::string utc_now() {
   return buf;
 }
 
-}  // namespace lptn
+}  // namespace lptn::hostio

@@ -5,7 +5,7 @@
 #include <string>
 #include <string_view>
 
-namespace lptn {
+namespace lptn::hostio {
 
 // Well-formed UTF-8 (Unicode's table 3-7): no overlong forms, no surrogates, nothing past U+10FFFF.
 inline bool valid_utf8(std::string_view s) {
@@ -59,4 +59,4 @@ inline std::string as_utf8(std::string_view s) {
   return out;
 }
 
-}  // namespace lptn
+}  // namespace lptn::hostio

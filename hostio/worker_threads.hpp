@@ -9,7 +9,7 @@
 #include <thread>
 #include <vector>
 
-namespace lptn {
+namespace lptn::hostio {
 
 // Under an MPI launcher the processes on one machine share its cores: each takes its share
 // (Open MPI and MPICH say how many ranks run on this node).
@@ -36,4 +36,4 @@ void parallel_for(std::size_t n, int threads, Work&& work) {
   for (std::thread& t : pool) t.join();
 }
 
-}  // namespace lptn
+}  // namespace lptn::hostio

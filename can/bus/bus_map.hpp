@@ -20,7 +20,7 @@
 namespace lptn::bus {
 
 // Bad input: "FILE:LINE: reason", naming the map's table and key.
-class MapError : public BadInput {
+class MapError : public hostio::BadInput {
  public:
   using BadInput::BadInput;
 };

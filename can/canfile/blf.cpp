@@ -73,7 +73,7 @@ TimeUs systemtime_us(const std::uint8_t* p) {
   if (year < 1970 || month < 1 || month > 12 || day < 1 || day > 31 || hour > 23 || minute > 59 || second > 60 ||
       ms > 999)
     return 0;
-  const long long s = days_from_civil(year, month, day) * 86400 + hour * 3600 + minute * 60 + second;
+  const long long s = hostio::days_from_civil(year, month, day) * 86400 + hour * 3600 + minute * 60 + second;
   return static_cast<TimeUs>(s) * fw::kUsPerS + static_cast<TimeUs>(ms) * 1000;
 }
 

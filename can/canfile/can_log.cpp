@@ -74,11 +74,11 @@ std::optional<LogFormat> format_from_content(const fs::path& file) {
       (std::memcmp(mdf, kMdfMagic, 8) == 0 || std::memcmp(mdf, kMdfUnfinishedMagic, 8) == 0))
     return LogFormat::mdf4;
   std::rewind(f.get());
-  LineReader reader(f.get());
+  hostio::LineReader reader(f.get());
   std::string_view line;
   int seen = 0;
-  for (LineReader::Status s; seen < kLinesToSniff && (s = reader.next(line)) != LineReader::Status::end;) {
-    if (s == LineReader::Status::too_long) {
+  for (hostio::LineReader::Status s; seen < kLinesToSniff && (s = reader.next(line)) != hostio::LineReader::Status::end;) {
+    if (s == hostio::LineReader::Status::too_long) {
       ++seen;
       continue;
     }

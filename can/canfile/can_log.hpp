@@ -38,7 +38,7 @@ std::string record_message(const std::filesystem::path& file, const fw::FrameSou
                            std::string_view reason);
 
 // A log that cannot be opened or is in no format lptn reads: one line naming the file.
-class LogError : public BadInput {
+class LogError : public hostio::BadInput {
  public:
   using BadInput::BadInput;
 };

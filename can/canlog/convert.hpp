@@ -18,7 +18,7 @@
 namespace lptn::canlog {
 
 // Bad input: one line naming the file (and line, column and signal where there are such).
-class ConvertError : public BadInput {
+class ConvertError : public hostio::BadInput {
  public:
   using BadInput::BadInput;
 };

@@ -79,7 +79,7 @@ int main(int argc, char** argv) {
     const std::string header = lptn::codegen::bus_glue_header(*map, {name, codecs, codec_ns, ns});
     const std::filesystem::path target(out);
     if (target.has_parent_path()) std::filesystem::create_directories(target.parent_path());
-    lptn::write_file_atomically(target, header);
+    lptn::hostio::write_file_atomically(target, header);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "%s\n", e.what());
     return 1;

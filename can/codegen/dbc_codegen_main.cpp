@@ -94,7 +94,7 @@ int main(int argc, char** argv) {
   try {
     const std::filesystem::path target(out);
     if (target.has_parent_path()) std::filesystem::create_directories(target.parent_path());
-    lptn::write_file_atomically(target, header);
+    lptn::hostio::write_file_atomically(target, header);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "lptn-dbc-codegen: %s\n", e.what());
     return 1;

@@ -64,7 +64,7 @@ std::string read_text(const fs::path& file) {
   if (!in) throw Error(file.string() + ":0: cannot read the file");
   std::ostringstream bytes;
   bytes << in.rdbuf();
-  return as_utf8(bytes.str());  // UTF-8, or Latin-1 (cp1252) as UTF-8
+  return hostio::as_utf8(bytes.str());  // UTF-8, or Latin-1 (cp1252) as UTF-8
 }
 
 Database read(const fs::path& file, std::string_view node) { return parse(read_text(file), file.string(), node); }

@@ -21,7 +21,7 @@
 namespace lptn::dbc {
 
 // "FILE:LINE: reason" for what would make a frame undecodable.
-class Error : public BadInput {
+class Error : public hostio::BadInput {
  public:
   using BadInput::BadInput;
 };

@@ -141,7 +141,7 @@ int run_replay(const Options& o) {
     std::fprintf(stderr, "lptn-daemon: error: %s: %s\n", o.replay.c_str(), std::strerror(errno));
     return 2;
   }
-  lptn::AtomicFile csv;
+  lptn::hostio::AtomicFile csv;
   if (!csv.open(o.csv)) {
     std::fprintf(stderr, "lptn-daemon: error: %s: %s\n", o.csv.c_str(), std::strerror(errno));
     std::fclose(log);
@@ -188,8 +188,8 @@ class PacedLog {
     have_ = false;
     if (!f_) return;
     std::string_view line;
-    for (lptn::LineReader::Status status; (status = reader_.next(line)) != lptn::LineReader::Status::end;) {
-      const char* why = status == lptn::LineReader::Status::too_long
+    for (lptn::hostio::LineReader::Status status; (status = reader_.next(line)) != lptn::hostio::LineReader::Status::end;) {
+      const char* why = status == lptn::hostio::LineReader::Status::too_long
                             ? "line longer than 512 bytes, not a candump line"
                             : line.empty() ? nullptr : lptn::fw::parse_candump_line(line, rec_);
       if (why) {
@@ -203,7 +203,7 @@ class PacedLog {
     }
   }
   std::FILE* f_;
-  lptn::LineReader reader_;
+  lptn::hostio::LineReader reader_;
   const char* name_;
   lptn::fw::CandumpRecord rec_;
   TimeUs first_ = -1, last_ = 0;
@@ -254,7 +254,7 @@ int run_live(const Options& o) {
     std::fprintf(stderr, "lptn-daemon: error: %s: %s\n", o.log.c_str(), std::strerror(errno));
     return 2;
   }
-  lptn::AtomicFile out, record;
+  lptn::hostio::AtomicFile out, record;
   if ((log && !out.open(o.out)) || (!o.record.empty() && !record.open(o.record))) {
     std::fprintf(stderr, "lptn-daemon: error: %s: %s\n", (log && !out.get() ? o.out : o.record).c_str(), std::strerror(errno));
     if (log) std::fclose(log);

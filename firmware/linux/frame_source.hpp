@@ -40,8 +40,8 @@ class CandumpLines : public FrameSource {
   explicit CandumpLines(std::FILE* log) : reader_(log) {}
   Status next(TimeUs& time_us, CanFrame& frame, const char*& why) override {
     std::string_view line;
-    for (LineReader::Status s; (s = reader_.next(line)) != LineReader::Status::end;) {
-      if (s == LineReader::Status::too_long) {
+    for (hostio::LineReader::Status s; (s = reader_.next(line)) != hostio::LineReader::Status::end;) {
+      if (s == hostio::LineReader::Status::too_long) {
         why = "line longer than 512 bytes, not a candump line";
         return Status::bad;
       }
@@ -65,6 +65,6 @@ class CandumpLines : public FrameSource {
 };
 
 // The daemon's: a line at a time from the FILE*. Allocates nothing.
-using CandumpSource = CandumpLines<LineReader>;
+using CandumpSource = CandumpLines<hostio::LineReader>;
 
 }  // namespace lptn::fw

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cstring>
 
-namespace lptn::internal {
+namespace lptn::hostio::internal {
 namespace {
 
 // FIPS 180-4, 4.2.2: the first 32 bits of the fractional parts of the cube roots of the first 64 primes.
@@ -95,4 +95,4 @@ void Sha256::block(const std::uint8_t* p) {
   h_[7] += h;
 }
 
-}  // namespace lptn::internal
+}  // namespace lptn::hostio::internal

@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <string>
 
-namespace lptn::internal {
+namespace lptn::hostio::internal {
 
 // Incremental: update() any number of times, then hex() once.
 class Sha256 {
@@ -25,4 +25,4 @@ class Sha256 {
   std::uint64_t total_bytes_ = 0;
 };
 
-}  // namespace lptn::internal
+}  // namespace lptn::hostio::internal

@@ -17,7 +17,7 @@ inline std::unique_ptr<bus::BusMap> read_bus_map(const std::string& path) {
     for (const std::string& w : map->warnings()) std::fprintf(stderr, "%s\n", w.c_str());
     return map;
   } catch (const bus::MapError& e) {
-    throw BadInput(e.what());
+    throw hostio::BadInput(e.what());
   }
 }
 

@@ -79,7 +79,7 @@ void print_metrics(const char* side, const SplitMetrics& m) {
 
 // The workflow's events as lptn prints them: the inspection's warnings on stderr (the first
 // process's), the plan on stdout, progress on one status line.
-workflow::CalibrationEvents printed_events(const CalibrateArgs& a, const ProcessGroup& group, ProgressLine& line) {
+workflow::CalibrationEvents printed_events(const CalibrateArgs& a, const hostio::ProcessGroup& group, hostio::ProgressLine& line) {
   workflow::CalibrationEvents events;
   events.input_warnings = [&group](const std::vector<std::string>& warnings) {
     if (group.leads()) print_input_warnings(warnings);
@@ -101,8 +101,8 @@ workflow::CalibrationEvents printed_events(const CalibrateArgs& a, const Process
 }
 
 // --fleet: the motor type over every motor, each motor's cooling factor, the outliers (fleet.json).
-void run_fleet(const CalibrateArgs& a, const ProcessGroup& group) {
-  ProgressLine line(a.quiet);
+void run_fleet(const CalibrateArgs& a, const hostio::ProcessGroup& group) {
+  hostio::ProgressLine line(a.quiet);
   const workflow::FleetCalibration f = workflow::calibrate_fleet(a.request, printed_events(a, group, line));
   line.finish();
   const CalibrationResult& r = f.result;
@@ -135,14 +135,14 @@ void run_fleet(const CalibrateArgs& a, const ProcessGroup& group) {
 void run(const CalibrateArgs& given, CalibrationMethod td3) {
   const CalibrationRequest& q = given.request;
 #if LPTN_WITH_TD3
-  if (workflow::is_td3(q.method) && td3 == nullptr && !launched_by_mpi()) hand_over_to_td3_program();
+  if (workflow::is_td3(q.method) && td3 == nullptr && !hostio::launched_by_mpi()) hand_over_to_td3_program();
 #else
   if (workflow::is_td3(q.method) && td3 == nullptr)
-    throw BadInput("--method " + q.method + ": this lptn was built without libtorch (LPTN_WITH_TD3=OFF); only --method lm is available");
+    throw hostio::BadInput("--method " + q.method + ": this lptn was built without libtorch (LPTN_WITH_TD3=OFF); only --method lm is available");
 #endif
   workflow::check_request(q, td3);  // the arguments themselves first, before any file is looked at
   // LM shares its work over the processes of an MPI job, if one started this; rank 0 speaks and writes.
-  const ProcessGroup& group = workflow::calibration_group(q.method);
+  const hostio::ProcessGroup& group = workflow::calibration_group(q.method);
   CalibrateArgs a = given;
   a.quiet = a.quiet || !group.leads();
   if (!a.quiet && group.shared())
@@ -156,7 +156,7 @@ void run(const CalibrateArgs& given, CalibrationMethod td3) {
   check_output_path(q.out, a.force);
   if (!q.fleet.empty()) return run_fleet(a, group);
 
-  ProgressLine line(a.quiet);
+  hostio::ProgressLine line(a.quiet);
   const CalibrationResult r = workflow::calibrate(q, printed_events(a, group, line), td3);
   line.finish();
   set_exit_code(exit_code_of(r));

@@ -48,7 +48,7 @@ data::Dataset motor_dataset(const fleet::FleetDump& fleet, std::size_t m) {
 
 bool check_data(const CheckArgs& a) {
   if (is_fleet_file(a.calibration))
-    throw BadInput(a.calibration + ": a fleet calibration (lptn calibrate --fleet): use --fleet FLEET, each motor against "
+    throw hostio::BadInput(a.calibration + ": a fleet calibration (lptn calibrate --fleet): use --fleet FLEET, each motor against "
                                    "its own cooling factor");
   const CalibrationResult calibration = load_calibration(a.calibration);
   if (const std::string caution = status_caution(calibration, a.calibration, false); !caution.empty())
@@ -60,14 +60,14 @@ bool check_data(const CheckArgs& a) {
     for (const std::string& note : corrections) std::printf("%s\n", note.c_str());
   check::Check c;
   {
-    ProgressLine line(a.quiet || a.json);
+    hostio::ProgressLine line(a.quiet || a.json);
     line.update("check: " + std::to_string(dataset.cycles.size()) + " cycles", true);
-    c = check::check(calibration, dataset, check::motor_beside(a.data), worker_threads());
+    c = check::check(calibration, dataset, check::motor_beside(a.data), hostio::worker_threads());
   }
   nlohmann::json j = check::to_json(c);
   j["calibration"] = a.calibration;
   j["data"]["paths"] = a.data;
-  if (!a.json_out.empty()) write_file_atomically(a.json_out, j.dump(2) + "\n");
+  if (!a.json_out.empty()) hostio::write_file_atomically(a.json_out, j.dump(2) + "\n");
   if (a.json) {
     std::printf("%s\n", j.dump(2).c_str());
   } else {
@@ -95,7 +95,7 @@ nlohmann::json check_motor(const CheckArgs& a, const std::optional<fleet::FleetF
         against = factor;
       }
   }
-  const check::Check c = check::check(calibration, motor_dataset(fleet, m), data_motor, worker_threads());
+  const check::Check c = check::check(calibration, motor_dataset(fleet, m), data_motor, hostio::worker_threads());
   nlohmann::json j = check::to_json(c);
   j["motor_id"] = id;
   j["against"] = against;
@@ -105,7 +105,7 @@ nlohmann::json check_motor(const CheckArgs& a, const std::optional<fleet::FleetF
 // Under mpirun the motors are shared over the processes (motor m loaded and checked by the rank
 // that load_shared_fleet gives it); every rank joins the verdicts, rank 0 prints and writes.
 bool check_fleet(const CheckArgs& given) {
-  const ProcessGroup& group = ProcessGroup::world();
+  const hostio::ProcessGroup& group = hostio::ProcessGroup::world();
   CheckArgs a = given;
   if (!group.leads()) {
     a.quiet = true;
@@ -119,7 +119,7 @@ bool check_fleet(const CheckArgs& given) {
   const std::optional<MotorFile> data_motor = check::motor_beside({a.fleet});
   nlohmann::json mine = nlohmann::json::object();  // motor index -> its verdict, for this rank's motors
   {
-    ProgressLine line(a.quiet || a.json);
+    hostio::ProgressLine line(a.quiet || a.json);
     for (std::size_t m = 0; m < fleet.motor_ids.size(); ++m) {
       const auto& cycles = fleet.motor_cycles[m];
       if (cycles.empty() || DatasetRef(fleet.dataset).remote(cycles.front())) continue;  // another rank's
@@ -152,7 +152,7 @@ bool check_fleet(const CheckArgs& given) {
   }
   nlohmann::json j = {{"holds", failing.empty()}, {"reasons", reasons}, {"not_holding", failing},
                       {"calibration", a.calibration}, {"fleet", a.fleet}, {"motors", motors}};
-  if (!a.json_out.empty() && group.leads()) write_file_atomically(a.json_out, j.dump(2) + "\n");
+  if (!a.json_out.empty() && group.leads()) hostio::write_file_atomically(a.json_out, j.dump(2) + "\n");
   if (a.json) {
     std::printf("%s\n", j.dump(2).c_str());
   } else if (failing.empty()) {
@@ -166,16 +166,16 @@ bool check_fleet(const CheckArgs& given) {
 }
 
 void run(const CheckArgs& a) {
-  if (a.data.empty() == a.fleet.empty()) throw BadInput("check: give --data DIR or --fleet FLEET (one of them)");
+  if (a.data.empty() == a.fleet.empty()) throw hostio::BadInput("check: give --data DIR or --fleet FLEET (one of them)");
   // Inputs, then the output, before any work (a missing input is the first thing to hear of).
   for (const std::string& d : a.data) check_input_path(d, "--data");
   if (!a.fleet.empty()) check_input_path(a.fleet, "--fleet", InputPath::directory);
   check_input_path(a.calibration, "--calibration", InputPath::file);
   check_output_path(a.json_out, a.force, "--json-out");
-  if (!std::filesystem::is_regular_file(a.calibration)) throw BadInput(a.calibration + ": no such file");
-  if (!a.fleet.empty() && !std::filesystem::is_directory(a.fleet)) throw BadInput(a.fleet + ": no such directory");
-  if (a.fleet.empty() && ProcessGroup::world().shared())
-    throw BadInput("check --data under mpirun: one dump is checked by one process (--fleet shares its motors)");
+  if (!std::filesystem::is_regular_file(a.calibration)) throw hostio::BadInput(a.calibration + ": no such file");
+  if (!a.fleet.empty() && !std::filesystem::is_directory(a.fleet)) throw hostio::BadInput(a.fleet + ": no such directory");
+  if (a.fleet.empty() && hostio::ProcessGroup::world().shared())
+    throw hostio::BadInput("check --data under mpirun: one dump is checked by one process (--fleet shares its motors)");
   // "Does not hold" is an answer, not a failure: run_cli returns the code once the command returned.
   const bool holds = a.fleet.empty() ? check_data(a) : check_fleet(a);
   if (!holds) set_exit_code(kExitDoesNotHold);

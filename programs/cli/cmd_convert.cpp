@@ -140,31 +140,31 @@ void print_warnings(const canlog::Converted& c) {
 // --interface and --start-time shape the log; on the way back they would silently do nothing.
 void reject_log_options(const CLI::App& cmd, const fs::path& in) {
   if (cmd.count("--interface") || cmd.count("--start-time"))
-    throw BadInput("--interface and --start-time apply to CSV -> log only; " + in.string() + " converts log -> CSV");
+    throw hostio::BadInput("--interface and --start-time apply to CSV -> log only; " + in.string() + " converts log -> CSV");
 }
 
 // --channel picks frames of a log; a CSV has none.
 void reject_channel(const CLI::App& cmd, const fs::path& in) {
-  if (cmd.count("--channel")) throw BadInput("--channel applies to log -> CSV only; " + in.string() + " converts CSV -> log");
+  if (cmd.count("--channel")) throw hostio::BadInput("--channel applies to log -> CSV only; " + in.string() + " converts CSV -> log");
 }
 
 // Only candump lines name an interface.
 void reject_interface(const CLI::App& cmd, canfile::LogFormat format) {
   if (cmd.count("--interface") && format != canfile::LogFormat::candump)
-    throw BadInput(std::string("--interface applies to candump logs; ") + canfile::format_name(format) +
+    throw hostio::BadInput(std::string("--interface applies to candump logs; ") + canfile::format_name(format) +
                    " logs carry channel 1");
 }
 
 void convert_file(const CLI::App& cmd, const ConvertArgs& args) {
   const fs::path in(args.in), out(args.out);
-  if (fs::exists(out) && fs::equivalent(in, out)) throw BadInput(args.out + ": is the input");
-  if (fs::is_directory(out)) throw BadInput(args.out + ": is a directory (one input file makes one output file)");
+  if (fs::exists(out) && fs::equivalent(in, out)) throw hostio::BadInput(args.out + ": is the input");
+  if (fs::is_directory(out)) throw hostio::BadInput(args.out + ": is a directory (one input file makes one output file)");
   check_output_path(args.out, args.force);
   const bool from_log = is_log(in, args);
   const auto out_log = canfile::format_from_extension(out);
   if (from_log && out_log) {
-    if (cmd.count("--start-time")) throw BadInput("--start-time applies to CSV -> log only; a log keeps its own time stamps");
-    if (cmd.count("--format")) throw BadInput("--format: log -> log takes the input's format from its content and the output's from " + args.out);
+    if (cmd.count("--start-time")) throw hostio::BadInput("--start-time applies to CSV -> log only; a log keeps its own time stamps");
+    if (cmd.count("--format")) throw hostio::BadInput("--format: log -> log takes the input's format from its content and the output's from " + args.out);
     reject_interface(cmd, *out_log);
   } else if (from_log) {
     reject_log_options(cmd, in);
@@ -174,7 +174,7 @@ void convert_file(const CLI::App& cmd, const ConvertArgs& args) {
   }
   const canlog::Converted c = convert(in, out, from_log, args);
   print_warnings(c);
-  write_file_atomically(out, c.text);
+  hostio::write_file_atomically(out, c.text);
   std::printf("wrote %s (%zu frames, %.2f h)\n", args.out.c_str(), c.frames, c.duration_s / 3600);
 }
 
@@ -194,9 +194,9 @@ void convert_directory(const CLI::App& cmd, const ConvertArgs& args) {
   std::vector<fs::path> csvs, logs;
   list_inputs(in, csvs, logs);
   if (!csvs.empty() && !logs.empty())
-    throw BadInput(args.in + ": holds both *.csv and log files; convert one kind at a time");
-  if (csvs.empty() && logs.empty()) throw BadInput(args.in + ": no *.csv, *.log, *.asc, *.blf or *.mf4 files in this directory");
-  if (fs::exists(args.out) && fs::equivalent(in, args.out)) throw BadInput(args.out + ": is the input directory");
+    throw hostio::BadInput(args.in + ": holds both *.csv and log files; convert one kind at a time");
+  if (csvs.empty() && logs.empty()) throw hostio::BadInput(args.in + ": no *.csv, *.log, *.asc, *.blf or *.mf4 files in this directory");
+  if (fs::exists(args.out) && fs::equivalent(in, args.out)) throw hostio::BadInput(args.out + ": is the input directory");
   check_output_path(args.out, args.force);
   const bool from_log = !logs.empty();
   const canfile::LogFormat log_format = given_format(args).value_or(canfile::LogFormat::candump);
@@ -212,7 +212,7 @@ void convert_directory(const CLI::App& cmd, const ConvertArgs& args) {
   // The files are converted over the cores (each file on one thread, the next to whichever is
   // free), each output written as it is done; reported in the order of the names, as one at a time
   // would: a bad file (the first by name) ends it after the ones before it, and nothing is written.
-  AtomicDirectory out(args.out, args.force);
+  hostio::AtomicDirectory out(args.out, args.force);
   struct Item {
     std::size_t frames = 0;
     double duration_s = 0;
@@ -221,14 +221,14 @@ void convert_directory(const CLI::App& cmd, const ConvertArgs& args) {
   };
   std::vector<Item> items(files.size());
   std::atomic<std::size_t> next{0};
-  const int threads = worker_threads();
-  parallel_for(static_cast<std::size_t>(threads), threads, [&](std::size_t) {
+  const int threads = hostio::worker_threads();
+  hostio::parallel_for(static_cast<std::size_t>(threads), threads, [&](std::size_t) {
     for (std::size_t i; (i = next.fetch_add(1)) < files.size();) {
       Item& item = items[i];
       try {
         const std::string name = files[i].stem().string() + out_ext;
         canlog::Converted c = convert(files[i], name, from_log, args);
-        write_file_atomically(out.path() / name, c.text);
+        hostio::write_file_atomically(out.path() / name, c.text);
         item.frames = c.frames;
         item.duration_s = c.duration_s;
         item.warnings = std::move(c.warnings);

@@ -28,7 +28,7 @@ struct DiagnoseArgs {
 
 void run(const DiagnoseArgs& given) {
   // Under mpirun every rank diagnoses (the LM refits are shared); rank 0 alone speaks and writes.
-  const ProcessGroup& group = ProcessGroup::world();
+  const hostio::ProcessGroup& group = hostio::ProcessGroup::world();
   DiagnoseArgs a = given;
   a.request.updated_calibration = !a.out.empty();
   const workflow::DiagnosisRequest& q = a.request;
@@ -36,7 +36,7 @@ void run(const DiagnoseArgs& given) {
     a.quiet = true;
     if (std::freopen("/dev/null", "w", stdout) == nullptr) throw std::runtime_error("cannot silence rank " + std::to_string(group.rank()));
   }
-  if (!a.out.empty() && !q.automatic) throw BadInput("--out: only with --auto (the calibration after forward selection)");
+  if (!a.out.empty() && !q.automatic) throw hostio::BadInput("--out: only with --auto (the calibration after forward selection)");
   // Inputs, then the outputs, before any work (a missing input is the first thing to hear of).
   for (const std::string& d : q.data) check_input_path(d, "--data");
   check_input_path(q.calibration, "--calibration", InputPath::file);
@@ -45,7 +45,7 @@ void run(const DiagnoseArgs& given) {
   check_output_path(a.json_out, a.force, "--json-out");
 
   const auto t0 = std::chrono::steady_clock::now();
-  ProgressLine line(a.quiet);
+  hostio::ProgressLine line(a.quiet);
   workflow::DiagnosisEvents events;
   events.input_warnings = [&group](const std::vector<std::string>& warnings) {
     if (group.leads()) print_input_warnings(warnings);
@@ -62,7 +62,7 @@ void run(const DiagnoseArgs& given) {
   };
   events.progress = [&](const std::string& text) {
     const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    line.update("diagnose: " + text + "  " + ProgressLine::clock(s));
+    line.update("diagnose: " + text + "  " + hostio::ProgressLine::clock(s));
   };
   int round = 0;
   if (q.automatic)
@@ -75,7 +75,7 @@ void run(const DiagnoseArgs& given) {
     };
   const workflow::DiagnosisOutcome o = workflow::diagnose(q, events);
   line.finish();
-  if (!a.json_out.empty() && group.leads()) write_file_atomically(a.json_out, o.json.dump(2) + "\n");
+  if (!a.json_out.empty() && group.leads()) hostio::write_file_atomically(a.json_out, o.json.dump(2) + "\n");
   if (a.json) std::printf("%s\n", o.json.dump(2).c_str());
   else if (!q.automatic) std::fputs(diagnose::diagnosis_text(o.last(), q.level).c_str(), stdout);
   else {

@@ -31,7 +31,7 @@ void add_export(CLI::App& app) {
   cmd->callback([args] {
     // Checked before any work, so that a mistaken --out costs nothing and overwrites nothing.
     if (args->calibration.empty() && args->fleet.empty())
-      throw BadInput("export: give --calibration, or --fleet with --motor-id");
+      throw hostio::BadInput("export: give --calibration, or --fleet with --motor-id");
     if (!args->calibration.empty()) check_input_path(args->calibration, "--calibration", InputPath::file);
     if (!args->fleet.empty()) check_input_path(args->fleet, "--fleet", InputPath::file);
     check_output_path(args->out, args->force);
@@ -46,7 +46,7 @@ void add_export(CLI::App& app) {
     // Each warning on a line of its own (the header carries them too, as comments).
     for (const CalibrationWarning& w : calibration.warnings)
       std::fprintf(stderr, "lptn: warning: %s: %s\n", options.source_name.c_str(), w.message.c_str());
-    write_file_atomically(args->out, header);
+    hostio::write_file_atomically(args->out, header);
     std::printf("wrote %s (%s calibration of %s%s)\n", args->out.c_str(), calibration.method.c_str(),
                 calibration.motor.name.c_str(), args->actor ? ", with the actor" : "");
   });

@@ -24,7 +24,7 @@ EffectSet parse_effects(const std::string& list) {
     if (e < 0) {
       std::string known;
       for (auto k : EffectLibrary::kNames) known += (known.empty() ? "" : ", ") + std::string(k);
-      throw BadInput("--hidden: unknown effect '" + name + "' (known: " + known + ")");
+      throw hostio::BadInput("--hidden: unknown effect '" + name + "' (known: " + known + ")");
     }
     set |= effect_bit(e);
   }
@@ -41,7 +41,7 @@ gen::PlantPhysicsSet parse_plant(const std::string& list) {
     if (p == gen::PlantPhysics::count) {
       std::string known;
       for (auto k : gen::kPlantPhysicsNames) known += (known.empty() ? "" : ", ") + std::string(k);
-      throw BadInput("--plant: unknown plant physics '" + name + "' (known: " + known + ")");
+      throw hostio::BadInput("--plant: unknown plant physics '" + name + "' (known: " + known + ")");
     }
     set |= gen::plant_bit(p);
   }
@@ -55,7 +55,7 @@ std::vector<std::pair<std::string, double>> parse_truth(const std::vector<std::s
     const std::size_t eq = item.find('=');
     const std::string name = item.substr(0, eq);
     if (eq == std::string::npos || param_index(name) < 0)
-      throw BadInput("--truth: expected PARAMETER=VALUE with a known parameter, got '" + item + "'");
+      throw hostio::BadInput("--truth: expected PARAMETER=VALUE with a known parameter, got '" + item + "'");
     const std::string text = item.substr(eq + 1);
     std::size_t used = 0;
     double value = 0;
@@ -65,7 +65,7 @@ std::vector<std::pair<std::string, double>> parse_truth(const std::vector<std::s
       used = 0;
     }
     if (used == 0 || used != text.size() || !std::isfinite(value))
-      throw BadInput("--truth: '" + item + "': the value is not a number");
+      throw hostio::BadInput("--truth: '" + item + "': the value is not a number");
     out.emplace_back(name, value);
   }
   return out;
@@ -78,13 +78,13 @@ std::vector<data::SensorFault> parse_sensor_faults(const std::vector<std::string
     data::SensorFaultSpec spec;
     try {
       spec = data::parse_sensor_fault(item);
-    } catch (const BadInput& e) {
-      throw BadInput(std::string("--sensor-fault: ") + e.what());
+    } catch (const hostio::BadInput& e) {
+      throw hostio::BadInput(std::string("--sensor-fault: ") + e.what());
     }
     int first = 0;
     const auto [ptr, ec] = std::from_chars(spec.first_cycle.data(), spec.first_cycle.data() + spec.first_cycle.size(), first);
     if (ec != std::errc() || ptr != spec.first_cycle.data() + spec.first_cycle.size() || first < 1 || first > cycles)
-      throw BadInput("--sensor-fault: '" + item + "': FIRST must be a cycle number from 1 to " + std::to_string(cycles));
+      throw hostio::BadInput("--sensor-fault: '" + item + "': FIRST must be a cycle number from 1 to " + std::to_string(cycles));
     spec.fault.first = static_cast<std::size_t>(first - 1);
     out.push_back(spec.fault);
   }
@@ -137,7 +137,7 @@ void add_generate(CLI::App& app) {
   cmd->add_flag("--long-gaps", args->options.long_gaps, "Add gaps too long to bridge (to exercise the loader)");
   cmd->add_flag("--force", args->force, "Replace the output directory if it exists");
   cmd->callback([args, cycles] {
-    if (args->minutes_max < args->minutes_min) throw BadInput("--minutes-max must not be below --minutes-min");
+    if (args->minutes_max < args->minutes_min) throw hostio::BadInput("--minutes-max must not be below --minutes-min");
     check_output_path(args->out, args->force);
     args->options.hidden = parse_effects(args->hidden);
     args->options.plant = parse_plant(args->plant);
@@ -145,16 +145,16 @@ void add_generate(CLI::App& app) {
     args->options.sensor_faults = parse_sensor_faults(args->sensor_faults, args->options.cycles);
     if (args->no_rotor)
       for (const data::SensorFault& f : args->options.sensor_faults)
-        if (f.sensor == data::Channel::rotor_c) throw BadInput("--sensor-fault: a rotor fault with --no-rotor (no rotor readings)");
+        if (f.sensor == data::Channel::rotor_c) throw hostio::BadInput("--sensor-fault: a rotor fault with --no-rotor (no rotor readings)");
     args->options.min_duration_s = 60 * args->minutes_min;
     args->options.max_duration_s = 60 * args->minutes_max;
     args->options.rotor_sensor = !args->no_rotor;
     if (args->fleet) {
       if (args->fleet_options.weak_motors > args->fleet_options.motors)
-        throw BadInput("--weak-motors must not exceed --motors");
+        throw hostio::BadInput("--weak-motors must not exceed --motors");
       if (cycles->count() == 0) args->options.cycles = 3;
       args->fleet_options.motor = args->options;
-      AtomicDirectory out(args->out, args->force);
+      hostio::AtomicDirectory out(args->out, args->force);
       double hours = 0;
       gen::generate_fleet(args->fleet_options, out.path(), [&](int i, int n, const gen::FleetMotorSummary& m) {
         for (const gen::CycleSummary& c : m.cycles) hours += c.duration_s / 3600;
@@ -166,7 +166,7 @@ void add_generate(CLI::App& app) {
                   args->fleet_options.motors, args->options.cycles, hours, args->out.c_str());
       return;
     }
-    AtomicDirectory out(args->out, args->force);
+    hostio::AtomicDirectory out(args->out, args->force);
     double hours = 0;
     gen::generate(args->options, out.path(), [&](int i, int n, const gen::CycleSummary& s) {
       hours += s.duration_s / 3600;

@@ -50,8 +50,8 @@ void add_inspect(CLI::App& app) {
                 "and by their values, separator, decimal mark and time column detected; only the map on standard "
                 "output, what to check on standard error; exit 1 when a required column was not found");
   cmd->callback([args, data, logs] {
-    if (data->count() == 0 && logs->count() == 0) throw BadInput("inspect: give --data (cycle CSVs) or --log (CAN logs)");
-    if (args->suggest_map && data->count() == 0) throw BadInput("--suggest-map: give --data, the export's CSV files");
+    if (data->count() == 0 && logs->count() == 0) throw hostio::BadInput("inspect: give --data (cycle CSVs) or --log (CAN logs)");
+    if (args->suggest_map && data->count() == 0) throw hostio::BadInput("--suggest-map: give --data, the export's CSV files");
     for (const std::string& d : args->data) check_input_path(d, "--data");
     for (const std::string& l : args->logs) check_input_path(l, "--log", InputPath::file);
     if (!args->motor.empty()) check_input_path(args->motor, "--motor", InputPath::file);

@@ -71,10 +71,10 @@ std::vector<fs::path> logs_in(const fs::path& dir) {
   for (const fs::path& log : logs) {
     const auto [it, fresh] = by_stem.emplace(log.stem().string(), log);
     if (!fresh)
-      throw BadInput(dir.string() + ": " + it->second.filename().string() + " and " + log.filename().string() +
+      throw hostio::BadInput(dir.string() + ": " + it->second.filename().string() + " and " + log.filename().string() +
                      " would both be replayed into " + log.stem().string() + ".csv; replay them apart");
   }
-  if (logs.empty()) throw BadInput("--log " + dir.string() + ": no *.log, *.asc, *.blf or *.mf4 files in this directory");
+  if (logs.empty()) throw hostio::BadInput("--log " + dir.string() + ": no *.log, *.asc, *.blf or *.mf4 files in this directory");
   return logs;
 }
 
@@ -93,7 +93,7 @@ void replay_directory(const fs::path& dir, const std::string& out_dir, bool forc
                       const canfile::LogSelection& select, const CalibrationResult& calibrated,
                       const std::string& source, int threads) {
   const std::vector<fs::path> logs = logs_in(dir);
-  AtomicDirectory out(out_dir, force);
+  hostio::AtomicDirectory out(out_dir, force);
   std::vector<DirectoryItem> items(logs.size());
   std::atomic<std::size_t> next{0};
   const auto start = std::chrono::steady_clock::now();
@@ -110,7 +110,7 @@ void replay_directory(const fs::path& dir, const std::string& out_dir, bool forc
       }
     }
   };
-  parallel_for(static_cast<std::size_t>(std::max(1, threads)), threads, work);
+  hostio::parallel_for(static_cast<std::size_t>(std::max(1, threads)), threads, work);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   for (const DirectoryItem& item : items)
     if (item.failure) std::rethrow_exception(item.failure);
@@ -190,8 +190,8 @@ void add_replay(CLI::App& app) {
     check_input_path(args->log, "--log", InputPath::file_or_directory);
     const bool directory = fs::is_directory(args->log);
     if (directory && fs::exists(args->out) && fs::equivalent(args->log, args->out))
-      throw BadInput("--out " + args->out + ": is the --log directory");
-    if (!directory && args->threads != 0) throw BadInput("--threads applies to a directory of logs (--log DIR)");
+      throw hostio::BadInput("--out " + args->out + ": is the --log directory");
+    if (!directory && args->threads != 0) throw hostio::BadInput("--threads applies to a directory of logs (--log DIR)");
     if (!args->calibration.empty()) check_input_path(args->calibration, "--calibration", InputPath::file);
     if (!args->fleet.empty()) check_input_path(args->fleet, "--fleet", InputPath::file);
     if (!args->bus.empty()) check_input_path(args->bus, "--bus", InputPath::file);
@@ -199,7 +199,7 @@ void add_replay(CLI::App& app) {
     // A bad map or calibration file is bad input (main.cpp reports CalibrationFileError as such).
     const std::unique_ptr<bus::BusMap> map = args->bus.empty() ? nullptr : read_bus_map(args->bus);
     if (args->calibration.empty() && args->fleet.empty())
-      throw BadInput("replay: --calibration or --fleet is required (see --help)");
+      throw hostio::BadInput("replay: --calibration or --fleet is required (see --help)");
     const std::string& source = args->fleet.empty() ? args->calibration : args->fleet;
     const CalibrationResult calibrated =
         args->fleet.empty() ? load_calibration(args->calibration) : fleet::load_fleet_file(args->fleet).pooled;
@@ -208,7 +208,7 @@ void add_replay(CLI::App& app) {
       std::fprintf(stderr, "lptn: warning: %s\n", caution.c_str());
     const auto cal = replay::estimator_config_from(calibrated, source, map ? map->decoder() : lptn::bus::decoder());
     if (args->use_actor && !cal->config.actor.actor)
-      throw BadInput(source + ": --use-actor: this calibration has no actor");
+      throw hostio::BadInput(source + ": --use-actor: this calibration has no actor");
     // A type's pooled calibration: this motor may differ from the type by the fleet's scatter.
     if (!args->fleet.empty()) cal->config.observer.cooling_initial_std = fw::ObserverSettings<double>{}.cooling_initial_std;
     cal->config.fuse_stator_sensor = !args->open_loop;
@@ -218,14 +218,14 @@ void add_replay(CLI::App& app) {
     // Bad input throws BadInput or std::invalid_argument, which run_cli reports alike (exit 2).
     if (directory) {
       replay_directory(args->log, args->out, args->force, cal->config, select, calibrated, source,
-                       args->threads ? args->threads : worker_threads());
+                       args->threads ? args->threads : hostio::worker_threads());
       return;
     }
     const replay::ReplaySummary r = replay::replay_to_csv(args->log, cal->config, args->out, args->quiet, select);
     const fw::ReplayStats& s = r.stats;
     std::printf("replayed %s (%s): %zu frames, %s of log, %zu estimates%s -> %s\n", args->log.c_str(),
                 canfile::format_name(r.format), s.frames,
-                ProgressLine::clock(static_cast<double>(s.last_us - s.first_us) / 1e6).c_str(), s.rows,
+                hostio::ProgressLine::clock(static_cast<double>(s.last_us - s.first_us) / 1e6).c_str(), s.rows,
                 s.bad_records ? (", " + std::to_string(s.bad_records) + " bad records skipped").c_str() : "",
                 args->out.c_str());
     std::printf("  %.2f s, %.0f frames/s\n", r.seconds, static_cast<double>(s.frames) / r.seconds);
@@ -249,7 +249,7 @@ void add_replay(CLI::App& app) {
       std::printf("  cooling factor at the end %.3f +- %.3f (%s); cooling alarm %s\n", r.cooling_factor,
                   r.cooling_factor_std, r.cooling_state == fw::CoolingState::tracking ? "tracking" : "frozen: open loop",
                   r.cooling_alarm_from_s < 0 ? "never raised"
-                                             : ("raised from " + ProgressLine::clock(r.cooling_alarm_from_s)).c_str());
+                                             : ("raised from " + hostio::ProgressLine::clock(r.cooling_alarm_from_s)).c_str());
     for (const std::string& w : log_against_motor(args->log, args->out, r, calibrated, source))
       std::fprintf(stderr, "lptn: warning: %s\n", w.c_str());
   });

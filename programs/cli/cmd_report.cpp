@@ -35,7 +35,7 @@ void add_report(CLI::App& app) {
                   "Directory of calibration JSONs for the 'History' section (default: the calibration's directory)");
   cmd->add_flag("--force", a->force, "Replace --out if it exists");
   cmd->callback([a] {
-    if (a->data.empty() && a->fleet.empty()) throw BadInput("report: give --data and --calibration, or --fleet");
+    if (a->data.empty() && a->fleet.empty()) throw hostio::BadInput("report: give --data and --calibration, or --fleet");
     // Inputs, then the output, before any work (a missing input is the first thing to hear of).
     if (!a->data.empty()) check_input_path(a->data, "--data");
     if (!a->calibration.empty()) check_input_path(a->calibration, "--calibration", InputPath::file);
@@ -43,19 +43,19 @@ void add_report(CLI::App& app) {
     if (!a->diagnosis.empty()) check_input_path(a->diagnosis, "--diagnosis", InputPath::file);
     if (!a->map.empty()) check_input_path(a->map, "--map", InputPath::file);
     check_output_path(a->out, a->force);
-    if (!a->calibration.empty() && !std::filesystem::exists(a->calibration)) throw BadInput(a->calibration + ": no such file");
-    if (!a->fleet.empty() && !std::filesystem::exists(a->fleet)) throw BadInput(a->fleet + ": no such file");
+    if (!a->calibration.empty() && !std::filesystem::exists(a->calibration)) throw hostio::BadInput(a->calibration + ": no such file");
+    if (!a->fleet.empty() && !std::filesystem::exists(a->fleet)) throw hostio::BadInput(a->fleet + ": no such file");
     if (!a->history.empty() && !std::filesystem::is_directory(a->history))
-      throw BadInput(a->history + ": not a directory");
+      throw hostio::BadInput(a->history + ": not a directory");
     const auto start = std::chrono::steady_clock::now();
     std::string html;
     {
-      ProgressLine progress;
+      hostio::ProgressLine progress;
       const nlohmann::json data = report::report_data({a->data, a->calibration, a->diagnosis, a->history, a->fleet, a->map},
                                                       [&](const std::string& s) { progress.update("report: " + s); });
       html = report::render_html(data);
     }
-    write_file_atomically(a->out, html);
+    hostio::write_file_atomically(a->out, html);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::printf("report written to %s (%.1f MB, %.1f s)\n", a->out.c_str(), static_cast<double>(html.size()) / 1e6, seconds);
   });

@@ -89,7 +89,7 @@ void add_simulate(CLI::App& app) {
       const char* first = s.data() + (eq == std::string::npos ? 0 : eq + 1);
       const auto r = std::from_chars(first, s.data() + s.size(), value);
       if (index < 0 || r.ec != std::errc() || r.ptr != s.data() + s.size() || !std::isfinite(value))
-        throw BadInput("--set " + s + ": expected NAME=VALUE with a known parameter name and a number");
+        throw hostio::BadInput("--set " + s + ": expected NAME=VALUE with a known parameter name and a number");
       params[index] = value;
     }
     std::vector<std::filesystem::path> paths(args->data.begin(), args->data.end());
@@ -99,8 +99,8 @@ void add_simulate(CLI::App& app) {
     const std::vector<std::string> warnings = input_warnings(dataset, motor);
     print_input_warnings(warnings);
 
-    std::unique_ptr<AtomicDirectory> out;
-    if (!args->out.empty()) out = std::make_unique<AtomicDirectory>(args->out, args->force);
+    std::unique_ptr<hostio::AtomicDirectory> out;
+    if (!args->out.empty()) out = std::make_unique<hostio::AtomicDirectory>(args->out, args->force);
     nlohmann::json j;
     std::vector<ErrorMetrics> all_stator, all_rotor;
     if (!args->json) std::printf("%-26s %8s %10s %10s %10s %10s %10s\n", "cycle", "hours", "rmse_st_K", "max_st_K", "bias_st_K", "rmse_rt_K", "max_rt_K");
@@ -118,7 +118,7 @@ void add_simulate(CLI::App& app) {
                     st.max_abs_k, st.bias_k);
         if (rt.samples) std::printf("%10.3f %10.3f\n", rt.rmse_k, rt.max_abs_k); else std::printf("%10s %10s\n", "-", "-");
       }
-      if (out) write_file_atomically(out->path() / (cycle.name + ".csv"), trace_csv(cycle, sim));
+      if (out) hostio::write_file_atomically(out->path() / (cycle.name + ".csv"), trace_csv(cycle, sim));
     }
     const ErrorMetrics st = pool(all_stator), rt = pool(all_rotor);
     j["overall"]["stator"] = metrics_json(st);
@@ -140,7 +140,7 @@ void add_simulate(CLI::App& app) {
       if (rt.samples) std::printf("%10.3f %10.3f\n", rt.rmse_k, rt.max_abs_k); else std::printf("%10s %10s\n", "-", "-");
     }
     if (out) {
-      write_file_atomically(out->path() / "metrics.json", j.dump(2) + "\n");
+      hostio::write_file_atomically(out->path() / "metrics.json", j.dump(2) + "\n");
       out->commit();
       if (!args->json) std::printf("traces and metrics.json written to %s\n", args->out.c_str());
     }

@@ -43,7 +43,7 @@ int run_cli(CLI::App& app, int argc, char** argv);
 // An output that is there already is replaced only with --force (empty: no such output asked for).
 inline void refuse_overwrite(const std::string& path, bool force) {
   if (!path.empty() && !force && std::filesystem::exists(path))
-    throw BadInput(path + ": exists (use --force to replace it)");
+    throw hostio::BadInput(path + ": exists (use --force to replace it)");
 }
 
 // What an input path must be, for check_input_path.
@@ -58,13 +58,13 @@ inline void check_input_path(const std::string& path, std::string_view option,
   std::error_code ec;
   const fs::file_status status = fs::status(path, ec);
   if (!fs::exists(status)) {
-    throw BadInput(what + (kind == InputPath::file        ? "no such file"
+    throw hostio::BadInput(what + (kind == InputPath::file        ? "no such file"
                            : kind == InputPath::directory ? "no such directory"
                                                           : "no such file or directory"));
   }
-  if (kind == InputPath::file && fs::is_directory(status)) throw BadInput(what + "is a directory, not a file");
-  if (kind == InputPath::directory && !fs::is_directory(status)) throw BadInput(what + "is not a directory");
-  if (::access(path.c_str(), R_OK) != 0) throw BadInput(what + "cannot be read (permission denied)");
+  if (kind == InputPath::file && fs::is_directory(status)) throw hostio::BadInput(what + "is a directory, not a file");
+  if (kind == InputPath::directory && !fs::is_directory(status)) throw hostio::BadInput(what + "is not a directory");
+  if (::access(path.c_str(), R_OK) != 0) throw hostio::BadInput(what + "cannot be read (permission denied)");
 }
 
 // An output path checked before any work, so that a long run does not end in "cannot write":
@@ -81,9 +81,9 @@ inline void check_output_path(const std::string& path, bool force, std::string_v
   const std::string shown = dir.empty() ? "." : dir.string();
   const std::string what = std::string(option) + " " + path + ": directory '" + shown + "' ";
   std::error_code ec;
-  if (!dir.empty() && !fs::exists(dir, ec)) throw BadInput(what + "does not exist");
-  if (!dir.empty() && !fs::is_directory(dir, ec)) throw BadInput(what + "is not a directory");
-  if (::access(shown.c_str(), W_OK | X_OK) != 0) throw BadInput(what + "is not writable");
+  if (!dir.empty() && !fs::exists(dir, ec)) throw hostio::BadInput(what + "does not exist");
+  if (!dir.empty() && !fs::is_directory(dir, ec)) throw hostio::BadInput(what + "is not a directory");
+  if (::access(shown.c_str(), W_OK | X_OK) != 0) throw hostio::BadInput(what + "is not writable");
   if (fs::exists(target, ec) && !(fs::is_directory(target, ec) && fs::is_empty(target, ec)))
     refuse_overwrite(path, force);
 }

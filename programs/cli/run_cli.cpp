@@ -43,7 +43,7 @@ int run_cli(CLI::App& app, int argc, char** argv) {
   const int code = parse_and_run(app, argc, argv);
   // In an MPI job one rank's failure must end the others, which would wait for it in a sum (an
   // outcome the command set as it finished, such as calibrate's 3, is every rank's and no failure).
-  if (code != 0 && code != exit_code() && ProcessGroup::joined()) ProcessGroup::world().abort(code);
+  if (code != 0 && code != exit_code() && hostio::ProcessGroup::joined()) hostio::ProcessGroup::world().abort(code);
   return code;
 }
 
@@ -73,7 +73,7 @@ int parse_and_run(CLI::App& app, int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     std::fprintf(stderr, "%s: error: %s (see --help)\n", program.c_str(), e.what());
     return 2;
-  } catch (const BadInput& e) {
+  } catch (const hostio::BadInput& e) {
     return bad_input(program.c_str(), e);
   } catch (const std::invalid_argument& e) {
     return bad_input(program.c_str(), e);

@@ -31,8 +31,8 @@ std::vector<Seen> read_all(const std::string& content) {
   Reader reader(f);
   std::vector<Seen> seen;
   std::string_view line;
-  for (LineReader::Status s; (s = reader.next(line)) != LineReader::Status::end;)
-    seen.push_back({static_cast<int>(s), s == LineReader::Status::line ? std::string(line) : "", reader.line_number()});
+  for (hostio::LineReader::Status s; (s = reader.next(line)) != hostio::LineReader::Status::end;)
+    seen.push_back({static_cast<int>(s), s == hostio::LineReader::Status::line ? std::string(line) : "", reader.line_number()});
   std::fclose(f);
   return seen;
 }
@@ -63,7 +63,7 @@ TEST(BlockLineReader, GivesLineReadersLinesOnEveryAwkwardFile) {
   while (many.size() < (3u << 20)) many += std::string(static_cast<std::size_t>(len(g)), 'a' + static_cast<char>(g() % 26)) + '\n';
   files.push_back(many);
   for (std::size_t i = 0; i < files.size(); ++i)
-    EXPECT_TRUE(read_all<BlockLineReader>(files[i]) == read_all<LineReader>(files[i])) << "file " << i;
+    EXPECT_TRUE(read_all<BlockLineReader>(files[i]) == read_all<hostio::LineReader>(files[i])) << "file " << i;
 }
 
 TEST(CandumpWriter, WritesFormatCandumpLinesLines) {

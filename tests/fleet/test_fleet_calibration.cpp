@@ -105,7 +105,7 @@ TEST(FleetCalibration, FindsEveryMotorsCoolingAndNamesTheWeakMotorAlone) {
     for (int i = 0; i < kNumParams; ++i)
       EXPECT_DOUBLE_EQ(values[static_cast<std::size_t>(i)], c->fit.motors[m].parameters[static_cast<std::size_t>(i)]);
   }
-  EXPECT_THROW(motor_calibration(file, "motor_99"), BadInput);
+  EXPECT_THROW(motor_calibration(file, "motor_99"), hostio::BadInput);
   EXPECT_EQ(file.rounds, c->fit.rounds);
   EXPECT_EQ(file.motors[2].cooling_factor, c->fit.motors[2].cooling_factor);  // bit for bit
   EXPECT_EQ(file.motors[2].t, c->fit.motors[2].verdict.t);

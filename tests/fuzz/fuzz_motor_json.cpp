@@ -32,16 +32,16 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const std::string file = "fuzz.json";
   MotorFile motor;
   try {
-    const nlohmann::json j = parse_json_text(text, file);
-    motor = motor_from_json(JsonField(j, "motor", file));
-  } catch (const JsonFileError& e) {
+    const nlohmann::json j = hostio::parse_json_text(text, file);
+    motor = motor_from_json(hostio::JsonField(j, "motor", file));
+  } catch (const hostio::JsonFileError& e) {
     check_one_line(e);
     return 0;
   }
   check_motor(motor);
   // Written and read again: the same motor (format_motor_file writes every value it holds).
   const nlohmann::json again = motor_json(motor);
-  const MotorFile back = motor_from_json(JsonField(again, "motor", file));
+  const MotorFile back = motor_from_json(hostio::JsonField(again, "motor", file));
   LPTN_FUZZ_CHECK(format_motor_file(back) == format_motor_file(motor) && back.effects == motor.effects,
                   "the motor's JSON does not read back as the same motor");
   // The same rules as the motor file's: what one reader takes, the other takes.

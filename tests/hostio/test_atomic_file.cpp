@@ -29,8 +29,8 @@ pid_t dead_pid() {
 TEST(AtomicFile, ReplacesWholeAndLeavesNoTemporary) {
   testing::TempDir dir;
   const fs::path f = dir.path() / "out.json";
-  write_file_atomically(f, "first");
-  write_file_atomically(f, "second");
+  hostio::write_file_atomically(f, "first");
+  hostio::write_file_atomically(f, "second");
   EXPECT_EQ(slurp(f), "second");
   int entries = 0;
   for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir.path())) ++entries;
@@ -49,7 +49,7 @@ TEST(AtomicFile, ClearsTheTemporariesOfDeadWritersOfTheSameTargetOnly) {
   for (const fs::path& p : {stale, live, other, lookalike}) std::ofstream(p) << "half";
   fs::create_directories(stale_dir / "inner");
 
-  write_file_atomically(f, "whole");
+  hostio::write_file_atomically(f, "whole");
   EXPECT_EQ(slurp(f), "whole");
   EXPECT_FALSE(fs::exists(stale));
   EXPECT_FALSE(fs::exists(stale_dir));
@@ -62,12 +62,12 @@ TEST(AtomicFile, DirectoryAppearsOnlyOnCommit) {
   testing::TempDir dir;
   const fs::path target = dir.path() / "sim";
   {
-    AtomicDirectory d(target, false);
+    hostio::AtomicDirectory d(target, false);
     std::ofstream(d.path() / "a.csv") << "x";
     EXPECT_FALSE(fs::exists(target));
   }  // not committed: nothing
   EXPECT_FALSE(fs::exists(target));
-  AtomicDirectory d(target, false);
+  hostio::AtomicDirectory d(target, false);
   std::ofstream(d.path() / "a.csv") << "y";
   d.commit();
   EXPECT_EQ(slurp(target / "a.csv"), "y");
@@ -81,14 +81,14 @@ TEST(AtomicFile, StreamedOutputAppearsOnlyOnCommitAndClearsDeadWritersTemporarie
   const fs::path stale = dir.path() / (".estimates.csv.tmp-" + std::to_string(dead_pid()));
   std::ofstream(stale) << "half";
   {
-    AtomicFile out;
+    hostio::AtomicFile out;
     ASSERT_TRUE(out.open(f.string()));
     std::fputs("never committed\n", out.get());
     EXPECT_FALSE(fs::exists(stale)) << "a dead writer's temporary";
     EXPECT_FALSE(fs::exists(f));
   }
   EXPECT_FALSE(fs::exists(f));
-  AtomicFile out;
+  hostio::AtomicFile out;
   ASSERT_TRUE(out.open(f.string()));
   std::fputs("a,b\n1,2\n", out.get());
   EXPECT_FALSE(fs::exists(f)) << "not before commit";

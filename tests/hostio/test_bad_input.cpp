@@ -9,7 +9,7 @@ namespace lptn {
 namespace {
 
 TEST(BadInput, ControlCharactersOfTheInputAreWrittenAsEscapes) {
-  const BadInput e(std::string("fuzz.json: field 'motor.parameters.&\n \nda_12s': unknown parameter; tab\there, cr\r, nul ") +
+  const hostio::BadInput e(std::string("fuzz.json: field 'motor.parameters.&\n \nda_12s': unknown parameter; tab\there, cr\r, nul ") +
                    std::string(1, '\0') + ", del \x7f, \xc3\xa9 stays");
   const std::string what = e.what();
   EXPECT_EQ(what.find_first_of(std::string("\r\n\t\0\x7f", 5)), std::string::npos) << what;
@@ -18,7 +18,7 @@ TEST(BadInput, ControlCharactersOfTheInputAreWrittenAsEscapes) {
 }
 
 // Every module's own kind inherits it.
-struct OwnError : BadInput {
+struct OwnError : hostio::BadInput {
   using BadInput::BadInput;
 };
 

@@ -12,7 +12,7 @@
 namespace lptn {
 namespace {
 
-std::string hash(const std::string& s) { return sha256_hex(s.data(), s.size()); }
+std::string hash(const std::string& s) { return hostio::sha256_hex(s.data(), s.size()); }
 
 TEST(Sha256, StandardVectors) {
   EXPECT_EQ(hash(""), "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
@@ -28,7 +28,7 @@ TEST(Sha256, StandardVectors) {
 
 TEST(Sha256, PiecesGiveTheSameHashAsTheWhole) {
   const std::string a(1000000, 'a');
-  internal::Sha256 h;
+  hostio::internal::Sha256 h;
   std::size_t at = 0, piece = 1;
   while (at < a.size()) {
     const std::size_t n = std::min(piece, a.size() - at);
@@ -43,8 +43,8 @@ TEST(Sha256, File) {
   testing::TempDir t;
   const auto path = t.path() / "abc.csv";
   std::ofstream(path, std::ios::binary) << "abc";
-  EXPECT_EQ(sha256_file(path), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
-  EXPECT_THROW(sha256_file(t.path() / "missing.csv"), std::runtime_error);
+  EXPECT_EQ(hostio::sha256_file(path), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
+  EXPECT_THROW(hostio::sha256_file(t.path() / "missing.csv"), std::runtime_error);
 }
 
 TEST(Sha256, FilesOverThreadsAreEachFilesHashInOrder) {
@@ -55,18 +55,18 @@ TEST(Sha256, FilesOverThreadsAreEachFilesHashInOrder) {
     std::ofstream(paths.back(), std::ios::binary) << std::string(static_cast<std::size_t>(1000 * i), static_cast<char>('a' + i));
   }
   for (const int threads : {1, 2, 3, 16}) {
-    const std::vector<std::string> hashes = sha256_files(paths, threads);
+    const std::vector<std::string> hashes = hostio::sha256_files(paths, threads);
     ASSERT_EQ(hashes.size(), paths.size());
-    for (std::size_t i = 0; i < paths.size(); ++i) EXPECT_EQ(hashes[i], sha256_file(paths[i])) << "threads " << threads;
+    for (std::size_t i = 0; i < paths.size(); ++i) EXPECT_EQ(hashes[i], hostio::sha256_file(paths[i])) << "threads " << threads;
   }
-  EXPECT_TRUE(sha256_files({}, 2).empty());
+  EXPECT_TRUE(hostio::sha256_files({}, 2).empty());
   // Two unreadable files: the error names the first in order, whichever thread met it first.
   std::vector<std::filesystem::path> with_missing = paths;
   with_missing.insert(with_missing.begin() + 2, t.path() / "first_missing.csv");
   with_missing.push_back(t.path() / "second_missing.csv");
   for (const int threads : {1, 2, 5}) {
     try {
-      sha256_files(with_missing, threads);
+      hostio::sha256_files(with_missing, threads);
       ADD_FAILURE() << "no error on " << threads << " threads";
     } catch (const std::runtime_error& e) {
       EXPECT_NE(std::string(e.what()).find("first_missing.csv"), std::string::npos) << e.what();

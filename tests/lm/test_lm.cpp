@@ -239,7 +239,7 @@ TEST(Split, SeededFractionIsRepeatableAndNamedCyclesAreHonoured) {
   ASSERT_EQ(named.test.size(), 1u);
   EXPECT_EQ(named.test[0], 2u);
   EXPECT_EQ(named.train.size(), 8u);
-  EXPECT_THROW(split_cycles(f.dataset, {"no-such-cycle"}, 0, 0), BadInput);
+  EXPECT_THROW(split_cycles(f.dataset, {"no-such-cycle"}, 0, 0), hostio::BadInput);
 }
 
 }  // namespace

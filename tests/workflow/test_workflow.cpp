@@ -148,7 +148,7 @@ TEST_F(Workflow, BadRequestsAreRefusedByTheirOption) {
   auto refused = [](const CalibrationRequest& q, CalibrationMethod td3 = nullptr) -> std::string {
     try {
       check_request(q, td3);
-    } catch (const BadInput& e) {
+    } catch (const hostio::BadInput& e) {
       return e.what();
     }
     return "accepted";
@@ -170,7 +170,7 @@ TEST_F(Workflow, BadRequestsAreRefusedByTheirOption) {
   q.data.clear();
   q.sensor_faults = {"stator:offset:+1:cycle_01"};
   EXPECT_NE(refused(q).find("--sensor-fault: not with --fleet"), std::string::npos) << refused(q);
-  EXPECT_THROW(calibrate(q), BadInput);  // a fleet is calibrate_fleet's
+  EXPECT_THROW(calibrate(q), hostio::BadInput);  // a fleet is calibrate_fleet's
   q.sensor_faults.clear();
   q.data = {"/nonexistent"};
   q.fleet.clear();
@@ -209,7 +209,7 @@ TEST_F(Workflow, AFleetIsCalibratedWithEachMotorsCooling) {
   // The weak motor is the model with its own factor: no motor is warned inadequate.
   for (const CalibrationWarning& w : f.result.warnings) EXPECT_NE(w.code, "not_adequate") << w.message;
   q.method = "cma-es";
-  EXPECT_THROW(calibrate_fleet(q), BadInput);
+  EXPECT_THROW(calibrate_fleet(q), hostio::BadInput);
 }
 
 // What the data refuses is said once, by the option that brought it.
@@ -219,7 +219,7 @@ TEST_F(Workflow, ASensorFaultOnACycleTheDataLacksNamesItsOption) {
   try {
     calibrate(q);
     FAIL() << "calibrated around a fault on a cycle the data lacks";
-  } catch (const BadInput& e) {
+  } catch (const hostio::BadInput& e) {
     EXPECT_EQ(std::string(e.what()).rfind("--sensor-fault: no cycle named 'no_such_cycle' in the data (cycles: cycle_01_", 0), 0u)
         << e.what();
   }
@@ -323,7 +323,7 @@ TEST_F(Workflow, ADiagnosisSaysWhetherTheDataIsTheCalibrations) {
   EXPECT_EQ(elsewhere.json["rounds"].size(), elsewhere.rounds.size());
 
   q.level = 0.7;
-  EXPECT_THROW(diagnose(q), BadInput);
+  EXPECT_THROW(diagnose(q), hostio::BadInput);
 }
 
 }  // namespace

@@ -12,7 +12,7 @@ namespace lptn::exporter {
 
 // A calibration that cannot become a header (no actor where one was asked for, a value with no
 // literal, an actor shape the firmware's forward pass does not take). One line, naming the file.
-class ExportError : public BadInput {
+class ExportError : public hostio::BadInput {
  public:
   using BadInput::BadInput;
 };

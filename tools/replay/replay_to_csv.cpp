@@ -69,7 +69,7 @@ ReplaySummary replay_to_csv(const std::string& log_path, const fw::EstimatorConf
   } catch (const canfile::LogError& e) {
     throw std::invalid_argument(e.what());
   }
-  AtomicFile csv;
+  hostio::AtomicFile csv;
   if (!csv.open(csv_path)) throw std::invalid_argument(csv_path + ": cannot be written");
   auto estimator = std::make_unique<fw::Estimator<double>>(config);
   fw::write_estimate_header(csv.get());
@@ -82,7 +82,7 @@ ReplaySummary replay_to_csv(const std::string& log_path, const fw::EstimatorConf
     std::fwrite(out.data(), 1, used, csv.get());
     used = 0;
   };
-  ProgressLine progress(quiet);
+  hostio::ProgressLine progress(quiet);
   fw::ReplaySinks sinks;
   double sum_stator = 0, sum_rotor = 0;
   Track stator, rotor;
@@ -119,7 +119,7 @@ ReplaySummary replay_to_csv(const std::string& log_path, const fw::EstimatorConf
   sinks.progress_every = 200000;
   sinks.progress = [&](const fw::ReplayStats& s) {
     progress.update("replay: " + std::to_string(s.frames) + " frames, " +
-                    ProgressLine::clock(static_cast<double>(s.last_us - s.first_us) / 1e6) + " of log");
+                    hostio::ProgressLine::clock(static_cast<double>(s.last_us - s.first_us) / 1e6) + " of log");
   };
   const auto start = std::chrono::steady_clock::now();
   summary.stats = fw::replay_frames(*log, *estimator, sinks);

@@ -451,7 +451,7 @@ json history_json(const std::filesystem::path& dir, const std::filesystem::path&
 json check_json(const CalibrationResult& cal, const data::Dataset& ds, const check::Provenance& provenance,
                 const std::optional<MotorFile>& data_motor) {
   if (provenance.all_seen()) return nullptr;
-  const check::Check c = check::check(cal, ds, data_motor, worker_threads());
+  const check::Check c = check::check(cal, ds, data_motor, hostio::worker_threads());
   json j = check::to_json(c);
   return {{"holds", j["holds"]}, {"reasons", j["reasons"]}, {"summary", provenance.summary()},
           {"never_seen", j["data"]["never_seen"]}, {"cycles", j["cycles"]}, {"thresholds", j["thresholds"]},
@@ -473,7 +473,7 @@ json meta_json(const ReportOptions& o, const CalibrationResult& cal, const data:
           // A calibration that is not ok says so at the top of the page, as lptn replay says it.
           {"status", cal.status}, {"status_caution", status_caution(cal, o.calibration.string(), true)},
           {"warnings", warning_messages(cal)},
-          {"cycles", ds.cycles.size()}, {"hours", hours}, {"generated_utc", utc_now()},
+          {"cycles", ds.cycles.size()}, {"hours", hours}, {"generated_utc", hostio::utc_now()},
           {"train_rmse_stator_k", number(cal.train.stator.rmse_k)},
           {"test_rmse_stator_k", cal.test.cycles.empty() ? json(nullptr) : number(cal.test.stator.rmse_k)},
           {"train_rmse_rotor_k", cal.train.rotor.samples ? number(cal.train.rotor.rmse_k) : json(nullptr)},
@@ -485,7 +485,7 @@ json meta_json(const ReportOptions& o, const CalibrationResult& cal, const data:
 nlohmann::json report_data(const ReportOptions& o, const std::function<void(const std::string&)>& progress) {
   if (o.data.empty() && o.calibration.empty()) {
     if (o.fleet.empty()) throw ReportInputError("report: give --data and --calibration, or --fleet");
-    return {{"fleet", fleet_section(o.fleet)}, {"generated_utc", utc_now()}};
+    return {{"fleet", fleet_section(o.fleet)}, {"generated_utc", hostio::utc_now()}};
   }
   const json fleet = o.fleet.empty() ? json(nullptr) : fleet_section(o.fleet);  // bad input fails fast
   const CalibrationResult cal = load_calibration(o.calibration);
@@ -521,7 +521,7 @@ nlohmann::json report_data(const ReportOptions& o, const std::function<void(cons
   meta["sensor_corrections"] = corrections;
   return {{"meta", meta}, {"check", checked}, {"cycles", cycles}, {"failures", failures_json(stats, runs)},
           {"diagnosis", diagnosis_json(diagnosis, cm, runs, stats)}, {"history", history_json(history, o.calibration)},
-          {"fleet", fleet}, {"generated_utc", utc_now()}};
+          {"fleet", fleet}, {"generated_utc", hostio::utc_now()}};
 }
 
 }  // namespace lptn::report

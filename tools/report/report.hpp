@@ -19,7 +19,7 @@ namespace lptn::report {
 
 // Bad input the report itself finds (a diagnosis file that is not `lptn diagnose --json`);
 // one line. A BadInput, so that the command line reports it as bad input (exit 2).
-class ReportInputError : public BadInput {
+class ReportInputError : public hostio::BadInput {
  public:
   using BadInput::BadInput;
 };

@@ -139,26 +139,26 @@ ordered_json build(const CalibrationResult& r) {
 
 // ---- reading ---------------------------------------------------------------------------------
 
-std::vector<std::string> strings(const JsonField& f) {
+std::vector<std::string> strings(const hostio::JsonField& f) {
   std::vector<std::string> out;
   for (std::size_t i = 0; i < f.size(); ++i) out.push_back(f.at(i).string());
   return out;
 }
 
-std::vector<float> floats(const JsonField& f) {
+std::vector<float> floats(const hostio::JsonField& f) {
   std::vector<float> out;
   for (std::size_t i = 0; i < f.size(); ++i) out.push_back(static_cast<float>(f.at(i).number()));
   return out;
 }
 
-int parameter_named(const JsonField& f) {
+int parameter_named(const hostio::JsonField& f) {
   const std::string name = f.string();
   const int index = param_index(name);
   if (index < 0) f.fail("unknown parameter '" + name + "'");
   return index;
 }
 
-void read_metrics(const JsonField& f, ErrorMetrics& stator, ErrorMetrics& rotor) {
+void read_metrics(const hostio::JsonField& f, ErrorMetrics& stator, ErrorMetrics& rotor) {
   stator.rmse_k = f["rmse_stator_k"].number();
   stator.mean_abs_k = f["mean_abs_stator_k"].number();
   stator.max_abs_k = f["max_abs_stator_k"].number();
@@ -173,10 +173,10 @@ void read_metrics(const JsonField& f, ErrorMetrics& stator, ErrorMetrics& rotor)
   rotor.samples = f["samples_rotor"].count();
 }
 
-SplitMetrics read_split(const JsonField& f) {
+SplitMetrics read_split(const hostio::JsonField& f) {
   SplitMetrics m;
   read_metrics(f, m.stator, m.rotor);
-  const JsonField cycles = f["cycles"];
+  const hostio::JsonField cycles = f["cycles"];
   for (std::size_t i = 0; i < cycles.size(); ++i) {
     CycleMetrics c;
     c.name = cycles.at(i)["name"].string();
@@ -189,11 +189,11 @@ SplitMetrics read_split(const JsonField& f) {
 // Every parameter of the model must be listed, except those of effects the calibration does not
 // enable: a file written before an effect was appended to the library (docs/effects.md) lacks
 // them, and they take no part in its model.
-std::vector<ParameterResult> read_parameters(const JsonField& list, EffectSet effects, int version) {
+std::vector<ParameterResult> read_parameters(const hostio::JsonField& list, EffectSet effects, int version) {
   std::vector<ParameterResult> out(kNumParams);
   std::vector<bool> seen(kNumParams, false);
   for (std::size_t i = 0; i < list.size(); ++i) {
-    const JsonField p = list.at(i);
+    const hostio::JsonField p = list.at(i);
     const int index = parameter_named(p["name"]);
     if (seen[index]) p["name"].fail("'" + std::string(param_spec(index).name) + "' appears twice");
     seen[index] = true;
@@ -234,9 +234,9 @@ std::vector<ParameterResult> read_parameters(const JsonField& list, EffectSet ef
   return out;
 }
 
-ActorExport read_actor(const JsonField& f) {
+ActorExport read_actor(const hostio::JsonField& f) {
   ActorExport a;
-  const JsonField offset = f["obs_offset"], scale = f["obs_scale"];
+  const hostio::JsonField offset = f["obs_offset"], scale = f["obs_scale"];
   if (offset.size() != 2) offset.fail("expected 2 numbers (speed_rpm, torque_nm)");
   if (scale.size() != 2) scale.fail("expected 2 numbers (speed_rpm, torque_nm)");
   for (std::size_t i = 0; i < 2; ++i) {
@@ -244,10 +244,10 @@ ActorExport read_actor(const JsonField& f) {
     a.obs_scale[i] = scale.at(i).number();
     if (!(a.obs_scale[i] != 0)) scale.at(i).fail("must not be zero");
   }
-  const JsonField layers = f["layers"];
+  const hostio::JsonField layers = f["layers"];
   if (layers.size() == 0) layers.fail("expected at least one layer");
   for (std::size_t i = 0; i < layers.size(); ++i) {
-    const JsonField l = layers.at(i);
+    const hostio::JsonField l = layers.at(i);
     ActorLayer layer;
     layer.in = static_cast<int>(l["in"].integer());
     layer.out = static_cast<int>(l["out"].integer());
@@ -265,7 +265,7 @@ ActorExport read_actor(const JsonField& f) {
       l["bias"].fail(std::to_string(layer.bias.size()) + " numbers, expected out = " + std::to_string(layer.out));
     a.layers.push_back(std::move(layer));
   }
-  const JsonField indices = f["param_indices"], names = f["param_names"];
+  const hostio::JsonField indices = f["param_indices"], names = f["param_names"];
   const std::size_t outputs = static_cast<std::size_t>(a.layers.back().out);
   if (indices.size() != outputs)
     indices.fail(std::to_string(indices.size()) + " entries, but the last layer has " + std::to_string(outputs) + " outputs");
@@ -307,10 +307,10 @@ CalibrationResult calibration_from_json(const nlohmann::json& j, const std::stri
   if (j.contains("pooled") && j.contains("fleet") && j.contains("motors"))
     throw CalibrationFileError(shown_as + ": a fleet calibration (fleet.json), not one motor's: give it as --fleet "
                                           "(lptn export --fleet F --motor-id ID, lptn report --fleet F, lptn check --fleet)");
-  const JsonField root(j, "", shown_as);
+  const hostio::JsonField root(j, "", shown_as);
   CalibrationResult r;
   // The version first: a file of another version may differ in any other key.
-  const JsonField version = root["format_version"];
+  const hostio::JsonField version = root["format_version"];
   r.format_version = static_cast<int>(version.integer());
   if (r.format_version < kOldestReadCalibrationFormatVersion || r.format_version > kCalibrationFormatVersion)
     version.fail("version " + std::to_string(r.format_version) + ", this lptn reads " +
@@ -319,9 +319,9 @@ CalibrationResult calibration_from_json(const nlohmann::json& j, const std::stri
     r.status = root["status"].string();
     if (r.status != kStatusOk && r.status != kStatusWarnings && r.status != kStatusFailed)
       root["status"].fail("'" + r.status + "', expected ok, warnings or failed");
-    const JsonField warnings = root["warnings"];
+    const hostio::JsonField warnings = root["warnings"];
     for (std::size_t i = 0; i < warnings.size(); ++i) {
-      const JsonField w = warnings.at(i);
+      const hostio::JsonField w = warnings.at(i);
       r.warnings.push_back({w["code"].string(), w["message"].string(), strings(w["parameters"])});
     }
   } else {
@@ -333,7 +333,7 @@ CalibrationResult calibration_from_json(const nlohmann::json& j, const std::stri
   r.created_utc = root["created_utc"].string();
   r.lptn_version = root["lptn_version"].string();
 
-  const JsonField motor = root["motor"];
+  const hostio::JsonField motor = root["motor"];
   if (r.format_version >= 3) {
     r.motor = motor_from_json(motor);
   } else {
@@ -348,7 +348,7 @@ CalibrationResult calibration_from_json(const nlohmann::json& j, const std::stri
   r.motor.path = motor["file"].string();
   r.motor.text = motor["text"].string();
 
-  const JsonField effects = root["effects"];
+  const hostio::JsonField effects = root["effects"];
   for (std::size_t i = 0; i < effects.size(); ++i) {
     const std::string name = effects.at(i).string();
     const int e = effect_index(name);
@@ -357,9 +357,9 @@ CalibrationResult calibration_from_json(const nlohmann::json& j, const std::stri
   }
 
   r.parameters = read_parameters(root["parameters"], r.effects, r.format_version);
-  const JsonField correlated = root["correlated"];
+  const hostio::JsonField correlated = root["correlated"];
   for (std::size_t i = 0; i < correlated.size(); ++i) {
-    const JsonField c = correlated.at(i);
+    const hostio::JsonField c = correlated.at(i);
     CorrelatedPair pair;
     pair.a = param_spec(parameter_named(c["a"])).name;
     pair.b = param_spec(parameter_named(c["b"])).name;
@@ -367,18 +367,18 @@ CalibrationResult calibration_from_json(const nlohmann::json& j, const std::stri
     r.correlated.push_back(std::move(pair));
   }
 
-  const JsonField method = root["method"];
+  const hostio::JsonField method = root["method"];
   r.method = method["name"].string();
   if (r.method.empty()) method["name"].fail("must not be empty");
   r.settings = method["settings"].json();
   r.details = method["details"].json();
   r.seconds = method["seconds"].number();
 
-  const JsonField data = root["data"];
+  const hostio::JsonField data = root["data"];
   r.data_sha256 = data["sha256"].string();
-  const JsonField files = data["files"];
+  const hostio::JsonField files = data["files"];
   for (std::size_t i = 0; i < files.size(); ++i) {
-    const JsonField f = files.at(i);
+    const hostio::JsonField f = files.at(i);
     DataFile d;
     d.cycle = f["cycle"].string();
     d.file = f["file"].string();
@@ -391,7 +391,7 @@ CalibrationResult calibration_from_json(const nlohmann::json& j, const std::stri
     }
     r.data.push_back(std::move(d));
   }
-  const JsonField split = data["split"];
+  const hostio::JsonField split = data["split"];
   r.split_rule = split["rule"].string();
   r.train_cycles = strings(split["train"]);
   r.test_cycles = strings(split["test"]);
@@ -400,12 +400,12 @@ CalibrationResult calibration_from_json(const nlohmann::json& j, const std::stri
     // Checked here, once, so that whoever corrects readings with them has only the data to ask.
     for (std::size_t i = 0; i < r.sensor_faults.size(); ++i) try {
         data::parse_sensor_fault(r.sensor_faults[i]);
-      } catch (const BadInput& e) {
+      } catch (const hostio::BadInput& e) {
         data["sensor_faults"].at(i).fail(e.what());
       }
   }
 
-  const JsonField metrics = root["metrics"];
+  const hostio::JsonField metrics = root["metrics"];
   r.train = read_split(metrics["train"]);
   r.test = read_split(metrics["test"]);
 
@@ -415,12 +415,12 @@ CalibrationResult calibration_from_json(const nlohmann::json& j, const std::stri
 }
 
 void save_calibration(const CalibrationResult& result, const std::filesystem::path& path) {
-  write_file_atomically(path, build(result).dump(2) + "\n");
+  hostio::write_file_atomically(path, build(result).dump(2) + "\n");
 }
 
 nlohmann::json read_lptn_json(const std::filesystem::path& path) {
   const std::string shown = path.string();
-  const std::string text = read_text_file(path);
+  const std::string text = hostio::read_text_file(path);
   // A file of another kind (a motor file, a cycle CSV) is named as such, not as a JSON syntax error.
   const InputKind kind = input_kind(text);
   const std::size_t first = text.find_first_not_of(" \t\r\n\xEF\xBB\xBF");
@@ -429,7 +429,7 @@ nlohmann::json read_lptn_json(const std::filesystem::path& path) {
   if ((kind == InputKind::motor_toml && looks_toml) || kind == InputKind::cycle_csv)
     throw CalibrationFileError(shown + ": " + std::string(input_kind_words(kind)) + ", not a calibration (JSON)" +
                                (kind == InputKind::motor_toml ? ": give it as --motor" : ": give it as --data"));
-  return parse_json_text(text, shown);
+  return hostio::parse_json_text(text, shown);
 }
 
 CalibrationResult load_calibration(const std::filesystem::path& path) {

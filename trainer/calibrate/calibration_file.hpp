@@ -25,7 +25,7 @@ inline constexpr int kCalibrationFormatVersion = 3;
 inline constexpr int kOldestReadCalibrationFormatVersion = 1;
 
 // A bad calibration file; one line: "FILE: field 'a.b[3].c': reason" or "FILE: line N: reason".
-using CalibrationFileError = JsonFileError;
+using CalibrationFileError = hostio::JsonFileError;
 
 struct ParameterResult {
   std::string name;  // as in param_spec(); the vector below is in the model's fixed parameter order

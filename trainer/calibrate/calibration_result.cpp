@@ -27,7 +27,7 @@ ParameterResult parameter_result(const MotorFile& motor, int i) {
 CalibrationResult new_calibration(const MotorFile& motor, const std::string& motor_path, DatasetRef dataset,
                                   const Split& split) {
   CalibrationResult r;
-  r.created_utc = utc_now();
+  r.created_utc = hostio::utc_now();
   r.lptn_version = kNameAndVersion;
   r.motor = motor;
   r.motor.path = motor_path;
@@ -43,7 +43,7 @@ CalibrationResult new_calibration(const MotorFile& motor, const std::string& mot
     hashes[file] = dataset.file_sha256(i);  // a shared load hashed every file on its process
     if (hashes[file].empty()) to_hash.push_back(dataset.cycles[i].file);
   }
-  const std::vector<std::string> taken = sha256_files(to_hash, worker_threads());
+  const std::vector<std::string> taken = hostio::sha256_files(to_hash, hostio::worker_threads());
   for (std::size_t i = 0; i < to_hash.size(); ++i) hashes[to_hash[i].string()] = taken[i];
   std::string all;
   for (const data::Cycle& c : dataset.cycles) {
@@ -57,7 +57,7 @@ CalibrationResult new_calibration(const MotorFile& motor, const std::string& mot
     r.data.push_back(std::move(f));
     all += hash;
   }
-  r.data_sha256 = sha256_hex(all.data(), all.size());
+  r.data_sha256 = hostio::sha256_hex(all.data(), all.size());
   for (std::size_t c : split.train) r.train_cycles.push_back(dataset.cycles[c].name);
   for (std::size_t c : split.test) r.test_cycles.push_back(dataset.cycles[c].name);
   r.split_rule = split.rule;
@@ -91,7 +91,7 @@ Split split_of(const CalibrationResult& calibration, const data::Dataset& datase
   auto find = [&](const std::string& name) {
     for (std::size_t i = 0; i < dataset.cycles.size(); ++i)
       if (dataset.cycles[i].name == name) return i;
-    throw BadInput("the calibration's cycle '" + name +
+    throw hostio::BadInput("the calibration's cycle '" + name +
                                 "' is not in the data (give the data it was made from, or --test-cycles)");
   };
   Split split;

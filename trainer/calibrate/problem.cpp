@@ -52,7 +52,7 @@ Split split_cycles(const data::Dataset& dataset, const std::vector<std::string>&
       if (found == n) {
         std::string known;
         for (const data::Cycle& c : dataset.cycles) known += (known.empty() ? "" : ", ") + c.name;
-        throw BadInput("--test-cycles: no cycle named '" + name + "' in the data (cycles: " + known + ")");
+        throw hostio::BadInput("--test-cycles: no cycle named '" + name + "' in the data (cycles: " + known + ")");
       }
       is_test[found] = true;
     }
@@ -60,7 +60,7 @@ Split split_cycles(const data::Dataset& dataset, const std::vector<std::string>&
     for (const std::string& name : test_names) split.rule += (&name == &test_names.front() ? " " : ",") + name;
   } else {
     if (!(test_fraction >= 0.0 && test_fraction < 1.0))
-      throw BadInput("--test-fraction: must be in [0, 1), got " + std::to_string(test_fraction));
+      throw hostio::BadInput("--test-fraction: must be in [0, 1), got " + std::to_string(test_fraction));
     auto count = static_cast<std::size_t>(std::lround(test_fraction * static_cast<double>(n)));
     if (test_fraction > 0 && n >= 2) count = std::clamp<std::size_t>(count, 1, n - 1);
     std::vector<std::size_t> order(n);
@@ -73,7 +73,7 @@ Split split_cycles(const data::Dataset& dataset, const std::vector<std::string>&
     split.rule = rule;
   }
   for (std::size_t i = 0; i < n; ++i) (is_test[i] ? split.test : split.train).push_back(i);
-  if (split.train.empty()) throw BadInput("the split leaves no cycle to train on");
+  if (split.train.empty()) throw hostio::BadInput("the split leaves no cycle to train on");
   return split;
 }
 
@@ -148,7 +148,7 @@ SplitMetrics evaluate_split(const Model<double>& model, const ParamVector<double
   SplitMetrics out;
   out.cycles.resize(cycles.size());
   // Cycles are independent: each thread writes only its own slots. A remote cycle is its process's.
-  parallel_for(cycles.size(), threads, [&](std::size_t i) {
+  hostio::parallel_for(cycles.size(), threads, [&](std::size_t i) {
     if (!dataset.remote(cycles[i])) out.cycles[i] = evaluate_cycle(model, params, dataset.cycles[cycles[i]]);
   });
   if (dataset.shared()) join_metrics(out.cycles, dataset, cycles);

@@ -68,6 +68,6 @@ void pool_cycles(SplitMetrics& m);
 // dataset, each process simulates the cycles it holds and every process gets every cycle's
 // figures (a collective call).
 SplitMetrics evaluate_split(const Model<double>& model, const ParamVector<double>& params, DatasetRef dataset,
-                            const std::vector<std::size_t>& cycles, int threads = worker_threads());
+                            const std::vector<std::size_t>& cycles, int threads = hostio::worker_threads());
 
 }  // namespace lptn

@@ -114,7 +114,7 @@ void SetScorer::score(const double* u, std::size_t n, SetScore* out, int threads
   std::vector<Sums> sums(n * nc);
   std::vector<ParamVector<double>> params(n);
   for (std::size_t i = 0; i < n; ++i) params[i] = params_for(u + i * p);
-  parallel_for(n * nc, threads, [&](std::size_t item) { score_cycle(params[item / nc], item % nc, sums[item]); });
+  hostio::parallel_for(n * nc, threads, [&](std::size_t item) { score_cycle(params[item / nc], item % nc, sums[item]); });
   constexpr double kScaleK = 0.2;
   for (std::size_t i = 0; i < n; ++i) {
     Sums total;

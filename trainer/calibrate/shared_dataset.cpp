@@ -13,7 +13,7 @@
 
 namespace lptn {
 
-SharedDataset join_units(std::size_t units, std::vector<LoadedUnit> mine, const ProcessGroup& group,
+SharedDataset join_units(std::size_t units, std::vector<LoadedUnit> mine, const hostio::ProcessGroup& group,
                          std::vector<std::size_t>* unit_of_cycle) {
   // This rank's cycles, each with its share (residual count, file hash), and what the other ranks
   // learn of each (doubles survive JSON exactly).
@@ -28,7 +28,7 @@ SharedDataset join_units(std::size_t units, std::vector<LoadedUnit> mine, const 
     local[u.unit] = true;
     for (data::Cycle& c : u.data.cycles) {
       const std::string file = c.file.string();
-      if (!hashes.count(file)) hashes[file] = sha256_file(c.file);
+      if (!hashes.count(file)) hashes[file] = hostio::sha256_file(c.file);
       CycleShare share;
       share.residuals = count_grid_residuals(c);
       share.file_sha256 = hashes[file];
@@ -101,7 +101,7 @@ void unpack(const std::string& bytes, data::Cycle& c) {
 
 }  // namespace
 
-void balance_training(SharedDataset& dataset, const std::vector<std::size_t>& train, const ProcessGroup& group) {
+void balance_training(SharedDataset& dataset, const std::vector<std::size_t>& train, const hostio::ProcessGroup& group) {
   if (!group.shared() || !dataset.shared()) return;
   const DatasetRef held_here(dataset);
   // Who holds each cycle, from each rank's list of its own.
@@ -166,7 +166,7 @@ void balance_training(SharedDataset& dataset, const std::vector<std::size_t>& tr
   }
 }
 
-SharedDataset share_work(data::Dataset dataset, const ProcessGroup& group) {
+SharedDataset share_work(data::Dataset dataset, const hostio::ProcessGroup& group) {
   SharedDataset out;
   out.data = std::move(dataset);
   if (!group.shared()) return out;
@@ -179,7 +179,7 @@ SharedDataset share_work(data::Dataset dataset, const ProcessGroup& group) {
   return out;
 }
 
-SharedDataset load_shared_dump(const std::vector<std::filesystem::path>& paths, const ProcessGroup& group,
+SharedDataset load_shared_dump(const std::vector<std::filesystem::path>& paths, const hostio::ProcessGroup& group,
                                const data::LoadOptions& options) {
   if (!group.shared()) return {data::load_fleet_dump(paths, options), {}};
   const std::vector<std::filesystem::path> files = data::cycle_files(paths);

@@ -59,14 +59,14 @@ class DatasetRef {
   // The hash of the cycle's file where the loading process took it already, else empty.
   std::string file_sha256(std::size_t cycle) const { return shares_ != nullptr ? (*shares_)[cycle].file_sha256 : std::string(); }
   // The processes the dataset is shared over: the MPI job's where it is shared, else this one alone.
-  const ProcessGroup& group() const { return shared() ? ProcessGroup::world() : ProcessGroup::alone(); }
+  const hostio::ProcessGroup& group() const { return shared() ? hostio::ProcessGroup::world() : hostio::ProcessGroup::alone(); }
 
  private:
   const std::vector<CycleShare>* shares_ = nullptr;
 };
 
 // Which rank loads unit `unit`.
-inline int owner_of_unit(std::size_t unit, const ProcessGroup& group) {
+inline int owner_of_unit(std::size_t unit, const hostio::ProcessGroup& group) {
   return static_cast<int>(unit % static_cast<std::size_t>(group.size()));
 }
 
@@ -79,11 +79,11 @@ struct LoadedUnit {
 // Every unit's cycles on every rank, in unit order: this rank's `mine` whole (their file hashes
 // taken), the others' remote. `units` is the number of units over all ranks; `unit_of_cycle`, if
 // given, receives each cycle's unit. A collective call: every rank calls it, with its own units.
-SharedDataset join_units(std::size_t units, std::vector<LoadedUnit> mine, const ProcessGroup& group,
+SharedDataset join_units(std::size_t units, std::vector<LoadedUnit> mine, const hostio::ProcessGroup& group,
                          std::vector<std::size_t>* unit_of_cycle = nullptr);
 
 // data::load_fleet_dump with the files as units: the same cycles in the same order.
-SharedDataset load_shared_dump(const std::vector<std::filesystem::path>& paths, const ProcessGroup& group,
+SharedDataset load_shared_dump(const std::vector<std::filesystem::path>& paths, const hostio::ProcessGroup& group,
                                const data::LoadOptions& options = {});
 
 // Moves whole training cycles between the processes of a shared dataset so that each holds about
@@ -91,12 +91,12 @@ SharedDataset load_shared_dump(const std::vector<std::filesystem::path>& paths, 
 // with 55 % of them on two). Deterministic: every rank plans the same moves from the same counts
 // (from the most loaded rank to the least, the cycle that best halves their gap, while one does), and
 // sends or receives its own. A collective call; alone, nothing happens.
-void balance_training(SharedDataset& dataset, const std::vector<std::size_t>& train, const ProcessGroup& group);
+void balance_training(SharedDataset& dataset, const std::vector<std::size_t>& train, const hostio::ProcessGroup& group);
 
 // Shares the work on a dataset every process holds whole (loaded by each): the shared computations
 // (fit_lm, evaluate_split, the correlation time) then simulate cycle i on rank i mod ranks only
 // and join the results, while everything else still sees every cycle. For commands whose other
 // work needs every cycle on every rank (lptn diagnose, whose LM refits are what takes long).
-SharedDataset share_work(data::Dataset dataset, const ProcessGroup& group);
+SharedDataset share_work(data::Dataset dataset, const hostio::ProcessGroup& group);
 
 }  // namespace lptn

@@ -102,7 +102,7 @@ std::string error_reason(const Check& c, int s) {
 
 Check check(const CalibrationResult& calibration, const data::Dataset& dataset, const std::optional<MotorFile>& data_motor,
             int threads) {
-  if (dataset.cycles.empty()) throw BadInput("check: the data holds no cycle");
+  if (dataset.cycles.empty()) throw hostio::BadInput("check: the data holds no cycle");
   const MotorFile motor = motor_of(calibration);
   const Model<double> model = motor.model();
   const ParamVector<double> params = calibration.values();
@@ -117,7 +117,7 @@ Check check(const CalibrationResult& calibration, const data::Dataset& dataset, 
   for (int s = 0; s < 2; ++s) c.calibration_error_k[s] = claimed_error(calibration, s);
 
   c.cycles.resize(n);
-  parallel_for(n, threads, [&](std::size_t i) {
+  hostio::parallel_for(n, threads, [&](std::size_t i) {
     CycleCheck& cc = c.cycles[i];
     const data::Cycle& cycle = dataset.cycles[i];
     cc.name = cycle.name;

@@ -115,7 +115,7 @@ Provenance provenance(const CalibrationResult& calibration, const data::Dataset&
   std::vector<std::filesystem::path> to_hash;
   for (const data::Cycle& c : dataset.cycles)
     if (record_of.count(c.name) && file_hash.emplace(c.file.string(), std::string()).second) to_hash.push_back(c.file);
-  const std::vector<std::string> hashes = sha256_files(to_hash, worker_threads());
+  const std::vector<std::string> hashes = hostio::sha256_files(to_hash, hostio::worker_threads());
   for (std::size_t i = 0; i < to_hash.size(); ++i) file_hash[to_hash[i].string()] = hashes[i];
   Provenance p;
   for (const data::Cycle& c : dataset.cycles) {

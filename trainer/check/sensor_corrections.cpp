@@ -13,7 +13,7 @@ std::vector<std::string> correct_as_calibrated(data::Dataset& dataset, const Cal
     data::SensorFault fault;
     try {
       fault = data::resolve(parsed, dataset);
-    } catch (const BadInput&) {
+    } catch (const hostio::BadInput&) {
       // A dump without the fault's first cycle (another period's, another motor's): which of its
       // cycles the fault touches is unknown.
       said.push_back("the calibration was made around the sensor fault " + spec +

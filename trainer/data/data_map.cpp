@@ -319,7 +319,7 @@ DataMap load_data_map(const std::filesystem::path& file) {
 
 std::string data_map_sha256(const DataMap& map) {
   const std::string text = format_data_map(map);
-  return sha256_hex(text.data(), text.size());
+  return hostio::sha256_hex(text.data(), text.size());
 }
 
 std::string format_data_map(const DataMap& m, std::string_view header_comment) {
@@ -327,7 +327,7 @@ std::string format_data_map(const DataMap& m, std::string_view header_comment) {
   std::istringstream lines{std::string(header_comment)};
   for (std::string line; std::getline(lines, line);) {
     // A comment is UTF-8 without control characters too; it may quote an export's bytes.
-    line = as_utf8(line);
+    line = hostio::as_utf8(line);
     for (char& c : line)
       if ((static_cast<unsigned char>(c) < 0x20 && c != '\t') || c == 0x7F) c = '?';
     o << (line.empty() ? "#" : "# " + line) << '\n';
@@ -428,7 +428,7 @@ bool parse_iso8601(std::string_view s, long long& whole_s, std::string_view& fra
     }
     if (at != s.size()) return false;
   }
-  whole_s = days_from_civil(year, month, day) * 86400 + hour * 3600LL + minute * 60LL + second - zone_s;
+  whole_s = hostio::days_from_civil(year, month, day) * 86400 + hour * 3600LL + minute * 60LL + second - zone_s;
   return true;
 }
 

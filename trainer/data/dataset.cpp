@@ -214,7 +214,7 @@ Dataset load_fleet_dump(const std::vector<fs::path>& paths, const LoadOptions& o
       }
     }
   };
-  const std::size_t threads = std::min<std::size_t>(files.size(), static_cast<std::size_t>(worker_threads()));
+  const std::size_t threads = std::min<std::size_t>(files.size(), static_cast<std::size_t>(hostio::worker_threads()));
   std::vector<std::thread> pool;
   for (std::size_t t = 1; t < threads; ++t) pool.emplace_back(work);
   work();

@@ -114,7 +114,7 @@ struct Dataset {
 // Message is one line: "FILE:LINE: column 'NAME': reason" (the column part is left out when no
 // column is involved, e.g. a row with the wrong number of cells). Problems of a whole column (missing,
 // duplicate, entirely empty) and of the whole file (empty, header only) point at the header line.
-class DataError : public BadInput {
+class DataError : public hostio::BadInput {
  public:
   using BadInput::BadInput;
 };

@@ -188,7 +188,7 @@ std::vector<RawCycle> parse_csv(std::string_view text, const std::filesystem::pa
     CellSplitter cells(line, sep);
     std::string_view cell;
     while (cells.next(cell)) {
-      const std::string_view name = owned_names.emplace_back(as_utf8(unquoted(cell)));
+      const std::string_view name = owned_names.emplace_back(hostio::as_utf8(unquoted(cell)));
       const std::size_t column = names.size() + 1;
       if (!name.empty() && std::find(names.begin(), names.end(), name) != names.end()) {
         fail(file, header_line, name, strf("duplicate column name (column %zu)", column));

@@ -61,22 +61,22 @@ SensorFaultSpec parse_sensor_fault(std::string_view text) {
   quoted.append(text).push_back('\'');
   const std::vector<std::string_view> f = fields(text);
   if (f.size() != 4)
-    throw BadInput(quoted + ": expected SENSOR:SHAPE:SIZE:FIRST, e.g. stator:offset:3.0:cycle_05_freight");
+    throw hostio::BadInput(quoted + ": expected SENSOR:SHAPE:SIZE:FIRST, e.g. stator:offset:3.0:cycle_05_freight");
   SensorFaultSpec spec;
   if (f[0] == "stator") spec.fault.sensor = Channel::stator_winding_c;
   else if (f[0] == "rotor") spec.fault.sensor = Channel::rotor_c;
-  else throw BadInput(quoted + ": sensor '" + std::string(f[0]) + "' is not stator or rotor");
+  else throw hostio::BadInput(quoted + ": sensor '" + std::string(f[0]) + "' is not stator or rotor");
   if (f[1] == "offset") spec.fault.shape = FaultShape::offset;
   else if (f[1] == "gain") spec.fault.shape = FaultShape::gain;
   else if (f[1] == "drift") spec.fault.shape = FaultShape::drift;
-  else throw BadInput(quoted + ": shape '" + std::string(f[1]) + "' is not offset, gain or drift");
+  else throw hostio::BadInput(quoted + ": shape '" + std::string(f[1]) + "' is not offset, gain or drift");
   const char* end = f[2].data() + f[2].size();
   const auto [ptr, ec] = std::from_chars(f[2].data() + (!f[2].empty() && f[2][0] == '+'), end, spec.fault.size);
   if (ec != std::errc() || ptr != end || !std::isfinite(spec.fault.size))
-    throw BadInput(quoted + ": size '" + std::string(f[2]) + "' is not a number");
+    throw hostio::BadInput(quoted + ": size '" + std::string(f[2]) + "' is not a number");
   if (spec.fault.shape == FaultShape::gain && !(std::abs(spec.fault.size) < kMaxGain))
-    throw BadInput(quoted + ": a gain's size is relative (0.03 reads 3 % high), within +-0.5");
-  if (f[3].empty()) throw BadInput(quoted + ": FIRST (the first faulty cycle) is empty");
+    throw hostio::BadInput(quoted + ": a gain's size is relative (0.03 reads 3 % high), within +-0.5");
+  if (f[3].empty()) throw hostio::BadInput(quoted + ": FIRST (the first faulty cycle) is empty");
   spec.first_cycle = std::string(f[3]);
   return spec;
 }
@@ -108,7 +108,7 @@ SensorFault resolve(const SensorFaultSpec& spec, const Dataset& dataset) {
     }
   std::string known;
   for (const Cycle& c : dataset.cycles) known += (known.empty() ? "" : ", ") + c.name;
-  throw BadInput("no cycle named '" + spec.first_cycle + "' in the data (cycles: " + known + ")");
+  throw hostio::BadInput("no cycle named '" + spec.first_cycle + "' in the data (cycles: " + known + ")");
 }
 
 void correct_readings(Dataset& dataset, const SensorFault& fault) {

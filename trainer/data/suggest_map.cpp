@@ -248,7 +248,7 @@ MapSuggestion suggest_data_map_text(std::string_view text, const std::filesystem
     std::string_view cell;
     while (cells.next(cell)) {
       Column c;
-      c.name = as_utf8(unquoted(cell));
+      c.name = hostio::as_utf8(unquoted(cell));
       c.key = lower(c.name);
       cols.push_back(std::move(c));
     }

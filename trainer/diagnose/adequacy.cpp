@@ -48,7 +48,7 @@ std::vector<CycleFinding> examine_all(const Model<double>& model, const ParamVec
                                       DatasetRef dataset, const std::vector<std::size_t>& cycles,
                                       const internal::RegionEdges& edges, int threads) {
   std::vector<CycleFinding> out(cycles.size());
-  parallel_for(cycles.size(), threads,
+  hostio::parallel_for(cycles.size(), threads,
                [&](std::size_t i) { out[i] = examine(model, params, dataset, dataset.cycles[cycles[i]], edges); });
   return out;
 }

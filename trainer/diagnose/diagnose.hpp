@@ -72,7 +72,7 @@ struct Settings {
   // The dictionary's terms are all scored; this many of the best-scoring are refit and tested (one
   // form per node's heat: the best-scoring).
   int term_refits = 3;
-  int threads = worker_threads();
+  int threads = hostio::worker_threads();
 };
 
 // refit_failed: no start of the refit ended at or below the baseline (a fit that got worse is no

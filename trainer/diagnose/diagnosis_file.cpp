@@ -57,11 +57,11 @@ SavedCandidate parse_candidate(const json& j, const std::string& where) {
 
 SavedDiagnosis load_diagnosis(const std::filesystem::path& path) {
   const std::string shown = path.string();
-  const std::string text = read_text_file(path);  // JsonFileError "FILE: cannot read (...)", bad input too
+  const std::string text = hostio::read_text_file(path);  // JsonFileError "FILE: cannot read (...)", bad input too
   json j;
   try {
-    j = parse_json_text(text, shown);
-  } catch (const JsonFileError& e) {
+    j = hostio::parse_json_text(text, shown);
+  } catch (const hostio::JsonFileError& e) {
     // "FILE: line N: reason" -> "FILE: not JSON (...): line N: reason"
     throw DiagnosisFileError(shown + ": not JSON (expected `lptn diagnose --json` output): " +
                              std::string(e.what()).substr(shown.size() + 2));

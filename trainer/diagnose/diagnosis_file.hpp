@@ -18,7 +18,7 @@ namespace lptn::diagnose {
 
 // A diagnosis file that is not one: one line naming the file. A BadInput, so that the command line
 // reports it as bad input (exit 2).
-class DiagnosisFileError : public BadInput {
+class DiagnosisFileError : public hostio::BadInput {
  public:
   using BadInput::BadInput;
 };

@@ -266,7 +266,7 @@ Drift find_drift(const Model<double>& model, const ParamVector<double>& params, 
   // drift will be the finding, and then go unused (about four simulations a cycle).
   const std::size_t n = dataset.cycles.size();
   std::vector<double> cooling(n), losses(n);
-  parallel_for(n, threads, [&](std::size_t i) {
+  hostio::parallel_for(n, threads, [&](std::size_t i) {
     const data::Cycle& cycle = dataset.cycles[i];
     const PreparedCycle prepared = prepare_cycle(model, cycle);
     const double f0 = squared_error(model, params, cycle, prepared);

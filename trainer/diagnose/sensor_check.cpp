@@ -386,7 +386,7 @@ SensorFinding check_sensor(int s, const std::vector<CycleFit>& fits, const data:
 std::vector<SensorFinding> check_sensors(const Model<double>& model, const ParamVector<double>& params,
                                          const data::Dataset& dataset, int threads) {
   std::vector<CycleFit> fits(dataset.cycles.size());
-  parallel_for(dataset.cycles.size(), threads,
+  hostio::parallel_for(dataset.cycles.size(), threads,
                [&](std::size_t i) { fits[i] = fit_cycle(model, params, dataset.cycles[i]); });
   const data::CycleOrder order = data::cycle_order(dataset);
   std::vector<int> measured;

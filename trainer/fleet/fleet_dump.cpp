@@ -33,10 +33,10 @@ data::Dataset load_motor(const std::filesystem::path& path, const data::LoadOpti
 }  // namespace
 
 FleetDump load_fleet(const std::filesystem::path& dir, const data::LoadOptions& options) {
-  return load_shared_fleet(dir, ProcessGroup::alone(), options);
+  return load_shared_fleet(dir, hostio::ProcessGroup::alone(), options);
 }
 
-FleetDump load_shared_fleet(const std::filesystem::path& dir, const ProcessGroup& group,
+FleetDump load_shared_fleet(const std::filesystem::path& dir, const hostio::ProcessGroup& group,
                             const data::LoadOptions& options) {
   const std::vector<std::filesystem::path> motors = motor_directories(dir);
   std::vector<LoadedUnit> mine;

@@ -27,7 +27,7 @@ FleetDump load_fleet(const std::filesystem::path& dir, const data::LoadOptions& 
 // The same fleet shared over the processes of an MPI job (trainer/calibrate/shared_dataset.hpp):
 // each process loads only its own motors (motor m on rank m mod ranks); the other motors' cycles
 // are remote. Alone, load_fleet.
-FleetDump load_shared_fleet(const std::filesystem::path& dir, const ProcessGroup& group,
+FleetDump load_shared_fleet(const std::filesystem::path& dir, const hostio::ProcessGroup& group,
                             const data::LoadOptions& options = {});
 
 }  // namespace lptn::fleet

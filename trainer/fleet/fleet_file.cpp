@@ -48,7 +48,7 @@ nlohmann::ordered_json fleet_json(const CalibrationResult& pooled, const FleetFi
 
 void save_fleet(const std::filesystem::path& path, const CalibrationResult& pooled, const FleetFit& fit,
                 const FleetSettings& settings) {
-  write_file_atomically(path, fleet_json(pooled, fit, settings).dump(2) + "\n");
+  hostio::write_file_atomically(path, fleet_json(pooled, fit, settings).dump(2) + "\n");
 }
 
 FleetFile load_fleet_file(const std::filesystem::path& path) {
@@ -57,22 +57,22 @@ FleetFile load_fleet_file(const std::filesystem::path& path) {
   if (j.is_object() && j.contains("parameters") && j.contains("motor") && !j.contains("pooled"))
     throw CalibrationFileError(shown + ": a single motor's calibration (calibration.json), not a fleet calibration: give "
                                        "it as --calibration");
-  const JsonField root(j, "", shown);
+  const hostio::JsonField root(j, "", shown);
   if (!root.has("format_version")) throw CalibrationFileError(shown + ": not a fleet calibration (no format_version)");
-  const JsonField version = root["format_version"];
+  const hostio::JsonField version = root["format_version"];
   if (version.integer() != kFleetFormatVersion)
     version.fail("version " + j["format_version"].dump() + ", this lptn reads " + std::to_string(kFleetFormatVersion));
   FleetFile out;
   out.pooled = calibration_from_json(root["pooled"].json(), shown + " (pooled)");
-  const JsonField fleet = root["fleet"];
+  const hostio::JsonField fleet = root["fleet"];
   out.rounds = static_cast<int>(fleet["rounds"].count());
-  const JsonField outlier_test = fleet["outlier_test"];
+  const hostio::JsonField outlier_test = fleet["outlier_test"];
   out.family_alpha = outlier_test["family_alpha"].number();
   if (outlier_test.has("threshold_t")) out.threshold_t = outlier_test["threshold_t"].number_or_null();
-  const JsonField motors = root["motors"];
+  const hostio::JsonField motors = root["motors"];
   motors.expect_object();
   for (const auto& [id, m] : j["motors"].items()) {
-    const JsonField motor_field = motors[id.c_str()];
+    const hostio::JsonField motor_field = motors[id.c_str()];
     FleetFileMotor motor;
     motor.id = id;
     motor.parameters = out.pooled.values();
@@ -82,12 +82,12 @@ FleetFile load_fleet_file(const std::filesystem::path& path) {
     if (motor_field.has("reason")) motor.reason = motor_field["reason"].string();
     if (motor_field.has("t")) motor.t = motor_field["t"].number_or_null();
     motor.cycles = motor_field["cycles"].count();
-    const JsonField metrics = motor_field["metrics"];
+    const hostio::JsonField metrics = motor_field["metrics"];
     motor.rmse_stator_k = metrics["rmse_stator_k"].number();
     if (metrics.has("rmse_rotor_k")) motor.rmse_rotor_k = metrics["rmse_rotor_k"].number_or_null();
-    const JsonField parameters = motor_field["parameters"];
+    const hostio::JsonField parameters = motor_field["parameters"];
     for (std::size_t k = 0; k < parameters.size(); ++k) {
-      const JsonField name = parameters.at(k)["name"];
+      const hostio::JsonField name = parameters.at(k)["name"];
       const int i = param_index(name.string());
       if (i < 0) name.fail("unknown parameter '" + name.string() + "'");
       motor.parameters[static_cast<std::size_t>(i)] = parameters.at(k)["value"].number();
@@ -110,7 +110,7 @@ CalibrationResult motor_calibration(const FleetFile& fleet, const std::string& i
   }
   std::string known;
   for (const FleetFileMotor& m : fleet.motors) known += (known.empty() ? "" : ", ") + m.id;
-  throw BadInput("--motor-id: no motor '" + id + "' in the fleet (its motors: " + known + ")");
+  throw hostio::BadInput("--motor-id: no motor '" + id + "' in the fleet (its motors: " + known + ")");
 }
 
 }  // namespace lptn::fleet

@@ -28,7 +28,7 @@ std::vector<double> correlation_sums(const std::vector<std::vector<double>>& ser
   std::vector<Eigen::FFT<double>> ffts(workers);
   for (auto& fft : ffts) fft.SetFlag(Eigen::FFT<double>::HalfSpectrum);
   std::vector<std::vector<double>> lag_products(series.size());
-  parallel_for(series.size(), static_cast<int>(workers), [&](std::size_t i) {
+  hostio::parallel_for(series.size(), static_cast<int>(workers), [&](std::size_t i) {
     const std::vector<double>& r = series[i];
     if (r.size() < 2) return;
     Eigen::FFT<double>& fft = ffts[i % workers];  // parallel_for: item i on thread i mod workers

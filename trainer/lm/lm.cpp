@@ -271,7 +271,7 @@ CycleBlock* make_residuals(const Model<double>& model, const data::Cycle& cycle,
 // each SharedBlock, which copies its slot. The blocks are simulated here, on `threads` threads.
 class SharedEvaluation final : public ceres::EvaluationCallback {
  public:
-  SharedEvaluation(const ProcessGroup& group, int threads, std::size_t free_parameters)
+  SharedEvaluation(const hostio::ProcessGroup& group, int threads, std::size_t free_parameters)
       : group_(group), threads_(threads), nf_(free_parameters) {}
 
   // Slot layout: [failed] [m + 1 residuals] [(m + 1) x nf Jacobian] [(m + 1) x 2 Jacobian].
@@ -290,7 +290,7 @@ class SharedEvaluation final : public ceres::EvaluationCallback {
   void PrepareForEvaluation(bool evaluate_jacobians, bool /*new_evaluation_point*/) override {
     ++evaluations_;
     std::fill(buffer_.begin(), buffer_.end(), 0.0);
-    parallel_for(blocks_.size(), threads_, [&](std::size_t b) {
+    hostio::parallel_for(blocks_.size(), threads_, [&](std::size_t b) {
       if (!blocks_[b]) return;
       double* slot = buffer_.data() + b * slot_size();
       double* residuals = slot + 1;
@@ -310,7 +310,7 @@ class SharedEvaluation final : public ceres::EvaluationCallback {
   std::size_t joined_doubles() const { return buffer_.size(); }
 
  private:
-  const ProcessGroup& group_;
+  const hostio::ProcessGroup& group_;
   int threads_;
   std::size_t nf_;
   std::vector<std::unique_ptr<CycleBlock>> blocks_;
@@ -357,7 +357,7 @@ std::array<std::vector<std::vector<double>>, 2> residual_series(const Model<doub
   // Per cycle and sensor, simulated in parallel; then in the cycles' order, skipping the empty.
   std::vector<std::array<std::vector<double>, 2>> per_cycle(cycles.size());
   std::vector<std::array<NoiseSum, 2>> per_cycle_noise(cycles.size());
-  parallel_for(cycles.size(), threads, [&](std::size_t i) {
+  hostio::parallel_for(cycles.size(), threads, [&](std::size_t i) {
     if (dataset.remote(cycles[i])) return;  // its process takes its series
     const data::Cycle& cycle = dataset.cycles[cycles[i]];
     const ParamVector<double> pc = cooling.empty() ? p : with_cooling_factor(p, cooling[i]);
@@ -470,7 +470,7 @@ LmReport fit_once(const MotorFile& motor, const ParamVector<double>& start, Data
     theta[j] = free.to_internal(j, v);
   }
 
-  const ProcessGroup& group = dataset.group();
+  const hostio::ProcessGroup& group = dataset.group();
   report.mpi_ranks = group.size();
   SharedEvaluation shared(group, settings.threads, nf);
   ceres::Problem::Options problem_options;
@@ -821,7 +821,7 @@ NormalEquations normal_equations(const Model<double>& model, const FreeParameter
     if (block->measured() == 0) continue;
     sums.push_back({std::move(block), {offsets[i].stator_core, offsets[i].rotor_core}, {}, {}, 0, true});
   }
-  parallel_for(sums.size(), threads, [&](std::size_t i) {
+  hostio::parallel_for(sums.size(), threads, [&](std::size_t i) {
     CycleSums& c = sums[i];
     c.ok = c.block->normal_sums(theta.data(), c.offset.data(), c.jtj, c.jtr, c.rss);
   });

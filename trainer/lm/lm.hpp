@@ -20,7 +20,7 @@ struct LmSettings {
   int max_iterations = 60;
   double function_tolerance = 1e-9;   // relative change of the cost that ends the fit
   double parameter_tolerance = 1e-9;  // relative step that ends the fit
-  int threads = worker_threads();     // residual blocks (cycles) evaluated in parallel
+  int threads = hostio::worker_threads();     // residual blocks (cycles) evaluated in parallel
   double correlation_flag = 0.95;     // |correlation| from which a parameter pair is flagged
   // Judge which free parameters the data pins (docs/calibration.md, "Identifiability"): one
   // the data cannot move, or pins only within a factor of exp(max_log_std) at 1 sigma, is fixed
@@ -114,6 +114,6 @@ struct NormalEquations {
 };
 NormalEquations normal_equations(const Model<double>& model, const FreeParameters& free, const ParamVector<double>& at,
                                  DatasetRef dataset, const std::vector<std::size_t>& cycles,
-                                 const std::vector<InitialOffsets<double>>& offsets, int threads = worker_threads());
+                                 const std::vector<InitialOffsets<double>>& offsets, int threads = hostio::worker_threads());
 
 }  // namespace lptn::lm

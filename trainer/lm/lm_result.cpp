@@ -77,7 +77,7 @@ void calibrate_lm(const CalibrationRequest& /*request*/, const MotorFile& motor,
                                 if (!progress) return;
                                 char buf[160];
                                 std::snprintf(buf, sizeof buf, "lm: iteration %3d  rmse %8.4f K  %s", iteration, rmse,
-                                              ProgressLine::clock(seconds).c_str());
+                                              hostio::ProgressLine::clock(seconds).c_str());
                                 progress(buf, true);
                               });
   record_lm_fit(result, fit, FreeParameters::from_motor(motor), result.train_cycles, to_json(settings));

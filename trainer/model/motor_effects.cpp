@@ -13,7 +13,7 @@ int effect_by_name(std::string_view name, std::string_view option) {
   if (e >= 0) return e;
   std::string known;
   for (std::string_view n : EffectLibrary::kNames) known += (known.empty() ? "" : ", ") + std::string(n);
-  throw BadInput(std::string(option) + ": unknown effect '" + std::string(name) + "' (known: " + known + ")");
+  throw hostio::BadInput(std::string(option) + ": unknown effect '" + std::string(name) + "' (known: " + known + ")");
 }
 
 void enable_effect(MotorFile& motor, int effect) {

@@ -14,7 +14,7 @@
 namespace lptn {
 
 // A bad motor file; the message is one line: "FILE:LINE: key 'KEY': reason".
-class MotorFileError : public BadInput {
+class MotorFileError : public hostio::BadInput {
  public:
   using BadInput::BadInput;
 };

@@ -39,13 +39,13 @@ ordered_json constants_json(std::string_view section, const MotorConstants<doubl
 }
 
 // One section's constants into c, each checked as its field says (as the motor file's reader does).
-void read_constants(const JsonField& section_field, std::string_view section, MotorConstants<double>& c) {
+void read_constants(const hostio::JsonField& section_field, std::string_view section, MotorConstants<double>& c) {
   section_field.expect_object();
   std::set<std::string> known;
   MotorField table{};
   int* rows = nullptr;
   struct Column {
-    JsonField field;
+    hostio::JsonField field;
     FieldRule rule;
     double* into;
   };
@@ -54,7 +54,7 @@ void read_constants(const JsonField& section_field, std::string_view section, Mo
     const std::string k(key);
     known.insert(k);
     if (!section_field.has(k.c_str()) && !f.required) return fallback;
-    const JsonField v = section_field[k.c_str()];
+    const hostio::JsonField v = section_field[k.c_str()];
     const double x = v.number();
     if (const char* why = internal::rule_broken(f.rule, x, nullptr)) v.fail(why);
     return x;
@@ -71,7 +71,7 @@ void read_constants(const JsonField& section_field, std::string_view section, Mo
             columns.clear();
           } else {
             known.insert(key);
-            const JsonField v = section_field[key.c_str()];
+            const hostio::JsonField v = section_field[key.c_str()];
             const long long n = v.integer();
             if (n < 1 || n > f.max_count) v.fail("must be a whole number from 1 to " + std::to_string(f.max_count));
             member = static_cast<int>(n);
@@ -127,11 +127,11 @@ ordered_json motor_json(const MotorFile& motor) {
   return j;
 }
 
-MotorFile motor_from_json(const JsonField& motor_field) {
+MotorFile motor_from_json(const hostio::JsonField& motor_field) {
   MotorFile motor;
   motor.name = motor_field["name"].string();
   motor.parameters = default_parameter_settings();
-  const JsonField constants = motor_field["constants"];
+  const hostio::JsonField constants = motor_field["constants"];
   std::set<std::string> sections;
   for (const std::string_view section : internal::constant_sections()) {
     const std::string key(section);
@@ -140,10 +140,10 @@ MotorFile motor_from_json(const JsonField& motor_field) {
   }
   for (const auto& [key, v] : constants.json().items())
     if (!sections.count(key)) constants[key.c_str()].fail("unknown section");
-  const JsonField parameters = motor_field["parameters"];
+  const hostio::JsonField parameters = motor_field["parameters"];
   parameters.expect_object();
   for (const auto& [name, v] : parameters.json().items()) {
-    const JsonField p = parameters[name.c_str()];
+    const hostio::JsonField p = parameters[name.c_str()];
     const int index = param_index(name);
     if (index < 0) p.fail("unknown parameter");
     ParameterSetting& s = motor.parameters[static_cast<std::size_t>(index)];
@@ -155,7 +155,7 @@ MotorFile motor_from_json(const JsonField& motor_field) {
     if (const internal::SettingProblem problem = internal::setting_problem(index, s); !problem.reason.empty())
       (problem.key.empty() ? p : p[std::string(problem.key).c_str()]).fail(problem.reason);
   }
-  const JsonField effects = motor_field["effects"];
+  const hostio::JsonField effects = motor_field["effects"];
   for (std::size_t i = 0; i < effects.size(); ++i) {
     const std::string name = effects.at(i).string();
     const int e = effect_index(name);

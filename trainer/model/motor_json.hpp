@@ -17,6 +17,6 @@ nlohmann::ordered_json motor_json(const MotorFile& motor);
 
 // The motor `motor_json` wrote (path and text left empty); throws JsonFileError naming the field
 // ("cal.json: field 'motor.constants.thermal.mass_stator_kg': must be greater than zero").
-MotorFile motor_from_json(const JsonField& motor);
+MotorFile motor_from_json(const hostio::JsonField& motor);
 
 }  // namespace lptn

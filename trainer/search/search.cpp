@@ -115,7 +115,7 @@ void calibrate_by_search(const CalibrationRequest& request, const MotorFile& mot
                                                char buf[200];
                                                std::snprintf(buf, sizeof buf, "%s: %5.1f G of %.1f G model steps %s best %.4f K  %s elapsed",
                                                              to_string(method), double(steps) / 1e9, double(budget) / 1e9,
-                                                             ProgressLine::bar(done).c_str(), best, ProgressLine::clock(seconds).c_str());
+                                                             hostio::ProgressLine::bar(done).c_str(), best, hostio::ProgressLine::clock(seconds).c_str());
                                                progress(buf, done >= 1.0);
                                              });
   for (int i = 0; i < kNumParams; ++i) result.parameters[static_cast<std::size_t>(i)].value = o.values[i];

@@ -31,7 +31,7 @@ struct SearchSettings {
   double sigma = 0.25;        // CMA-ES: the first step size, normalized units
   int population = 0;         // CMA-ES: lambda (0: 4 + 3 ln n)
   std::uint64_t seed = 1;
-  int threads = worker_threads();
+  int threads = hostio::worker_threads();
 };
 nlohmann::json to_json(const SearchSettings& settings);
 const char* to_string(SearchMethod method);  // the --method name

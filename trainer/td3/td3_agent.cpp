@@ -360,7 +360,7 @@ void Agent::save(const std::filesystem::path& file) const {
   m.buffer.write(out);
   const std::uint64_t sum = internal::checksum(out.data().data(), out.data().size());
   out.put(sum);
-  write_file_atomically(file, out.data());
+  hostio::write_file_atomically(file, out.data());
 }
 
 namespace {

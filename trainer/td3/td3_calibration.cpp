@@ -400,7 +400,7 @@ SplitMetrics evaluate_scheduled_actor(const Td3Outcome& o, const MotorFile& moto
     throw std::invalid_argument("evaluate_scheduled_actor: the outcome's actor does not map an operating point to these parameters");
   SplitMetrics out;
   out.cycles.resize(cycles.size());
-  parallel_for(cycles.size(), worker_threads(), [&](std::size_t i) {
+  hostio::parallel_for(cycles.size(), hostio::worker_threads(), [&](std::size_t i) {
     const data::Cycle& cycle = dataset.cycles[cycles[i]];
     CycleSimulation sim;
     sim.stator_sensor.reserve(cycle.steps);

@@ -26,9 +26,9 @@ void keep_agent(const CalibrationRequest& a, const Td3Outcome& o, CalibrationRes
   std::ifstream in(o.agent_file, std::ios::binary);
   const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (!in.good() && !in.eof()) throw std::runtime_error(o.agent_file.string() + ": cannot read the agent to keep");
-  write_file_atomically(kept, bytes);
+  hostio::write_file_atomically(kept, bytes);
   r.details["agent_file"] = kept.filename().string();
-  r.details["agent_sha256"] = sha256_hex(bytes.data(), bytes.size());
+  r.details["agent_sha256"] = hostio::sha256_hex(bytes.data(), bytes.size());
 }
 
 // A string field of method.details, "" where absent or not a string.
@@ -46,7 +46,7 @@ WarmStart warm_start_from(const CalibrationRequest& a, const MotorFile& motor) {
   const CalibrationResult earlier = load_calibration(file);
   const std::string agent_file = detail(earlier, "agent_file");
   if (earlier.method != "td3" || agent_file.empty())
-    throw BadInput(file.string() + ": method.details.agent_file: not a td3 calibration with an agent to start from");
+    throw hostio::BadInput(file.string() + ": method.details.agent_file: not a td3 calibration with an agent to start from");
   // The same free parameters and bounds: the agent's actions and states mean nothing otherwise.
   const FreeParameters free = FreeParameters::from_motor(motor);
   std::vector<std::string> before, now;
@@ -55,12 +55,12 @@ WarmStart warm_start_from(const CalibrationRequest& a, const MotorFile& motor) {
   for (std::size_t k = 0; k < free.size(); ++k)
     now.push_back(std::string(param_spec(free.index[k]).name) + " [" + std::to_string(free.min[k]) + ", " + std::to_string(free.max[k]) + "]");
   if (before != now)
-    throw BadInput(file.string() + ": parameters: calibrated other parameters or bounds than " + a.motor + " marks; a warm start needs the same");
+    throw hostio::BadInput(file.string() + ": parameters: calibrated other parameters or bounds than " + a.motor + " marks; a warm start needs the same");
   const std::filesystem::path agent = file.parent_path() / agent_file;
-  if (!std::filesystem::exists(agent)) throw BadInput(file.string() + ": method.details.agent_file: " + agent.string() + " does not exist");
-  const std::string sha = sha256_file(agent);
+  if (!std::filesystem::exists(agent)) throw hostio::BadInput(file.string() + ": method.details.agent_file: " + agent.string() + " does not exist");
+  const std::string sha = hostio::sha256_file(agent);
   if (sha != detail(earlier, "agent_sha256"))
-    throw BadInput(file.string() + ": method.details.agent_sha256: " + agent.string() + " is not the agent this calibration wrote");
+    throw hostio::BadInput(file.string() + ": method.details.agent_sha256: " + agent.string() + " is not the agent this calibration wrote");
   return {agent, sha};
 }
 
@@ -99,8 +99,8 @@ void calibrate_td3(const CalibrationRequest& a, const MotorFile& motor, DatasetR
                       ? "%s: round %4d/%d %s reward %7.3f  average %7.3f  %s elapsed, ~%s left%s"
                       : "%s: episode %4d/%d %s reward %7.3f  average %7.3f  %s elapsed, ~%s left%s",
                   to_string(formulation), e.episode, e.max_episodes,
-                  ProgressLine::bar(double(e.episode) / e.max_episodes).c_str(), e.reward, e.average,
-                  ProgressLine::clock(e.seconds).c_str(), ProgressLine::clock(e.seconds_left).c_str(),
+                  hostio::ProgressLine::bar(double(e.episode) / e.max_episodes).c_str(), e.reward, e.average,
+                  hostio::ProgressLine::clock(e.seconds).c_str(), hostio::ProgressLine::clock(e.seconds_left).c_str(),
                   e.random ? " (random actions)" : "");
     progress(buf, e.episode == e.max_episodes);
     return true;

@@ -85,7 +85,7 @@ struct TrainingSettings {
   SequentialSettings sequential;
 };
 
-class SettingsError : public BadInput {
+class SettingsError : public hostio::BadInput {
  public:
   using BadInput::BadInput;
 };

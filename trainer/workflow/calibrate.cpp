@@ -47,9 +47,9 @@ std::vector<std::string> doubtful_input(const data::Dataset& dataset, const Moto
 }
 
 // The model ran away at the motor file's values: bad input, naming the most implausible value.
-BadInput not_simulable(const std::string& path, const MotorFile& motor, const lm::ModelNotSimulable& e) {
+hostio::BadInput not_simulable(const std::string& path, const MotorFile& motor, const lm::ModelNotSimulable& e) {
   const std::string why = implausible_values_summary(motor);
-  return BadInput(path + ": " + e.what() + (why.empty() ? std::string() : "; the most implausible value: " + why));
+  return hostio::BadInput(path + ": " + e.what() + (why.empty() ? std::string() : "; the most implausible value: " + why));
 }
 
 CalibrationMethod method_for(const std::string& method, CalibrationMethod td3) {
@@ -67,43 +67,43 @@ bool is_method(const std::string& name) {
   return false;
 }
 
-const ProcessGroup& calibration_group(const std::string& method) {
-  return method == "lm" ? ProcessGroup::world() : ProcessGroup::alone();
+const hostio::ProcessGroup& calibration_group(const std::string& method) {
+  return method == "lm" ? hostio::ProcessGroup::world() : hostio::ProcessGroup::alone();
 }
 
 void check_request(const CalibrationRequest& q, CalibrationMethod td3) {
   if (!is_method(q.method)) {
     std::string known;
     for (std::string_view m : kMethods) known += (known.empty() ? "" : ", ") + std::string(m);
-    throw BadInput("--method " + q.method + ": not a calibration method (" + known + ")");
+    throw hostio::BadInput("--method " + q.method + ": not a calibration method (" + known + ")");
   }
-  if (q.data.empty() && q.fleet.empty()) throw BadInput("calibrate: give --data (one motor) or --fleet (many)");
-  if (!q.data.empty() && !q.fleet.empty()) throw BadInput("--data and --fleet: one or the other");
+  if (q.data.empty() && q.fleet.empty()) throw hostio::BadInput("calibrate: give --data (one motor) or --fleet (many)");
+  if (!q.data.empty() && !q.fleet.empty()) throw hostio::BadInput("--data and --fleet: one or the other");
   if (!q.fleet.empty() && q.method != "lm")
-    throw BadInput("--fleet: only --method lm calibrates a fleet (its per-motor factors are LM fits)");
-  if (!q.fleet.empty() && !q.sensor_faults.empty()) throw BadInput("--sensor-fault: not with --fleet (a fault is one motor's sensor)");
+    throw hostio::BadInput("--fleet: only --method lm calibrates a fleet (its per-motor factors are LM fits)");
+  if (!q.fleet.empty() && !q.sensor_faults.empty()) throw hostio::BadInput("--sensor-fault: not with --fleet (a fault is one motor's sensor)");
   if ((!q.warm_start.empty() || q.test_curve) && q.method != "td3")
-    throw BadInput(std::string(q.warm_start.empty() ? "--test-curve" : "--warm-start") + ": only with --method td3");
+    throw hostio::BadInput(std::string(q.warm_start.empty() ? "--test-curve" : "--warm-start") + ": only with --method td3");
   // LM shares its work over the processes of an MPI job; TD3 does not: every rank would train the
   // same agent and write the same files.
-  if (q.method != "lm" && launched_by_mpi())
-    throw BadInput("--method " + q.method + ": not shared over MPI processes (only --method lm is); run it without mpirun");
+  if (q.method != "lm" && hostio::launched_by_mpi())
+    throw hostio::BadInput("--method " + q.method + ": not shared over MPI processes (only --method lm is); run it without mpirun");
   if (is_td3(q.method) && td3 == nullptr)
-    throw BadInput("--method " + q.method + ": this program has no TD3 calibrator (lptn-td3 has; lptn runs it)");
+    throw hostio::BadInput("--method " + q.method + ": this program has no TD3 calibrator (lptn-td3 has; lptn runs it)");
   for (const std::string& name : q.effects) static_cast<void>(effect_by_name(name, "--effect"));
 }
 
 CalibrationResult calibrate(const CalibrationRequest& q, const CalibrationEvents& events, CalibrationMethod td3) {
   check_request(q, td3);
-  if (!q.fleet.empty()) throw BadInput("--fleet: a fleet is calibrated by calibrate_fleet");
-  const ProcessGroup& group = calibration_group(q.method);
+  if (!q.fleet.empty()) throw hostio::BadInput("--fleet: a fleet is calibrated by calibrate_fleet");
+  const hostio::ProcessGroup& group = calibration_group(q.method);
   MotorFile motor = requested_motor(q);
   std::vector<std::filesystem::path> paths(q.data.begin(), q.data.end());
   SharedDataset dataset = load_shared_dump(paths, group, data::with_data_map(q.map));
   try {
     data::correct_readings(dataset.data, q.sensor_faults);
-  } catch (const BadInput& e) {
-    throw BadInput(std::string("--sensor-fault: ") + e.what());
+  } catch (const hostio::BadInput& e) {
+    throw hostio::BadInput(std::string("--sensor-fault: ") + e.what());
   }
   const Split split = split_cycles(dataset.data, q.test_cycles, q.test_fraction, q.seed);
   balance_training(dataset, split.train, group);  // only LM runs shared
@@ -135,8 +135,8 @@ CalibrationResult calibrate(const CalibrationRequest& q, const CalibrationEvents
 
 FleetCalibration calibrate_fleet(const CalibrationRequest& q, const CalibrationEvents& events) {
   check_request(q);
-  if (q.fleet.empty()) throw BadInput("calibrate_fleet: give --fleet");
-  const ProcessGroup& group = calibration_group(q.method);
+  if (q.fleet.empty()) throw hostio::BadInput("calibrate_fleet: give --fleet");
+  const hostio::ProcessGroup& group = calibration_group(q.method);
   const MotorFile motor = requested_motor(q);
   const fleet::FleetDump fleet = fleet::load_shared_fleet(q.fleet, group, data::with_data_map(q.map));
   const Split split = split_cycles(fleet.dataset.data, q.test_cycles, q.test_fraction, q.seed);

@@ -42,7 +42,7 @@ bool is_td3(const std::string& method);
 
 // The processes a method's work is shared over: LM's over the MPI job, if one started this
 // program; every other method's alone (each rank would train the same agent).
-const ProcessGroup& calibration_group(const std::string& method);
+const hostio::ProcessGroup& calibration_group(const std::string& method);
 
 // The request's own arguments, before any file is read: the method (known, runnable here: `td3`
 // null refuses the TD3 formulations), MPI (only LM is shared), the effects' names, the options

@@ -79,7 +79,7 @@ std::array<NoiseSum, 2> noise_over(const Model<double>& model, const ParamsOf& p
                                    const std::vector<std::size_t>& cycles) {
   const data::Dataset rates = reading_rates(dataset);
   std::vector<std::array<NoiseSum, 2>> noise(cycles.size());
-  parallel_for(cycles.size(), worker_threads(), [&](std::size_t i) {
+  hostio::parallel_for(cycles.size(), hostio::worker_threads(), [&](std::size_t i) {
     if (dataset.remote(cycles[i])) return;
     const data::Cycle& cycle = dataset.cycles[cycles[i]];
     const CycleEvaluation e = simulate_and_evaluate(model, params_of(cycles[i]), cycle);
@@ -113,7 +113,7 @@ std::vector<CalibrationWarning> score_and_judge_adequacy(CalibrationResult& r, c
   const ParamVector<double> values = r.values();
   if (!dataset.shared()) {
     // Adequacy's one simulation of every cycle gives evaluate_split's metrics, to the bit.
-    diagnose::Adequacy a = diagnose::assess_adequacy(model, values, dataset, split, worker_threads());
+    diagnose::Adequacy a = diagnose::assess_adequacy(model, values, dataset, split, hostio::worker_threads());
     r.train = std::move(a.train);
     r.test = std::move(a.test);
     return inadequate(a.sensors, r.method);

@@ -58,10 +58,10 @@ std::string not_its_data(const DiagnosisRequest& q, const check::Provenance& p) 
 }  // namespace
 
 DiagnosisOutcome diagnose(const DiagnosisRequest& q, const DiagnosisEvents& events) {
-  if (!(q.level > 0 && q.level < 0.5)) throw BadInput("--level: must be in (0, 0.5), got " + std::to_string(q.level));
+  if (!(q.level > 0 && q.level < 0.5)) throw hostio::BadInput("--level: must be in (0, 0.5), got " + std::to_string(q.level));
   // Under mpirun the LM refits are shared over the processes (each simulates its share of the
   // cycles); every rank holds the whole dump and does the rest too.
-  const ProcessGroup& group = ProcessGroup::world();
+  const hostio::ProcessGroup& group = hostio::ProcessGroup::world();
   const CalibrationResult calibration = load_calibration(q.calibration);
   const MotorFile motor = motor_of(calibration);
   std::vector<std::filesystem::path> paths(q.data.begin(), q.data.end());
@@ -108,7 +108,7 @@ DiagnosisOutcome diagnose(const DiagnosisRequest& q, const DiagnosisEvents& even
   if (!q.updated_calibration) return out;
   CalibrationResult r = diagnose::updated_calibration(calibration, s.motor, out.last().baseline, shared, split,
                                                       "lptn diagnose --auto from " + q.calibration);
-  r.created_utc = utc_now();
+  r.created_utc = hostio::utc_now();
   out.updated = std::move(r);
   return out;
 }

@@ -16,8 +16,8 @@ namespace lptn::canfile {
 
 class BlockLineReader {
  public:
-  using Status = LineReader::Status;
-  static constexpr std::size_t kMaxLine = LineReader::kMaxLine;
+  using Status = hostio::LineReader::Status;
+  static constexpr std::size_t kMaxLine = hostio::LineReader::kMaxLine;
   static constexpr std::size_t kBlock = std::size_t{256} << 10;
 
   explicit BlockLineReader(std::FILE* f) : f_(f), buf_(new char[kBlock]) {}

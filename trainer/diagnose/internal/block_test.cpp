@@ -38,7 +38,7 @@ std::vector<double> block_errors(const Model<double>& model, const ParamVector<d
                                  DatasetRef dataset, const std::vector<std::size_t>& cycles,
                                  std::size_t steps_per_block, int threads) {
   std::vector<std::vector<double>> per_cycle(cycles.size());
-  parallel_for(cycles.size(), threads, [&](std::size_t i) {
+  hostio::parallel_for(cycles.size(), threads, [&](std::size_t i) {
     const data::Cycle& cycle = dataset.cycles[cycles[i]];
     per_cycle[i] = cycle_blocks(simulate_and_evaluate(model, params, cycle), cycle, steps_per_block);
   });
@@ -54,7 +54,7 @@ SplitRun run_split(const Model<double>& model, const ParamVector<double>& params
   std::vector<std::vector<double>> per_cycle(split.train.size());
   std::vector<CycleMetrics> metrics(every.size());
   // Train and test in one loop over the cores (a few cycles keep both busy only together).
-  parallel_for(every.size(), threads, [&](std::size_t i) {
+  hostio::parallel_for(every.size(), threads, [&](std::size_t i) {
     const data::Cycle& cycle = dataset.cycles[every[i]];
     const CycleEvaluation e = simulate_and_evaluate(model, params, cycle);
     if (i < per_cycle.size()) per_cycle[i] = cycle_blocks(e, cycle, steps_per_block);

@@ -33,7 +33,7 @@ double p_value(std::vector<T> items, double observed, F&& statistic, int threads
       std::shuffle(items.begin(), items.end(), rng);
       batch[static_cast<std::size_t>(i)] = items;
     }
-    parallel_for(static_cast<std::size_t>(size), threads, [&](std::size_t i) {
+    hostio::parallel_for(static_cast<std::size_t>(size), threads, [&](std::size_t i) {
       reaches[i] = statistic(batch[i]) >= observed * (1 - 1e-12);
     });
     for (int i = 0; i < size; ++i) reached += reaches[static_cast<std::size_t>(i)];

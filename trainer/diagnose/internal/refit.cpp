@@ -69,7 +69,7 @@ void correct_for_grid(SharedDataset& coarse, DatasetRef fine, const Model<double
                       const ParamVector<double>& at, const std::vector<std::size_t>& train,
                       const std::vector<InitialOffsets<double>>& offsets, int threads) {
   // diagnose's shared dataset keeps every cycle's samples on every rank: each corrects them all.
-  parallel_for(train.size(), threads, [&](std::size_t i) {
+  hostio::parallel_for(train.size(), threads, [&](std::size_t i) {
     const data::Cycle& f = fine.cycles[train[i]];
     data::Cycle& c = coarse.data.cycles[train[i]];
     if (c.steps == 0 || f.steps == 0) return;
@@ -153,7 +153,7 @@ double cost_on(const MotorFile& motor, const lm::LmReport& fit, DatasetRef datas
                int threads) {
   const Model<double> model = motor.model();
   std::vector<double> per_cycle(train.size(), 0.0);
-  parallel_for(train.size(), threads, [&](std::size_t i) {
+  hostio::parallel_for(train.size(), threads, [&](std::size_t i) {
     double sum = 0;
     const bool finite = for_each_grid_residual(model, fit.values, dataset.cycles[train[i]], fit.offsets[i],
                                                [&](double r) { sum += r * r; });

@@ -22,7 +22,7 @@ std::filesystem::path write_checkpoint(const std::filesystem::path& dir, const A
   state["identity"] = identity;
   state["episode"] = episode;
   state["agent_file"] = name;
-  write_file_atomically(dir / kStateFile, state.dump() + "\n");
+  hostio::write_file_atomically(dir / kStateFile, state.dump() + "\n");
   for (const auto& entry : std::filesystem::directory_iterator(dir)) {
     const std::string f = entry.path().filename().string();
     if (f.rfind("agent-", 0) == 0 && f != name) std::filesystem::remove(entry.path());

@@ -187,7 +187,7 @@ class SequentialTrainer {
 
   std::vector<SetScore> score(const std::vector<double>& u, std::size_t n) {
     std::vector<SetScore> out(n);
-    scorer_.score(u.data(), n, out.data(), worker_threads());
+    scorer_.score(u.data(), n, out.data(), hostio::worker_threads());
     for (const SetScore& s : out) state_.simulated_steps += s.simulated_steps;
     return out;
   }
