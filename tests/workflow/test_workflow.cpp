@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "hostio/bad_input.hpp"
+#include "hostio/sha256.hpp"
 #include "lptn_testing/temp_dir.hpp"
 #include "simulator/generate/generate.hpp"
 #include "simulator/generate/plant_physics.hpp"
@@ -321,6 +322,22 @@ TEST_F(Workflow, ADiagnosisSaysWhetherTheDataIsTheCalibrations) {
   ASSERT_TRUE(elsewhere.updated.has_value());
   EXPECT_EQ(elsewhere.updated->method, "lm");
   EXPECT_EQ(elsewhere.json["rounds"].size(), elsewhere.rounds.size());
+  // The calibration it writes was fitted on the other data, and its record says so: the other
+  // files, their split; the first calibration's data is not its data.
+  const data::Dataset other_data = data::load_fleet_dump({other.path().string()});
+  const CalibrationResult& updated = *elsewhere.updated;
+  ASSERT_EQ(updated.data.size(), other_data.cycles.size());
+  for (std::size_t i = 0; i < updated.data.size(); ++i) {
+    EXPECT_EQ(updated.data[i].cycle, other_data.cycles[i].name);
+    EXPECT_EQ(updated.data[i].sha256, sha256_file(other_data.cycles[i].file));
+  }
+  EXPECT_EQ(updated.train_cycles.size() + updated.test_cycles.size(), other_data.cycles.size());
+  for (const std::string& name : updated.train_cycles)
+    EXPECT_TRUE(std::any_of(other_data.cycles.begin(), other_data.cycles.end(),
+                            [&](const data::Cycle& c) { return c.name == name; })) << name;
+  EXPECT_NE(updated.data_sha256, load_calibration(calibration).data_sha256);
+  EXPECT_TRUE(check::provenance(updated, other_data).all_seen()) << check::provenance(updated, other_data).summary();
+  EXPECT_FALSE(check::provenance(updated, data::load_fleet_dump({dir_->path().string()})).all_seen());
 
   q.level = 0.7;
   EXPECT_THROW(diagnose(q), BadInput);
