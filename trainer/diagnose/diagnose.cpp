@@ -481,7 +481,15 @@ Diagnosis diagnose(const MotorFile& motor, const ParamVector<double>& calibrated
   d.test_stator_rmse_k = before.stator_k;
   d.test_rmse_k = before.combined_k;
   if (progress) progress("drift between cycles");
-  d.drift = find_drift(model, d.baseline.values, dataset.data, settings.threads);
+  {
+    // The adequacy's simulations are the drift's at factor 1: the same metrics, not simulated again.
+    std::vector<const CycleMetrics*> simulated(dataset.cycles.size(), nullptr);
+    for (std::size_t i = 0; i < split.train.size() && i < d.adequacy.train.cycles.size(); ++i)
+      simulated[split.train[i]] = &d.adequacy.train.cycles[i];
+    for (std::size_t i = 0; i < split.test.size() && i < d.adequacy.test.cycles.size(); ++i)
+      simulated[split.test[i]] = &d.adequacy.test.cycles[i];
+    d.drift = find_drift(model, d.baseline.values, dataset.data, settings.threads, simulated);
+  }
   if (progress) progress("sensor faults");
   d.sensors = check_sensors(model, d.baseline.values, dataset.data, settings.threads);
   if (const SensorFinding* s = d.sensor_fault(); s && d.drift.found) {

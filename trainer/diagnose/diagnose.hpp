@@ -185,7 +185,8 @@ Selection select_effects(const MotorFile& motor, const ParamVector<double>& cali
                          const RoundDone& round_done = {});
 
 // `calibration` updated to `motor` (effects, text) and the fit `fit` (values, standard errors,
-// correlated pairs) with metrics recomputed on its split; the method stays "lm".
+// correlated pairs) with metrics recomputed on its split; the method stays "lm". Its data record
+// (files, hashes, data maps, split, time, version) is that of `dataset` and `split`, the data fitted.
 CalibrationResult updated_calibration(const CalibrationResult& calibration, const MotorFile& motor, const lm::LmReport& fit,
                                       DatasetRef dataset, const Split& split, const std::string& note);
 

@@ -25,13 +25,16 @@ constexpr int kMaxEvaluations = 40;  // Brent's worst case on [-1, 1] to 1e-4 is
 // t statistics finite when cycles agree to the last digit.
 constexpr double kFactorResolution = 0.005;
 
-double squared_error(const Model<double>& model, const ParamVector<double>& p, const data::Cycle& cycle,
-                     const PreparedCycle& prepared) {
-  const CycleMetrics m = evaluate_cycle(model, p, cycle, &prepared);
+double squared_error(const CycleMetrics& m) {
   double sse = 0;
   for (const ErrorMetrics* e : {&m.stator, &m.rotor})
     if (e->samples) sse += e->rmse_k * e->rmse_k * static_cast<double>(e->samples);
   return sse;
+}
+
+double squared_error(const Model<double>& model, const ParamVector<double>& p, const data::Cycle& cycle,
+                     const PreparedCycle& prepared) {
+  return squared_error(evaluate_cycle(model, p, cycle, &prepared));
 }
 
 struct Evaluated {  // a log factor and the error there
@@ -100,18 +103,43 @@ double brent_minimum(const F& f) {
 // dump that does not drift, the error is close to a parabola in log c over that span, and the
 // vertex settles after one or two more simulations (3.7 on average on a clean 48 h dump, where
 // Brent's bracket of the whole range took 10.6; the two agree to 6e-5 in log c). It returns the
-// vertex once a parabola through an evaluated vertex moves it by less than the tolerance. None
-// where the three do not bracket a minimum (a cycle that drifted further than the step: 7 of the
-// 76 on that dump), where a parabola is not convex or its vertex leaves the bracket, or where it
-// does not settle: Brent's minimizer then takes the whole range.
+// vertex once a parabola through an evaluated vertex moves it by less than the tolerance.
+// Where the three do not bracket a minimum (a cycle whose factor lies beyond the step: 39 of the
+// clean 200 h dump's 320, shunting cycles most, within 0.02..0.07 of it), the bracket is first
+// stretched downhill by golden-ratio steps, as Numerical Recipes' mnbrak does: one or two
+// simulations where Brent's minimizer over the whole range took 12.5. None where the baseline is
+// above both steps (not convex there), where the stretch leaves the range, where a parabola is
+// not convex or its vertex leaves the bracket, or where it does not settle: Brent's minimizer then
+// takes the whole range.
 constexpr double kBaselineStep = 0.02;  // log units: four times kFactorResolution
 constexpr int kMaxParabolicSteps = 8;
+constexpr double kGoldenRatio = 1.618033988749895;
+
+// Three points with the lowest in the middle (by position): the minimum's bracket, or none.
+template <class F>
+std::optional<std::array<Evaluated, 3>> bracket_from_baseline(const F& f, double f0) {
+  Evaluated low{-kBaselineStep, f(-kBaselineStep)}, mid{0.0, f0}, high{kBaselineStep, f(kBaselineStep)};
+  if (mid.f < low.f && mid.f < high.f) return std::array<Evaluated, 3>{low, mid, high};
+  if (!(low.f < mid.f) && !(high.f < mid.f)) return std::nullopt;  // flat at the baseline, or NaN
+  if (low.f < mid.f && high.f < mid.f) return std::nullopt;         // above both sides: not convex
+  // Downhill from `from` through `to`, one golden-ratio step further each time.
+  Evaluated from = mid, to = low.f < mid.f ? low : high;
+  while (true) {
+    const double x = to.x + kGoldenRatio * (to.x - from.x);
+    if (!(x > kMinLogFactor && x < kMaxLogFactor)) return std::nullopt;
+    const Evaluated next{x, f(x)};
+    if (next.f > to.f) return x < from.x ? std::array<Evaluated, 3>{next, to, from} : std::array<Evaluated, 3>{from, to, next};
+    from = to;
+    to = next;
+  }
+}
 
 template <class F>
 std::optional<double> parabolic_from_baseline(const F& f, double f0) {
-  std::array<Evaluated, 3> p{{{0.0, f0}, {-kBaselineStep, f(-kBaselineStep)}, {kBaselineStep, f(kBaselineStep)}}};
-  if (!(p[0].f < p[1].f && p[0].f < p[2].f)) return std::nullopt;
-  double lo = -kBaselineStep, hi = kBaselineStep;  // the minimum's bracket
+  const std::optional<std::array<Evaluated, 3>> bracket = bracket_from_baseline(f, f0);
+  if (!bracket) return std::nullopt;
+  std::array<Evaluated, 3> p = *bracket;
+  double lo = p[0].x, hi = p[2].x;  // the minimum's bracket
   const double tol = 0.5 * kLogFactorTolerance;
   for (int step = 0; step < kMaxParabolicSteps; ++step) {
     std::sort(p.begin(), p.end(), [](const Evaluated& a, const Evaluated& b) { return a.f < b.f; });
@@ -260,16 +288,17 @@ Drift drift_of(DriftGroup group, const data::Dataset& dataset, const std::vector
 }  // namespace
 
 Drift find_drift(const Model<double>& model, const ParamVector<double>& params, const data::Dataset& dataset,
-                 int threads) {
+                 int threads, const std::vector<const CycleMetrics*>& at_params) {
   // Both groups' factors in one pass over the cycles: each cycle's losses prepared once, its
-  // error at factor 1 simulated once. The losses' factors are computed even where the cooling's
-  // drift will be the finding, and then go unused (about four simulations a cycle).
+  // error at factor 1 simulated once (or read from `at_params`). The losses' factors are computed
+  // even where the cooling's drift will be the finding, and then go unused (about four
+  // simulations a cycle).
   const std::size_t n = dataset.cycles.size();
   std::vector<double> cooling(n), losses(n);
   hostio::parallel_for(n, threads, [&](std::size_t i) {
     const data::Cycle& cycle = dataset.cycles[i];
     const PreparedCycle prepared = prepare_cycle(model, cycle);
-    const double f0 = squared_error(model, params, cycle, prepared);
+    const double f0 = i < at_params.size() && at_params[i] ? squared_error(*at_params[i]) : squared_error(model, params, cycle, prepared);
     cooling[i] = best_factor(model, params, DriftGroup::cooling, cycle, prepared, f0);
     losses[i] = best_factor(model, params, DriftGroup::losses, cycle, prepared, f0);
   });

@@ -30,6 +30,7 @@
 #include <vector>
 
 #include "lptn/model.hpp"
+#include "trainer/calibrate/metrics.hpp"
 #include "trainer/data/dataset.hpp"
 
 namespace lptn::diagnose {
@@ -57,9 +58,11 @@ struct Drift {
   std::string inspect;               // what to look at
 };
 
-// Cooling first; where it shows no drift, the losses. `params` is the calibration.
+// Cooling first; where it shows no drift, the losses. `params` is the calibration; `at_params`,
+// one per cycle of `dataset` where given, the cycle's evaluate_cycle metrics at `params` where the
+// caller has them already (null: simulated here).
 Drift find_drift(const Model<double>& model, const ParamVector<double>& params, const data::Dataset& dataset,
-                 int threads);
+                 int threads, const std::vector<const CycleMetrics*>& at_params = {});
 
 // `params` with the group's parameters times `factor`.
 ParamVector<double> scaled_group(const ParamVector<double>& params, DriftGroup group, double factor);

@@ -8,6 +8,19 @@ namespace lptn::diagnose {
 CalibrationResult updated_calibration(const CalibrationResult& calibration, const MotorFile& motor, const lm::LmReport& fit,
                                       DatasetRef dataset, const Split& split, const std::string& note) {
   CalibrationResult r = calibration;
+  // The refit is the new calibration's fit, made on the data diagnose read: its record names those
+  // files as they were read (each one's hash and data map), the split and the lptn that made it,
+  // not the record of the calibration it started from. Copied, a diagnosis of other data (which it
+  // warns of) wrote a calibration that `lptn check` and `lptn report` then took for one of the
+  // first data's, and whose training cycles were not the ones fitted.
+  const CalibrationResult made_now = new_calibration(motor, calibration.motor.path.string(), dataset, split);
+  r.created_utc = made_now.created_utc;
+  r.lptn_version = made_now.lptn_version;
+  r.data = made_now.data;
+  r.data_sha256 = made_now.data_sha256;
+  r.train_cycles = made_now.train_cycles;
+  r.test_cycles = made_now.test_cycles;
+  r.split_rule = made_now.split_rule;
   r.motor = motor;
   r.motor.path = calibration.motor.path;
   r.effects = motor.effects;
