@@ -40,7 +40,7 @@ namespace {
 // `inputs_csv`: the CSV's fleet-dump columns as written (ReplaySummary::inputs_csv), loaded as the
 // CSV `out` would be.
 std::vector<std::string> log_against_motor(const std::string& log, const std::string& out, const replay::ReplaySummary& r,
-                                           const CalibrationResult& cal, const std::string& source) {
+                                           const calibrate::CalibrationResult& cal, const std::string& source) {
   if (r.stats.rows == 0) return {};  // the estimator never started: no inputs to check
   data::Dataset replayed;
   try {
@@ -90,7 +90,7 @@ struct DirectoryItem {
 // writes. Reported in the order of the names; the first bad log (in that order) is the error, and
 // then nothing is written: the CSVs go into a temporary directory renamed into place at the end.
 void replay_directory(const fs::path& dir, const std::string& out_dir, bool force, const fw::EstimatorConfig<double>& config,
-                      const canfile::LogSelection& select, const CalibrationResult& calibrated,
+                      const canfile::LogSelection& select, const calibrate::CalibrationResult& calibrated,
                       const std::string& source, int threads) {
   const std::vector<fs::path> logs = logs_in(dir);
   hostio::AtomicDirectory out(out_dir, force);
@@ -201,10 +201,10 @@ void add_replay(CLI::App& app) {
     if (args->calibration.empty() && args->fleet.empty())
       throw hostio::BadInput("replay: --calibration or --fleet is required (see --help)");
     const std::string& source = args->fleet.empty() ? args->calibration : args->fleet;
-    const CalibrationResult calibrated =
-        args->fleet.empty() ? load_calibration(args->calibration) : fleet::load_fleet_file(args->fleet).pooled;
+    const calibrate::CalibrationResult calibrated =
+        args->fleet.empty() ? calibrate::load_calibration(args->calibration) : fleet::load_fleet_file(args->fleet).pooled;
     // What a converter flashed with it would estimate: a calibration that is not ok says so first.
-    if (const std::string caution = status_caution(calibrated, source, true); !caution.empty())
+    if (const std::string caution = calibrate::status_caution(calibrated, source, true); !caution.empty())
       std::fprintf(stderr, "lptn: warning: %s\n", caution.c_str());
     const auto cal = replay::estimator_config_from(calibrated, source, map ? map->decoder() : lptn::bus::decoder());
     if (args->use_actor && !cal->config.actor.actor)
