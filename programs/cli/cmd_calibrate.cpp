@@ -111,12 +111,12 @@ void run_fleet(const CalibrateArgs& a, const hostio::ProcessGroup& group) {
   fleet::save_fleet(a.request.out, r, f.fit, f.settings);
   print_outcome_warnings(r);
   if (a.quiet) return;
-  std::vector<ErrorMetrics> stator, rotor;
+  std::vector<model::ErrorMetrics> stator, rotor;
   for (const fleet::FleetMotorResult& m : f.fit.motors) {
     stator.push_back(m.metrics.stator);
     rotor.push_back(m.metrics.rotor);
   }
-  const ErrorMetrics all_stator = pool(stator), all_rotor = pool(rotor);
+  const model::ErrorMetrics all_stator = model::pool(stator), all_rotor = model::pool(rotor);
   std::printf("each motor with its own cooling factor, all %zu cycles: stator rmse %.3f K", f.cycles, all_stator.rmse_k);
   if (all_rotor.samples) std::printf(", rotor rmse %.3f K", all_rotor.rmse_k);
   std::printf("\nthe type as if one motor had driven every cycle:\n");

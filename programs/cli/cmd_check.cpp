@@ -81,7 +81,7 @@ bool check_data(const CheckArgs& a) {
 // One motor checked: with fleet.json against the type and its own cooling factor; a motor the
 // fleet calibration does not know, and every motor under a calibration.json, against that calibration.
 nlohmann::json check_motor(const CheckArgs& a, const std::optional<fleet::FleetFile>& fleet_file, const calibrate::CalibrationResult& single,
-                           const fleet::FleetDump& fleet, std::size_t m, const std::optional<MotorFile>& data_motor) {
+                           const fleet::FleetDump& fleet, std::size_t m, const std::optional<model::MotorFile>& data_motor) {
   const std::string& id = fleet.motor_ids[m];
   std::string against = fleet_file ? "the type (not in " + a.calibration + ")" : a.calibration;
   calibrate::CalibrationResult calibration = single;
@@ -116,7 +116,7 @@ bool check_fleet(const CheckArgs& given) {
   if (is_fleet_file(a.calibration)) fleet_file = fleet::load_fleet_file(a.calibration);
   else single = calibrate::load_calibration(a.calibration);
   const fleet::FleetDump fleet = fleet::load_shared_fleet(a.fleet, group, with_map(a.map));
-  const std::optional<MotorFile> data_motor = check::motor_beside({a.fleet});
+  const std::optional<model::MotorFile> data_motor = check::motor_beside({a.fleet});
   nlohmann::json mine = nlohmann::json::object();  // motor index -> its verdict, for this rank's motors
   {
     hostio::ProgressLine line(a.quiet || a.json);

@@ -55,8 +55,8 @@ void add_inspect(CLI::App& app) {
     for (const std::string& d : args->data) check_input_path(d, "--data");
     for (const std::string& l : args->logs) check_input_path(l, "--log", InputPath::file);
     if (!args->motor.empty()) check_input_path(args->motor, "--motor", InputPath::file);
-    std::optional<MotorFile> motor;
-    if (!args->motor.empty()) motor = load_motor_file(args->motor);
+    std::optional<model::MotorFile> motor;
+    if (!args->motor.empty()) motor = model::load_motor_file(args->motor);
     std::vector<std::filesystem::path> paths(args->data.begin(), args->data.end());
     if (args->suggest_map) {
       data::SuggestHints hints;
@@ -100,10 +100,10 @@ void add_inspect(CLI::App& app) {
       }
     }
     std::vector<data::Finding> nameplate_findings;
-    std::vector<MotorFinding> motor_findings;
+    std::vector<model::MotorFinding> motor_findings;
     if (motor) {
       nameplate_findings = data::check_against_nameplate(dataset, motor->constants);
-      motor_findings = check_motor_plausibility(*motor);
+      motor_findings = model::check_motor_plausibility(*motor);
     }
     std::size_t warnings = dataset.warning_count() + motor_findings.size();
     for (const auto& f : nameplate_findings) warnings += f.severity == data::Finding::Severity::warning;
@@ -115,12 +115,12 @@ void add_inspect(CLI::App& app) {
             {{"severity", f.severity == data::Finding::Severity::warning ? "warning" : "info"}, {"message", f.message}});
       // Each implausible value of the motor file, with the range its own nameplate makes plausible.
       j["motor_findings"] = nlohmann::json::array();
-      for (const MotorFinding& f : motor_findings)
+      for (const model::MotorFinding& f : motor_findings)
         j["motor_findings"].push_back({{"severity", "warning"},
                                        {"key", f.key},
                                        {"value", f.value},
                                        {"line", f.line},
-                                       {"message", format_motor_finding(*motor, f)},
+                                       {"message", model::format_motor_finding(*motor, f)},
                                        {"plausible", f.plausible}});
       j["warnings"] = warnings;
       std::printf("%s\n", j.dump(2).c_str());
@@ -133,8 +133,8 @@ void add_inspect(CLI::App& app) {
           std::printf("  %s: %s\n", f.severity == data::Finding::Severity::warning ? "warning" : "info", f.message.c_str());
         std::printf("the motor file's values against its nameplate: %s\n",
                     motor_findings.empty() ? "all plausible" : "");
-        for (const MotorFinding& f : motor_findings)
-          std::printf("  warning: %s\n", format_motor_finding(*motor, f).c_str());
+        for (const model::MotorFinding& f : motor_findings)
+          std::printf("  warning: %s\n", model::format_motor_finding(*motor, f).c_str());
       }
     }
     if (args->strict && warnings > 0) throw std::runtime_error(std::to_string(warnings) + " warning(s) with --strict");

@@ -19,7 +19,7 @@
 namespace lptn::cli {
 namespace {
 
-nlohmann::json metrics_json(const ErrorMetrics& m) {
+nlohmann::json metrics_json(const model::ErrorMetrics& m) {
   return {{"rmse_k", m.rmse_k}, {"mean_abs_k", m.mean_abs_k}, {"max_abs_k", m.max_abs_k}, {"bias_k", m.bias_k},
           {"samples", m.samples}};
 }
@@ -31,7 +31,7 @@ void put(std::string& s, double v, int decimals) {
   s.append(buf, r.ptr);
 }
 
-std::string trace_csv(const data::Cycle& cycle, const CycleSimulation& sim) {
+std::string trace_csv(const data::Cycle& cycle, const model::CycleSimulation& sim) {
   std::string s = "time_s,stator_measured_c,stator_model_c,stator_residual_k,rotor_measured_c,rotor_model_c,"
                   "stator_winding_c,stator_core_c,rotor_winding_c,rotor_core_c\n";
   for (std::size_t k = 0; k < cycle.steps; ++k) {
@@ -80,7 +80,7 @@ void add_simulate(CLI::App& app) {
     for (const std::string& d : args->data) check_input_path(d, "--data");
     check_input_path(args->motor, "--motor", InputPath::file);
     check_output_path(args->out, args->force);
-    const MotorFile motor = load_motor_file(args->motor);
+    const model::MotorFile motor = model::load_motor_file(args->motor);
     ParamVector<double> params = motor.initial_values();
     for (const std::string& s : args->set) {
       const auto eq = s.find('=');
@@ -96,18 +96,18 @@ void add_simulate(CLI::App& app) {
     const data::Dataset dataset = data::load_fleet_dump(paths, with_map(args->map));
     const Model<double> model = motor.model();
     // What lptn inspect --motor would warn of, repeated before the results (one line each, stderr).
-    const std::vector<std::string> warnings = input_warnings(dataset, motor);
+    const std::vector<std::string> warnings = model::input_warnings(dataset, motor);
     print_input_warnings(warnings);
 
     std::unique_ptr<hostio::AtomicDirectory> out;
     if (!args->out.empty()) out = std::make_unique<hostio::AtomicDirectory>(args->out, args->force);
     nlohmann::json j;
-    std::vector<ErrorMetrics> all_stator, all_rotor;
+    std::vector<model::ErrorMetrics> all_stator, all_rotor;
     if (!args->json) std::printf("%-26s %8s %10s %10s %10s %10s %10s\n", "cycle", "hours", "rmse_st_K", "max_st_K", "bias_st_K", "rmse_rt_K", "max_rt_K");
     for (const data::Cycle& cycle : dataset.cycles) {
-      const CycleSimulation sim = simulate_cycle(model, params, cycle);
-      const ErrorMetrics st = compare(sim.stator_sensor, cycle, data::Channel::stator_winding_c);
-      const ErrorMetrics rt = compare(sim.rotor_sensor, cycle, data::Channel::rotor_c);
+      const model::CycleSimulation sim = model::simulate_cycle(model, params, cycle);
+      const model::ErrorMetrics st = model::compare(sim.stator_sensor, cycle, data::Channel::stator_winding_c);
+      const model::ErrorMetrics rt = model::compare(sim.rotor_sensor, cycle, data::Channel::rotor_c);
       all_stator.push_back(st);
       if (rt.samples) all_rotor.push_back(rt);
       nlohmann::json c = {{"name", cycle.name}, {"stator", metrics_json(st)}};
@@ -120,7 +120,7 @@ void add_simulate(CLI::App& app) {
       }
       if (out) hostio::write_file_atomically(out->path() / (cycle.name + ".csv"), trace_csv(cycle, sim));
     }
-    const ErrorMetrics st = pool(all_stator), rt = pool(all_rotor);
+    const model::ErrorMetrics st = model::pool(all_stator), rt = model::pool(all_rotor);
     j["overall"]["stator"] = metrics_json(st);
     if (rt.samples) j["overall"]["rotor"] = metrics_json(rt);
     j["warnings"] = warnings;
@@ -129,7 +129,7 @@ void add_simulate(CLI::App& app) {
     constexpr double kRunawayErrorK = 1000;
     const double worst = std::max(st.max_abs_k, rt.samples ? rt.max_abs_k : 0.0);
     if (!(worst < kRunawayErrorK)) {
-      const std::string why = implausible_values_summary(motor);
+      const std::string why = model::implausible_values_summary(motor);
       std::fprintf(stderr, "lptn: warning: the model's temperatures run away (error up to %.3g K)%s%s\n", worst,
                    why.empty() ? "" : "; the most implausible value: ", why.c_str());
     }

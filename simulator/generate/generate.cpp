@@ -91,7 +91,7 @@ std::vector<CycleSummary> generate(const GenerateOptions& options, const std::fi
                                    const std::function<void(int, int, const CycleSummary&)>& progress) {
   if (options.cycles < 1) throw std::invalid_argument("--cycles must be at least 1");
   std::filesystem::create_directories(dir / "truth");
-  const MotorFile motor = example_motor_file();
+  const model::MotorFile motor = example_motor_file();
   ParamVector<double> truth = true_parameters();
   for (const auto& [name, value] : options.truth_overrides) {
     const int p = param_index(name);
@@ -127,7 +127,7 @@ std::vector<CycleSummary> generate(const GenerateOptions& options, const std::fi
     plant_model.initial_state(x, soak, soak);
     PlantExtraState extra = initial_extra_state(soak);
     const ParamVector<double> cycle_truth =
-        with_cooling_factor(cycle_parameters(options.plant, truth, i, options.cycles), options.cooling_factor);
+        model::with_cooling_factor(cycle_parameters(options.plant, truth, i, options.cycles), options.cooling_factor);
     summary.cooling_factor = options.cooling_factor * cooling_factor(options.plant, i, options.cycles);
 
     const std::vector<Span> lost_rows = dropouts(rng, duration, 1200.0, 1.0);
@@ -223,7 +223,7 @@ std::vector<CycleSummary> generate(const GenerateOptions& options, const std::fi
     if (progress) progress(i + 1, options.cycles, summary);
   }
 
-  write_file(dir / "motor.toml", format_motor_file(motor));
+  write_file(dir / "motor.toml", model::format_motor_file(motor));
   nlohmann::json j;
   j["seed"] = options.seed;
   j["hidden_effects"] = nlohmann::json::array();
@@ -292,7 +292,7 @@ std::vector<FleetMotorSummary> generate_fleet(const FleetOptions& options, const
     out.push_back(s);
     if (progress) progress(m + 1, options.motors, out.back());
   }
-  write_file(dir / "motor.toml", format_motor_file(example_motor_file()));
+  write_file(dir / "motor.toml", model::format_motor_file(example_motor_file()));
   write_file(dir / "truth.json", j.dump(2) + "\n");
   return out;
 }

@@ -2,8 +2,8 @@
 
 namespace lptn::gen {
 
-MotorFile example_motor_file() {
-  MotorFile f;
+model::MotorFile example_motor_file() {
+  model::MotorFile f;
   f.name = "example 4-pole traction induction motor";
   MotorConstants<double>& m = f.constants;  // defaults are the contract's example motor
   const double freq[] = {0.0, 10.0, 30.0, 65.0, 140.0};
@@ -13,7 +13,7 @@ MotorFile example_motor_file() {
     m.harmonic_frequency_hz[i] = freq[i];
     m.harmonic_loss_w[i] = loss[i];
   }
-  f.parameters = default_parameter_settings();
+  f.parameters = model::default_parameter_settings();
   for (int i = kLambda1s; i <= kLambda12r; ++i) f.parameters[i].in_file = true;
   for (int i = kKStemp; i <= kKPfe; ++i) f.parameters[i].in_file = true;  // written under [losses]
   return f;

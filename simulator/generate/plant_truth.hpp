@@ -11,7 +11,7 @@ namespace lptn::gen {
 
 // The motor file a user of the generated data starts from (the contract's example motor, the
 // paper's model, no effects).
-MotorFile example_motor_file();
+model::MotorFile example_motor_file();
 
 // The true parameter values the plant runs with.
 ParamVector<double> true_parameters();

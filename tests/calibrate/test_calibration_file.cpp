@@ -67,7 +67,7 @@ TEST(CalibrationFile, RoundTripKeepsEveryField) {
   EXPECT_EQ(b.motor.path, a.motor.path);
   EXPECT_EQ(b.motor.text, a.motor.text);
   // The motor whole: constants to the bit, parameter settings and effects, as its file would say.
-  EXPECT_EQ(format_motor_file(b.motor), format_motor_file(a.motor));
+  EXPECT_EQ(model::format_motor_file(b.motor), model::format_motor_file(a.motor));
   EXPECT_EQ(b.motor.effects, a.motor.effects);
   EXPECT_EQ(b.effects, a.effects);
   ASSERT_EQ(b.parameters.size(), static_cast<std::size_t>(kNumParams));
@@ -224,11 +224,11 @@ nlohmann::json with_motor_as_text(nlohmann::json j, const std::string& text, int
 // text, to the same constants, settings and effects as the structured copy.
 TEST(CalibrationFile, VersionTwoReadsTheMotorText) {
   calibrate::CalibrationResult a = sample();
-  a.motor.text = format_motor_file(a.motor);
+  a.motor.text = model::format_motor_file(a.motor);
   const calibrate::CalibrationResult b = calibrate::calibration_from_json(with_motor_as_text(calibrate::to_json(a), a.motor.text, 2), "old.json");
   EXPECT_EQ(b.format_version, 2);
   EXPECT_EQ(b.status, a.status);
-  EXPECT_EQ(format_motor_file(b.motor), a.motor.text);
+  EXPECT_EQ(model::format_motor_file(b.motor), a.motor.text);
   EXPECT_EQ(b.motor.effects, a.motor.effects);
   EXPECT_EQ(b.motor.path, a.motor.path);
   EXPECT_EQ(b.motor.text, a.motor.text);
@@ -292,7 +292,7 @@ TEST(CalibrationFile, MotorFieldsAreCheckedAsInTheMotorFile) {
 // marked calibrated may be a motor file's guesses.
 TEST(CalibrationFile, VersionOneIsReadAsUnchecked) {
   calibrate::CalibrationResult a = sample();
-  nlohmann::json j = with_motor_as_text(calibrate::to_json(a), format_motor_file(a.motor), 1);
+  nlohmann::json j = with_motor_as_text(calibrate::to_json(a), model::format_motor_file(a.motor), 1);
   j.erase("status");
   j.erase("warnings");
   for (auto& p : j["parameters"]) {

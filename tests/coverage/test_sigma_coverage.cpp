@@ -169,7 +169,7 @@ TEST(SigmaCoverage, WithRotorDataOverThreeSeeds) {
 std::map<std::string, double> rotor_guesses(const fs::path& dir) {
   const fs::path probe = dir / "probe";
   EXPECT_EQ(run("generate --cycles 1 --minutes-min 2 --minutes-max 2 --out " + probe.string(), dir).code, 0);
-  const MotorFile motor = load_motor_file(probe / "motor.toml");
+  const model::MotorFile motor = model::load_motor_file(probe / "motor.toml");
   std::map<std::string, double> guesses;
   for (const char* name : {"lambda_1r", "lambda_2r", "lambda_12r"})
     guesses[name] = motor.parameters[static_cast<std::size_t>(param_index(name))].initial;

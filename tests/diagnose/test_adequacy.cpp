@@ -73,8 +73,8 @@ TEST(Adequacy, NamesTheSensorThatMissesPhysicsAndTurnsOnceTheModelHasIt) {
   EXPECT_TRUE(follows_speed) << diagnose::describe(*rotor);
   EXPECT_NE(diagnose::to_json(before).dump().find("\"adequate\":false"), std::string::npos);
 
-  MotorFile with = g->motor;
-  enable_effect(with, effect_index("windage"));
+  model::MotorFile with = g->motor;
+  model::enable_effect(with, effect_index("windage"));
   const lm::LmReport fit = lm::fit_lm(with, with.initial_values(), g->dataset, g->split.train, lm::LmSettings{});
   const diagnose::Adequacy after = diagnose::assess_adequacy(with.model(), fit.values, g->dataset, g->split, 2);
   std::printf("with windage: %s | %s\n", diagnose::describe(*sensor(after, "stator")).c_str(),

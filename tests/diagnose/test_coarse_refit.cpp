@@ -25,8 +25,8 @@ constexpr int kCoarse = 10;  // diagnose's factor: 1 s on 10 Hz data
 TEST(CoarseRefit, EndsWhereTheFineRefitEndsWhereTheDataPinTheEffect) {
   const auto g = testing::generate({"windage"}, 4, 20, 25, 5);
   const int windage = effect_index("windage");
-  MotorFile with = g->motor;
-  enable_effect(with, windage);
+  model::MotorFile with = g->motor;
+  model::enable_effect(with, windage);
   lm::LmSettings lm;
   lm.threads = 2;
   const calibrate::SharedDataset coarse = internal::coarse_dataset(g->dataset, kCoarse);
@@ -52,8 +52,8 @@ TEST(CoarseRefit, WithoutAReadingOnTheCoarseGridTheFineRefitRunsAlone) {
       for (std::size_t k = 0; k < v.size(); k += kCoarse) v[k] = std::nanf("");
     }
   const int windage = effect_index("windage");
-  MotorFile with = g->motor;
-  enable_effect(with, windage);
+  model::MotorFile with = g->motor;
+  model::enable_effect(with, windage);
   lm::LmSettings lm;
   lm.threads = 2;
   lm.max_iterations = 5;
@@ -81,8 +81,8 @@ TEST(CoarseRefit, TheCorrectedGridSeesTheDataGridsMisfitAtTheBaseline) {
   std::size_t readings = 0;
   for (std::size_t i = 0; i < g->split.train.size(); ++i) {
     const std::size_t c = g->split.train[i];
-    const CycleSimulation fine = simulate_cycle(model, at.values, g->dataset.cycles[c], at.offsets[i]);
-    const CycleSimulation on_coarse = simulate_cycle(model, at.values, coarse.data.cycles[c], at.offsets[i]);
+    const model::CycleSimulation fine = model::simulate_cycle(model, at.values, g->dataset.cycles[c], at.offsets[i]);
+    const model::CycleSimulation on_coarse = model::simulate_cycle(model, at.values, coarse.data.cycles[c], at.offsets[i]);
     for (std::size_t k = 0; k < coarse.data.cycles[c].steps; ++k) {
       const float reading = coarse.data.cycles[c].at(data::Channel::stator_winding_c, k);
       if (std::isnan(reading)) continue;
@@ -104,8 +104,8 @@ TEST(CoarseRefit, TheCorrectedGridSeesTheDataGridsMisfitAtTheBaseline) {
 
 // Half the sum of squared residuals on `dataset`'s training cycles at `values` and each cycle's
 // initial offsets (LM's cost), summed here and not by LM.
-double cost_on(const MotorFile& motor, const ParamVector<double>& values, const data::Dataset& dataset,
-               const std::vector<std::size_t>& train, const std::vector<InitialOffsets<double>>& offsets) {
+double cost_on(const model::MotorFile& motor, const ParamVector<double>& values, const data::Dataset& dataset,
+               const std::vector<std::size_t>& train, const std::vector<model::InitialOffsets<double>>& offsets) {
   const Model<double> model = motor.model();
   double sum = 0;
   for (std::size_t i = 0; i < train.size(); ++i)
@@ -132,8 +132,8 @@ TEST(CoarseRefit, APolishStartsFromTheCoarseFitMovedByTheBaselinesDifferenceOrIt
   const auto coarse_baseline = internal::coarse_stage(g->motor, fine_baseline.values, coarse, g->split.train, from_baseline, {});
   ASSERT_TRUE(coarse_baseline.has_value());
   const int windage = effect_index("windage");
-  MotorFile with = g->motor;
-  enable_effect(with, windage);
+  model::MotorFile with = g->motor;
+  model::enable_effect(with, windage);
 
   // The coarse baseline moved is the data grid's baseline (its windage fixed at the motor file's).
   const lm::LmReport landed = internal::moved_to_fine(with, *coarse_baseline, fine_baseline, *coarse_baseline);

@@ -18,7 +18,7 @@ namespace {
 double squared_error(const Model<double>& model, const ParamVector<double>& p, const data::Cycle& cycle) {
   const calibrate::CycleMetrics m = calibrate::evaluate_cycle(model, p, cycle);
   double sse = 0;
-  for (const ErrorMetrics* e : {&m.stator, &m.rotor})
+  for (const model::ErrorMetrics* e : {&m.stator, &m.rotor})
     if (e->samples) sse += e->rmse_k * e->rmse_k * static_cast<double>(e->samples);
   return sse;
 }

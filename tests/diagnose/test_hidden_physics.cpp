@@ -52,8 +52,8 @@ const diagnose::SensorAdequacy& stator(const diagnose::Diagnosis& d) {
 
 // The diagnosis of the model with `c` added, at its refit values.
 diagnose::Diagnosis after_adding(const testing::Generated& g, const diagnose::Candidate& c) {
-  MotorFile with = g.motor;
-  enable_effect(with, c.effect);
+  model::MotorFile with = g.motor;
+  model::enable_effect(with, c.effect);
   return diagnose::diagnose(with, c.refit.values, g.dataset, g.split, settings());
 }
 
@@ -126,8 +126,8 @@ TEST(HiddenPhysics, AFifthThermalMassIsFoundAsAMassOnTheStatorSide) {
   ASSERT_NE(best, nullptr);
   ASSERT_EQ(best->name, "mass_stator_core");
   EXPECT_LE(best->test_rmse_k_after, d.test_rmse_k / 3);
-  MotorFile with = g->motor;
-  enable_effect(with, best->effect);
+  model::MotorFile with = g->motor;
+  model::enable_effect(with, best->effect);
   const lm::LmReport calibrated = lm::fit_lm(with, best->refit.values, g->dataset, g->split.train, lm::LmSettings{});
   std::printf("  calibrated with %s: %d iterations, training RMSE %.3f K\n", best->name.c_str(), calibrated.iterations,
               calibrated.rmse_k);

@@ -151,10 +151,10 @@ TEST(Recommendation, AFailedRefitIsListedNotJudged) {
 // sensor lag at its 0.5 s floor, before).
 TEST(Recommendation, AnEffectHeldAtTheBoundBeforeItsNeutralValueIsNotSignificant) {
   const auto g = testing::generate({}, 4, 20, 25, 13);
-  MotorFile motor = g->motor;
+  model::MotorFile motor = g->motor;
   const int tau = param_index("sensor_time_constant_s");
   // As a motor file's [parameters.sensor_time_constant_s] sets it (one enable_effect keeps).
-  ParameterSetting& setting = motor.parameters[static_cast<std::size_t>(tau)];
+  model::ParameterSetting& setting = motor.parameters[static_cast<std::size_t>(tau)];
   setting.min = 5.0;
   setting.initial = std::max(setting.initial, 5.0);
   setting.in_file = true;

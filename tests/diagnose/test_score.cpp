@@ -14,8 +14,8 @@ namespace {
 
 double windage_score(const testing::Generated& g) {
   const int windage = effect_index("windage");
-  MotorFile with = g.motor;
-  enable_effect(with, windage);
+  model::MotorFile with = g.motor;
+  model::enable_effect(with, windage);
   return internal::score_test(with, windage, g.calibrated, g.dataset, g.split.train, 2).statistic;
 }
 
@@ -31,8 +31,8 @@ TEST(ScoreTest, IsSmallWhereTheDataHasNoEffectAndLargeWhereItHasOne) {
 }
 
 internal::Score alone(const testing::Generated& g, int effect) {
-  MotorFile with = g.motor;
-  enable_effect(with, effect);
+  model::MotorFile with = g.motor;
+  model::enable_effect(with, effect);
   return internal::score_test(with, effect, g.calibrated, g.dataset, g.split.train, 2);
 }
 
@@ -83,8 +83,8 @@ TEST(ScoreTest, AParameterThatDoesNothingAtTheNeutralPointAddsNothing) {
     const auto name = EffectLibrary::kNames[static_cast<std::size_t>(e)];
     // The heat forms P x^k: a size (W) and an exponent (a step's threshold is not an exponent).
     if (!name.starts_with("heat_") || name.find("_above_") != std::string_view::npos) continue;
-    MotorFile with = g->motor;
-    enable_effect(with, e);
+    model::MotorFile with = g->motor;
+    model::enable_effect(with, e);
     const internal::Score both = internal::score_test(with, e, g->calibrated, g->dataset, g->split.train, 2);
     const int exponent = kNumPaperParams + EffectLibrary::kParamOffsets[static_cast<std::size_t>(e)] + 1;
     with.parameters[static_cast<std::size_t>(exponent)].calibrate = false;

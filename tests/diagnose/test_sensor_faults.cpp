@@ -78,7 +78,7 @@ lm::LmReport calibrated_around(const testing::Generated& g, const std::string& s
 }
 
 // Every free parameter of `around` within `share` of `clean`'s.
-void expect_parameters_near(const MotorFile& motor, const lm::LmReport& around, const lm::LmReport& clean, double share,
+void expect_parameters_near(const model::MotorFile& motor, const lm::LmReport& around, const lm::LmReport& clean, double share,
                             const char* label) {
   const calibrate::FreeParameters free = calibrate::FreeParameters::from_motor(motor);
   for (int i : free.index) {

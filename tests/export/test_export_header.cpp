@@ -126,7 +126,7 @@ TEST(ExportHeader, CarriesWarningsAndEachParametersSpread) {
 // Every constant in the field list is in motor_constants(), with its value; a table's rows up to
 // its size (the tail stays zero).
 TEST(ExportHeader, WritesEveryMotorConstant) {
-  MotorFile motor = testing::example_motor();
+  model::MotorFile motor = testing::example_motor();
   motor.constants = testing::distinct_motor_constants();
   const std::string h = exporter::export_header(testing::sample_result(motor), {});
   int rows = 0;

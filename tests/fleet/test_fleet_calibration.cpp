@@ -29,7 +29,7 @@ struct FleetCase {
   testing::TempDir dir;
   std::vector<gen::FleetMotorSummary> truth;
   FleetDump fleet;
-  MotorFile motor;
+  model::MotorFile motor;
   calibrate::Split split;
   FleetFit fit;
 };
@@ -46,7 +46,7 @@ std::unique_ptr<FleetCase> calibrated_fleet(std::uint64_t seed, int weak) {
   o.motor.max_duration_s = 4200;
   c->truth = gen::generate_fleet(o, c->dir.path());
   c->fleet = load_fleet(c->dir.path());
-  c->motor = load_motor_file(c->dir.path() / "motor.toml");
+  c->motor = model::load_motor_file(c->dir.path() / "motor.toml");
   c->split = calibrate::split_cycles(c->fleet.dataset.data, {}, 1.0 / 3.0, seed);
   c->fit = fit_fleet(c->motor, c->fleet, c->split.train, FleetSettings{},
                      [](const std::string& line) { std::printf("  %s\n", line.c_str()); });

@@ -30,24 +30,24 @@ void check_one_line(const std::exception& e) {
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);
   const std::string file = "fuzz.json";
-  MotorFile motor;
+  model::MotorFile motor;
   try {
     const nlohmann::json j = hostio::parse_json_text(text, file);
-    motor = motor_from_json(hostio::JsonField(j, "motor", file));
+    motor = model::motor_from_json(hostio::JsonField(j, "motor", file));
   } catch (const hostio::JsonFileError& e) {
     check_one_line(e);
     return 0;
   }
   check_motor(motor);
   // Written and read again: the same motor (format_motor_file writes every value it holds).
-  const nlohmann::json again = motor_json(motor);
-  const MotorFile back = motor_from_json(hostio::JsonField(again, "motor", file));
-  LPTN_FUZZ_CHECK(format_motor_file(back) == format_motor_file(motor) && back.effects == motor.effects,
+  const nlohmann::json again = model::motor_json(motor);
+  const model::MotorFile back = model::motor_from_json(hostio::JsonField(again, "motor", file));
+  LPTN_FUZZ_CHECK(model::format_motor_file(back) == model::format_motor_file(motor) && back.effects == motor.effects,
                   "the motor's JSON does not read back as the same motor");
   // The same rules as the motor file's: what one reader takes, the other takes.
   try {
-    check_motor(parse_motor_file(format_motor_file(motor), "written.toml"));
-  } catch (const MotorFileError& e) {
+    check_motor(model::parse_motor_file(model::format_motor_file(motor), "written.toml"));
+  } catch (const model::MotorFileError& e) {
     std::fprintf(stderr, "%s\n", e.what());
     LPTN_FUZZ_CHECK(false, "a motor the JSON reader took that the motor file's reader refuses");
   }

@@ -14,8 +14,8 @@
 #include "trainer/model/motor_file.hpp"
 
 using lptn::check_motor;
-using lptn::MotorFileError;
-using lptn::parse_motor_file;
+using lptn::model::MotorFileError;
+using lptn::model::parse_motor_file;
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);

@@ -10,7 +10,7 @@
 
 namespace lptn {
 
-inline void check_motor(const MotorFile& m) {
+inline void check_motor(const model::MotorFile& m) {
   const MotorConstants<double>& c = m.constants;
   LPTN_FUZZ_CHECK(c.pole_pairs >= 1 && c.pole_pairs <= 16, "pole pairs");
   for (double v : {c.rated_frequency_hz, c.rated_voltage_v, c.rated_current_a, c.rated_power_w,
@@ -26,7 +26,7 @@ inline void check_motor(const MotorFile& m) {
   }
   for (double cap : c.capacitance_j_per_k) LPTN_FUZZ_CHECK(std::isfinite(cap) && cap > 0, "capacitance");
   for (int i = 0; i < kNumParams; ++i) {
-    const ParameterSetting& s = m.parameters[static_cast<std::size_t>(i)];
+    const model::ParameterSetting& s = m.parameters[static_cast<std::size_t>(i)];
     LPTN_FUZZ_CHECK(std::isfinite(s.min) && std::isfinite(s.max) && std::isfinite(s.initial), param_spec(i).name.data());
     LPTN_FUZZ_CHECK(s.min < s.max && s.initial >= s.min && s.initial <= s.max, param_spec(i).name.data());
   }

@@ -31,7 +31,7 @@ const Fixture& generated() {
   return *f;
 }
 
-double pooled(const calibrate::SplitMetrics& m) { return pool({m.stator, m.rotor}).rmse_k; }
+double pooled(const calibrate::SplitMetrics& m) { return model::pool({m.stator, m.rotor}).rmse_k; }
 
 TEST(CoarseGrid, AveragesInputsKeepsTheCurrentsRmsAndSamplesTheSensors) {
   data::Cycle c;

@@ -43,11 +43,11 @@ TEST(EvaluateCycle, MetricsAreSimulateAndEvaluatesToTheBit) {
   std::size_t rotor_cycles = 0;
   for (const data::Cycle& cycle : cycles)
     for (const ParamVector<double>* p : {&guess, &off}) {
-      const PreparedCycle prepared = prepare_cycle(model, cycle);
+      const model::PreparedCycle prepared = model::prepare_cycle(model, cycle);
       const calibrate::CycleMetrics stored = calibrate::simulate_and_evaluate(model, *p, cycle).metrics;
       ASSERT_GT(stored.stator.samples, 0u) << cycle.name;
       rotor_cycles += stored.rotor.samples > 0;
-      for (const PreparedCycle* with : {static_cast<const PreparedCycle*>(nullptr), &prepared}) {
+      for (const model::PreparedCycle* with : {static_cast<const model::PreparedCycle*>(nullptr), &prepared}) {
         const calibrate::CycleMetrics streamed = calibrate::evaluate_cycle(model, *p, cycle, with);
         EXPECT_EQ(streamed.name, cycle.name);
         testing::expect_same_metrics(streamed.stator, stored.stator, cycle.name + ", stator");

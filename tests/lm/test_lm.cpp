@@ -78,7 +78,7 @@ TEST(LevenbergMarquardt, FlagsParametersTheDataCannotTellApart) {
   o.rotor_sensor = false;
   gen::generate(o, dir.path());
   const data::Dataset d = data::load_fleet_dump({dir.path()});
-  MotorFile motor = load_motor_file(dir.path() / "motor.toml");
+  model::MotorFile motor = model::load_motor_file(dir.path() / "motor.toml");
   std::vector<std::size_t> all{0, 1, 2};
   const lm::LmReport r = lm::fit_lm(motor, motor.initial_values(), d, all, lm::LmSettings{});
   bool rotor_flagged = false;
@@ -103,8 +103,8 @@ TEST(InitialOffsets, EstimateFindsTheUnmeasuredNodesTrueStart) {
     double t, winding, core, rotor_winding, rotor_core;
     ASSERT_EQ(std::sscanf(first.c_str(), "%lf,%lf,%lf,%lf,%lf", &t, &winding, &core, &rotor_winding, &rotor_core), 5);
     double x[kMaxStates];
-    initial_state_for(model, cycle, x);  // the rule alone
-    const InitialOffsets<double> o = estimate_initial_offsets(model, truth, cycle);
+    model::initial_state_for(model, cycle, x);  // the rule alone
+    const model::InitialOffsets<double> o = model::estimate_initial_offsets(model, truth, cycle);
     rule_error = std::max(rule_error, std::abs(x[kStatorCore] - core));
     estimate_error = std::max(estimate_error, std::abs(x[kStatorCore] + o.stator_core - core));
     rule_sum += std::abs(x[kStatorCore] - core);
@@ -131,23 +131,23 @@ struct OffsetResiduals {
     std::size_t n = 0;
     ParamVector<T> p;
     for (int i = 0; i < kNumParams; ++i) p[i] = T(params[i]);
-    run_cycle(model, p.data(), cycle, [&](std::ptrdiff_t k, const T* x) {
+    model::run_cycle(model, p.data(), cycle, [&](std::ptrdiff_t k, const T* x) {
       if (k < 0) return;
       const auto grid = static_cast<std::size_t>(k + 1);
       const float ys = cycle.at(data::Channel::stator_winding_c, grid), yr = cycle.at(data::Channel::rotor_c, grid);
       if (!std::isnan(ys)) r[n++] = model.stator_sensor(x) - T(ys);
       if (!std::isnan(yr)) r[n++] = model.rotor_sensor(x) - T(yr);
-    }, InitialOffsets<T>{offsets[0][0], offsets[0][1]}, steps);
+    }, model::InitialOffsets<T>{offsets[0][0], offsets[0][1]}, steps);
     return true;
   }
 };
 
 // The sum of squared residuals over the window at given offsets (the objective both minimize).
 double window_cost(const Model<double>& model, const ParamVector<double>& params, const data::Cycle& cycle,
-                   const InitialOffsets<double>& o) {
+                   const model::InitialOffsets<double>& o) {
   const std::size_t steps = static_cast<std::size_t>(600.0 / cycle.dt_s);
   double cost = 0;
-  run_cycle(model, params.data(), cycle, [&](std::ptrdiff_t k, const double* x) {
+  model::run_cycle(model, params.data(), cycle, [&](std::ptrdiff_t k, const double* x) {
     if (k < 0) return;
     const auto grid = static_cast<std::size_t>(k + 1);
     const float ys = cycle.at(data::Channel::stator_winding_c, grid), yr = cycle.at(data::Channel::rotor_c, grid);
@@ -157,7 +157,7 @@ double window_cost(const Model<double>& model, const ParamVector<double>& params
   return cost;
 }
 
-InitialOffsets<double> offsets_by_ceres(const Model<double>& model, const ParamVector<double>& params,
+model::InitialOffsets<double> offsets_by_ceres(const Model<double>& model, const ParamVector<double>& params,
                                         const data::Cycle& cycle) {
   const std::size_t steps = static_cast<std::size_t>(600.0 / cycle.dt_s);
   std::size_t measured = 0;
@@ -172,8 +172,8 @@ InitialOffsets<double> offsets_by_ceres(const Model<double>& model, const ParamV
   ceres::Problem problem;
   problem.AddResidualBlock(cost, nullptr, o);
   for (int j = 0; j < 2; ++j) {
-    problem.SetParameterLowerBound(o, j, -kInitialOffsetBoundK);
-    problem.SetParameterUpperBound(o, j, kInitialOffsetBoundK);
+    problem.SetParameterLowerBound(o, j, -model::kInitialOffsetBoundK);
+    problem.SetParameterUpperBound(o, j, model::kInitialOffsetBoundK);
   }
   ceres::Solver::Options options;
   options.linear_solver_type = ceres::DENSE_QR;
@@ -193,8 +193,8 @@ TEST(InitialOffsets, ClosedFormIsTheMinimumTheIterativeSolverApproaches) {
   double worst = 0, largest = 0, worst_excess = -1;
   for (const ParamVector<double>& params : {gen::true_parameters(), f.motor.initial_values()}) {
     for (const data::Cycle& cycle : f.dataset.cycles) {
-      const InitialOffsets<double> closed = estimate_initial_offsets(model, params, cycle);
-      const InitialOffsets<double> ceres = offsets_by_ceres(model, params, cycle);
+      const model::InitialOffsets<double> closed = model::estimate_initial_offsets(model, params, cycle);
+      const model::InitialOffsets<double> ceres = offsets_by_ceres(model, params, cycle);
       worst = std::max({worst, std::abs(closed.stator_core - ceres.stator_core), std::abs(closed.rotor_core - ceres.rotor_core)});
       largest = std::max({largest, std::abs(closed.stator_core), std::abs(closed.rotor_core)});
       const double c = window_cost(model, params, cycle, closed), i = window_cost(model, params, cycle, ceres);
@@ -220,9 +220,9 @@ TEST(InitialOffsets, AtTheBoundItIsTheBoundedMinimum) {
   }
   const Model<double> model = f.motor.model();
   const ParamVector<double> truth = gen::true_parameters();
-  const InitialOffsets<double> closed = estimate_initial_offsets(model, truth, cycle);
-  const InitialOffsets<double> ceres = offsets_by_ceres(model, truth, cycle);
-  EXPECT_NEAR(std::max(std::abs(closed.stator_core), std::abs(closed.rotor_core)), kInitialOffsetBoundK, 1e-12);
+  const model::InitialOffsets<double> closed = model::estimate_initial_offsets(model, truth, cycle);
+  const model::InitialOffsets<double> ceres = offsets_by_ceres(model, truth, cycle);
+  EXPECT_NEAR(std::max(std::abs(closed.stator_core), std::abs(closed.rotor_core)), model::kInitialOffsetBoundK, 1e-12);
   const double c = window_cost(model, truth, cycle, closed), i = window_cost(model, truth, cycle, ceres);
   std::printf("at the bound: closed form (%.6f, %.6f) K, cost %.9g; Ceres (%.6f, %.6f) K, cost %.9g\n", closed.stator_core,
               closed.rotor_core, c, ceres.stator_core, ceres.rotor_core, i);

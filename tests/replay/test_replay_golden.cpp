@@ -91,7 +91,7 @@ TEST_F(ReplayGolden, OpenLoopReplayIsTheTrainersSimulationOfTheSameInputs) {
   const data::Cycle& cycle = ds.cycles[0];
   const calibrate::CalibrationResult cal = calibrate::load_calibration(kCalibration);
   const Model<double> model(cal.motor.constants, cal.effects);
-  const CycleSimulation sim = simulate_cycle(model, cal.values(), cycle);
+  const model::CycleSimulation sim = model::simulate_cycle(model, cal.values(), cycle);
 
   const auto csv = read_csv(out);
   const char* columns[kNumNodes] = {"est_stator_winding_c", "est_stator_core_c", "est_rotor_winding_c", "est_rotor_core_c"};

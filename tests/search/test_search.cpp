@@ -20,7 +20,7 @@ const testing::Dump& generated() {
   return *f;
 }
 
-double pooled(const calibrate::SplitMetrics& m) { return pool({m.stator, m.rotor}).rmse_k; }
+double pooled(const calibrate::SplitMetrics& m) { return model::pool({m.stator, m.rotor}).rmse_k; }
 
 TEST(Search, BothMethodsBeatTheGuessAndCmaEsComesCloseToLm) {
   const testing::Dump& f = generated();

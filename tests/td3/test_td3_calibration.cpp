@@ -85,7 +85,7 @@ TEST(Td3Calibration, SequentialFormulationLearnsWithASmallBudget) {
   testing::TempDir checkpoints;
   const Td3Outcome o = train_td3(d.motor, d.dataset, d.split.train, small(Formulation::sequential, 20), checkpoints.path(), false);
   const calibrate::SplitMetrics train = calibrate::evaluate_split(d.motor.model(), o.values, d.dataset, d.split.train);
-  EXPECT_NEAR(o.best_train_rmse_k, pool({train.stator, train.rotor}).rmse_k, 1e-9) << "the result is scored as the metrics score it";
+  EXPECT_NEAR(o.best_train_rmse_k, model::pool({train.stator, train.rotor}).rmse_k, 1e-9) << "the result is scored as the metrics score it";
   EXPECT_GT(o.simulated_steps, 0u);
   EXPECT_GT(o.updates, 0);
 }

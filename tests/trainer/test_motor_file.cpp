@@ -36,15 +36,15 @@ int line_of(const std::string& text, const std::string& needle) {
 
 std::string error_of(const std::string& text) {
   try {
-    parse_motor_file(text, "motor.toml");
-  } catch (const MotorFileError& e) {
+    model::parse_motor_file(text, "motor.toml");
+  } catch (const model::MotorFileError& e) {
     return e.what();
   }
   return "no error";
 }
 
 TEST(MotorFile, TheContractExampleLoads) {
-  const MotorFile m = parse_motor_file(example_text(), "motor.toml");
+  const model::MotorFile m = model::parse_motor_file(example_text(), "motor.toml");
   EXPECT_EQ(m.constants.pole_pairs, 2);
   EXPECT_DOUBLE_EQ(m.constants.rated_voltage_v, 1900.0);
   EXPECT_EQ(m.constants.harmonic_points, 5);
@@ -59,11 +59,11 @@ TEST(MotorFile, TheContractExampleLoads) {
 }
 
 TEST(MotorFile, RoundTripsThroughItsOwnFormat) {
-  MotorFile m = parse_motor_file(example_text(), "motor.toml");
+  model::MotorFile m = model::parse_motor_file(example_text(), "motor.toml");
   m.effects = effect_bit(effect_index("windage")) | effect_bit(effect_index("sensor_lag"));
   m.parameters[param_index("windage_base_w")] = {450.0, 10.0, 9000.0, true, true};
   m.parameters[kKHarm] = {0.4, 0.1, 0.9, true, true};
-  const MotorFile back = parse_motor_file(format_motor_file(m), "again.toml");
+  const model::MotorFile back = model::parse_motor_file(model::format_motor_file(m), "again.toml");
   EXPECT_EQ(back.effects, m.effects);
   for (int i = 0; i < kNumParams; ++i) {
     EXPECT_DOUBLE_EQ(back.parameters[i].initial, m.parameters[i].initial) << param_spec(i).name;
@@ -76,11 +76,11 @@ TEST(MotorFile, RoundTripsThroughItsOwnFormat) {
 // What the parser accepts, the writer writes back exactly: any name (quotes, backslashes, control
 // characters), and every number to the last bit (the calibration rebuilds its model from the text).
 TEST(MotorFile, WritesBackAnyNameAndEveryNumberExactly) {
-  MotorFile m = parse_motor_file(example_text(), "motor.toml");
+  model::MotorFile m = model::parse_motor_file(example_text(), "motor.toml");
   m.name = "say \"hi\" \\ tab\there\nnewline \x7f unicode \xc3\xa9";
   m.parameters[kLambda1s] = {1.0 + 0.1 + 0.2, 1.0 / 3.0, 1e300, true, true};
   m.constants.iron_rated_w = 1234.5678901234567;
-  const MotorFile back = parse_motor_file(format_motor_file(m), "again.toml");
+  const model::MotorFile back = model::parse_motor_file(model::format_motor_file(m), "again.toml");
   EXPECT_EQ(back.name, m.name);
   EXPECT_EQ(back.parameters[kLambda1s].initial, 1.0 + 0.1 + 0.2);
   EXPECT_EQ(back.parameters[kLambda1s].min, 1.0 / 3.0);
@@ -91,9 +91,9 @@ TEST(MotorFile, WritesBackAnyNameAndEveryNumberExactly) {
 // Every constant in the field list goes out and comes back; one the writer or the reader missed
 // would come back as its default (distinct_motor_constants() holds none).
 TEST(MotorFile, EveryConstantRoundTrips) {
-  MotorFile m = parse_motor_file(example_text(), "motor.toml");
+  model::MotorFile m = model::parse_motor_file(example_text(), "motor.toml");
   m.constants = testing::distinct_motor_constants();
-  const MotorFile back = parse_motor_file(format_motor_file(m), "again.toml");
+  const model::MotorFile back = model::parse_motor_file(model::format_motor_file(m), "again.toml");
   int compared = 0;
   for_each_motor_constant(
       [&](const MotorField& f, const auto& got, const auto& want) {
@@ -111,7 +111,7 @@ TEST(MotorFile, EveryConstantRoundTrips) {
 // Every key of every constant is read: without a required one the reader names it; without an
 // optional one it keeps the default.
 TEST(MotorFile, EveryConstantsKeyIsRead) {
-  const std::string full = format_motor_file(parse_motor_file(example_text(), "motor.toml"));
+  const std::string full = model::format_motor_file(model::parse_motor_file(example_text(), "motor.toml"));
   const MotorConstants<double> defaults;
   for_each_motor_constant(
       [&](const MotorField& f, const auto&) {
@@ -183,7 +183,7 @@ TEST(MotorFile, SyntaxErrorsNameTheLine) {
 }
 
 TEST(MotorFile, EffectsEnableByNameWithLibraryDefaults) {
-  const MotorFile m = parse_motor_file(replace(example_text(), "enabled = []", "enabled = [\"airgap\", \"sensor_lag\"]"), "m.toml");
+  const model::MotorFile m = model::parse_motor_file(replace(example_text(), "enabled = []", "enabled = [\"airgap\", \"sensor_lag\"]"), "m.toml");
   EXPECT_EQ(m.effects, effect_bit(effect_index("airgap")) | effect_bit(effect_index("sensor_lag")));
   EXPECT_EQ(m.model().num_states(), 5);
   EXPECT_DOUBLE_EQ(m.parameters[param_index("airgap_lambda")].initial, param_spec(param_index("airgap_lambda")).initial);

@@ -53,7 +53,7 @@ std::vector<std::string> effect_names(EffectSet set) {
   return names;
 }
 
-std::string rmse_text(const ErrorMetrics& m) { return m.samples ? fmt("%.3f K", m.rmse_k) : "not measured"; }
+std::string rmse_text(const model::ErrorMetrics& m) { return m.samples ? fmt("%.3f K", m.rmse_k) : "not measured"; }
 
 std::string provenance(const calibrate::CalibrationResult& c, const ExportOptions& o) {
   const std::string source = comment_text(o.source_name);

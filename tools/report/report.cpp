@@ -52,7 +52,7 @@ struct CycleRun {
   // "train" or "test" where the calibration was fitted or tested on this very file (name and hash),
   // "unseen" where it never saw it (a cycle of the same name in another file included), else "".
   std::string role;
-  CycleSimulation sim;
+  model::CycleSimulation sim;
   calibrate::CycleMetrics metrics;
   std::vector<float> stator_residual, rotor_residual;  // model - measured, per grid step
   // Grid steps between a sensor's own readings (the loader interpolates between them).
@@ -93,7 +93,7 @@ json numbers(const std::vector<double>& v, int decimals) {
 
 json number(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
 
-json metrics_json(const ErrorMetrics& m) {
+json metrics_json(const model::ErrorMetrics& m) {
   return {{"rmse_k", m.rmse_k}, {"mean_abs_k", m.mean_abs_k}, {"max_abs_k", m.max_abs_k},
           {"bias_k", m.bias_k}, {"samples", m.samples}};
 }
@@ -403,7 +403,7 @@ json diagnosis_json(const std::optional<SavedDiagnosis>& d, const CalibratedMode
 
 // Both sensors' residuals as one RMS, each sample counting once: sqrt((n_s e_s^2 + n_r e_r^2) /
 // (n_s + n_r)). The figure a calibration's fit improves, whichever sensor it improves on.
-json combined_rmse(const ErrorMetrics& stator, const ErrorMetrics& rotor) {
+json combined_rmse(const model::ErrorMetrics& stator, const model::ErrorMetrics& rotor) {
   const double ns = static_cast<double>(stator.samples), nr = static_cast<double>(rotor.samples);
   if (ns + nr == 0) return nullptr;
   double sum = ns * stator.rmse_k * stator.rmse_k;
@@ -449,7 +449,7 @@ json history_json(const std::filesystem::path& dir, const std::filesystem::path&
 // Where the data is not the calibration's own: which cycles it never saw and lptn check's verdict
 // on them (null for the calibration's own data).
 json check_json(const calibrate::CalibrationResult& cal, const data::Dataset& ds, const check::Provenance& provenance,
-                const std::optional<MotorFile>& data_motor) {
+                const std::optional<model::MotorFile>& data_motor) {
   if (provenance.all_seen()) return nullptr;
   const check::Check c = check::check(cal, ds, data_motor, hostio::worker_threads());
   json j = check::to_json(c);
@@ -497,7 +497,7 @@ nlohmann::json report_data(const ReportOptions& o, const std::function<void(cons
   data::Dataset ds = data::load_fleet_dump({o.data}, load);
   const std::vector<std::string> corrections = check::correct_as_calibrated(ds, cal);
   for (const std::string& c : corrections) progress(c);
-  const std::optional<MotorFile> data_motor = check::motor_beside({o.data.string()});
+  const std::optional<model::MotorFile> data_motor = check::motor_beside({o.data.string()});
   const check::Provenance provenance = check::provenance(cal, ds, data_motor);
 
   std::vector<CycleRun> runs;

@@ -13,7 +13,7 @@ using StepValue = std::function<double(const Inputs<double>& in, std::size_t k)>
 
 std::vector<float> per_step(const data::Cycle& cycle, const StepValue& f) {
   std::vector<float> out(cycle.steps);
-  for (std::size_t k = 0; k < cycle.steps; ++k) out[k] = static_cast<float>(f(inputs_at(cycle, k), k));
+  for (std::size_t k = 0; k < cycle.steps; ++k) out[k] = static_cast<float>(f(model::inputs_at(cycle, k), k));
   return out;
 }
 
@@ -21,7 +21,7 @@ std::vector<float> per_step(const data::Cycle& cycle, const StepValue& f) {
 
 std::optional<Signature> effect_signature(std::string_view effect, const Model<double>& model,
                                           const ParamVector<double>& params, const data::Cycle& cycle,
-                                          const CycleSimulation& sim) {
+                                          const model::CycleSimulation& sim) {
   const int e = effect_index(effect);
   if (e < 0) return std::nullopt;
   std::optional<Signature> out;
@@ -46,14 +46,14 @@ std::optional<Signature> effect_signature(std::string_view effect, const Model<d
 
 std::optional<Signature> refit_signature(std::string_view effect, const std::vector<RefitValue>& values,
                                          const Model<double>& model, const ParamVector<double>& params,
-                                         const data::Cycle& cycle, const CycleSimulation& sim) {
+                                         const data::Cycle& cycle, const model::CycleSimulation& sim) {
   const int e = effect_index(effect);
   if (e < 0) return std::nullopt;
   ParamVector<double> with_params = params;
   for (const RefitValue& v : values)
     if (v.param >= 0 && v.param < kNumParams) with_params[v.param] = v.value;
   const Model<double> with(model.motor(), model.effects() | effect_bit(e));
-  const CycleSimulation w = calibrate::simulate_and_evaluate(with, with_params, cycle).simulation;
+  const model::CycleSimulation w = calibrate::simulate_and_evaluate(with, with_params, cycle).simulation;
   const bool rotor = EffectLibrary::kNodes[static_cast<std::size_t>(e)] >= kRotorWinding;
   const std::vector<float>& a = rotor ? w.rotor_sensor : w.stator_sensor;
   const std::vector<float>& b = rotor ? sim.rotor_sensor : sim.stator_sensor;

@@ -24,7 +24,7 @@ struct Signature {
 // does not know (a newer diagnose may name effects this build has no signature for).
 std::optional<Signature> effect_signature(std::string_view effect, const Model<double>& model,
                                           const ParamVector<double>& params, const data::Cycle& cycle,
-                                          const CycleSimulation& sim);
+                                          const model::CycleSimulation& sim);
 
 // Any effect or term at the values diagnose's refit found (a name of EffectLibrary; values by
 // parameter index, the paper's as the refit readjusted them where given): how much the refit
@@ -37,6 +37,6 @@ struct RefitValue {
 };
 std::optional<Signature> refit_signature(std::string_view effect, const std::vector<RefitValue>& values,
                                          const Model<double>& model, const ParamVector<double>& params,
-                                         const data::Cycle& cycle, const CycleSimulation& sim);
+                                         const data::Cycle& cycle, const model::CycleSimulation& sim);
 
 }  // namespace lptn::report

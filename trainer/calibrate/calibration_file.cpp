@@ -41,7 +41,7 @@ ordered_json float_array(const std::vector<float>& v) {
 // JSON has no NaN: nlohmann would write null anyway; say so explicitly.
 ordered_json number_or_null(double v) { return std::isnan(v) ? ordered_json(nullptr) : ordered_json(v); }
 
-void put_metrics(ordered_json& o, const ErrorMetrics& stator, const ErrorMetrics& rotor) {
+void put_metrics(ordered_json& o, const model::ErrorMetrics& stator, const model::ErrorMetrics& rotor) {
   o["rmse_stator_k"] = stator.rmse_k;
   o["mean_abs_stator_k"] = stator.mean_abs_k;
   o["max_abs_stator_k"] = stator.max_abs_k;
@@ -96,7 +96,7 @@ ordered_json build(const CalibrationResult& r) {
   j["warnings"] = ordered_json::array();
   for (const CalibrationWarning& w : r.warnings)
     j["warnings"].push_back({{"code", w.code}, {"message", w.message}, {"parameters", w.parameters}});
-  j["motor"] = motor_json(r.motor);
+  j["motor"] = model::motor_json(r.motor);
   j["motor"]["file"] = r.motor.path.string();
   j["motor"]["text"] = r.motor.text;
   j["effects"] = ordered_json::array();
@@ -158,13 +158,13 @@ int parameter_named(const hostio::JsonField& f) {
   return index;
 }
 
-void read_metrics(const hostio::JsonField& f, ErrorMetrics& stator, ErrorMetrics& rotor) {
+void read_metrics(const hostio::JsonField& f, model::ErrorMetrics& stator, model::ErrorMetrics& rotor) {
   stator.rmse_k = f["rmse_stator_k"].number();
   stator.mean_abs_k = f["mean_abs_stator_k"].number();
   stator.max_abs_k = f["max_abs_stator_k"].number();
   stator.bias_k = f["bias_stator_k"].number();
   stator.samples = f["samples_stator"].count();
-  rotor = ErrorMetrics{};
+  rotor = model::ErrorMetrics{};
   if (!f.has("rmse_rotor_k") && !f.has("samples_rotor")) return;  // rotor not measured
   rotor.rmse_k = f["rmse_rotor_k"].number();
   rotor.mean_abs_k = f["mean_abs_rotor_k"].number();
@@ -335,12 +335,12 @@ CalibrationResult calibration_from_json(const nlohmann::json& j, const std::stri
 
   const hostio::JsonField motor = root["motor"];
   if (r.format_version >= 3) {
-    r.motor = motor_from_json(motor);
+    r.motor = model::motor_from_json(motor);
   } else {
     // Before format 3 the motor was its TOML text alone.
     try {
-      r.motor = parse_motor_file(motor["text"].string(), "motor.text");
-    } catch (const MotorFileError& e) {
+      r.motor = model::parse_motor_file(motor["text"].string(), "motor.text");
+    } catch (const model::MotorFileError& e) {
       // "motor.text:LINE: key 'K': reason" -> "FILE: field 'motor.text': line LINE: key 'K': reason".
       motor["text"].fail("line " + std::string(e.what()).substr(std::string("motor.text:").size()));
     }
@@ -422,13 +422,13 @@ nlohmann::json read_lptn_json(const std::filesystem::path& path) {
   const std::string shown = path.string();
   const std::string text = hostio::read_text_file(path);
   // A file of another kind (a motor file, a cycle CSV) is named as such, not as a JSON syntax error.
-  const InputKind kind = input_kind(text);
+  const model::InputKind kind = model::input_kind(text);
   const std::size_t first = text.find_first_not_of(" \t\r\n\xEF\xBB\xBF");
   const bool looks_toml = first != std::string::npos && (std::isalpha(static_cast<unsigned char>(text[first])) ||
                                                          text[first] == '#') && text.find('=') != std::string::npos;
-  if ((kind == InputKind::motor_toml && looks_toml) || kind == InputKind::cycle_csv)
-    throw CalibrationFileError(shown + ": " + std::string(input_kind_words(kind)) + ", not a calibration (JSON)" +
-                               (kind == InputKind::motor_toml ? ": give it as --motor" : ": give it as --data"));
+  if ((kind == model::InputKind::motor_toml && looks_toml) || kind == model::InputKind::cycle_csv)
+    throw CalibrationFileError(shown + ": " + std::string(model::input_kind_words(kind)) + ", not a calibration (JSON)" +
+                               (kind == model::InputKind::motor_toml ? ": give it as --motor" : ": give it as --data"));
   return hostio::parse_json_text(text, shown);
 }
 

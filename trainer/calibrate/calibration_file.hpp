@@ -104,7 +104,7 @@ struct CalibrationResult {
   // The motor file the calibration started from, whole, so that the result alone rebuilds the
   // model: its constants, parameter settings and effects (motor.json in the file), its path as given
   // and its text as read (provenance only: from format 3 on, nothing parses it).
-  MotorFile motor;
+  model::MotorFile motor;
   EffectSet effects = 0;  // the model's: the motor file's and those added since (calibrate --add, diagnose)
 
   std::vector<ParameterResult> parameters;  // kNumParams entries, model order

@@ -21,13 +21,13 @@ std::string fmt(const char* format, double a, double b = 0, double c = 0) {
 }
 
 bool finite_metrics(const SplitMetrics& m) {
-  auto ok = [](const ErrorMetrics& e) {
+  auto ok = [](const model::ErrorMetrics& e) {
     return e.samples == 0 || (std::isfinite(e.rmse_k) && std::isfinite(e.max_abs_k) && std::isfinite(e.bias_k));
   };
   return ok(m.stator) && ok(m.rotor);
 }
 
-void compare_test(CalibrationResult& r, const char* sensor, const ErrorMetrics& train, const ErrorMetrics& test) {
+void compare_test(CalibrationResult& r, const char* sensor, const model::ErrorMetrics& train, const model::ErrorMetrics& test) {
   if (train.samples == 0 || test.samples == 0) return;
   if (test.rmse_k > kTestOverTrainRatio * train.rmse_k && test.rmse_k - train.rmse_k > kTestOverTrainMinK)
     r.warnings.push_back({"test_error_high",

@@ -49,7 +49,7 @@ using CalibrationProgress = std::function<void(const std::string& line, bool don
 // processes of an MPI job where the method shares its work: LM; the others get it whole) and records
 // in `result` the values, the method's name, settings and details and its wall time (metrics and
 // status are the workflow's). Throws BadInput for a request it cannot run.
-using CalibrationMethod = void (*)(const CalibrationRequest& request, const MotorFile& motor, DatasetRef dataset,
+using CalibrationMethod = void (*)(const CalibrationRequest& request, const model::MotorFile& motor, DatasetRef dataset,
                                    const Split& split, CalibrationResult& result, const CalibrationProgress& progress);
 
 }  // namespace lptn::calibrate

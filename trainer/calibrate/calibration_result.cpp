@@ -11,8 +11,8 @@
 
 namespace lptn::calibrate {
 
-ParameterResult parameter_result(const MotorFile& motor, int i) {
-  const ParameterSetting& s = motor.parameters[static_cast<std::size_t>(i)];
+ParameterResult parameter_result(const model::MotorFile& motor, int i) {
+  const model::ParameterSetting& s = motor.parameters[static_cast<std::size_t>(i)];
   ParameterResult p;
   p.name = param_spec(i).name;
   p.unit = param_spec(i).unit;
@@ -24,7 +24,7 @@ ParameterResult parameter_result(const MotorFile& motor, int i) {
   return p;
 }
 
-CalibrationResult new_calibration(const MotorFile& motor, const std::string& motor_path, DatasetRef dataset,
+CalibrationResult new_calibration(const model::MotorFile& motor, const std::string& motor_path, DatasetRef dataset,
                                   const Split& split) {
   CalibrationResult r;
   r.created_utc = hostio::utc_now();
@@ -64,22 +64,22 @@ CalibrationResult new_calibration(const MotorFile& motor, const std::string& mot
   return r;
 }
 
-void score_calibration(CalibrationResult& result, const MotorFile& motor, DatasetRef dataset,
+void score_calibration(CalibrationResult& result, const model::MotorFile& motor, DatasetRef dataset,
                        const Split& split) {
   const Model<double> model = motor.model();
   result.train = evaluate_split(model, result.values(), dataset, split.train);
   result.test = evaluate_split(model, result.values(), dataset, split.test);
 }
 
-MotorFile motor_of(const CalibrationResult& calibration) {
-  MotorFile motor = calibration.motor;
+model::MotorFile motor_of(const CalibrationResult& calibration) {
+  model::MotorFile motor = calibration.motor;
   motor.effects = calibration.effects;
   for (int i = 0; i < kNumParams; ++i) {
     const int effect = effect_of_param(i);
     // The parameters of effects the model lacks were not part of the calibration: keep the file's.
     if (effect >= 0 && !(motor.effects & effect_bit(effect))) continue;
     const ParameterResult& r = calibration.parameters[static_cast<std::size_t>(i)];
-    ParameterSetting& s = motor.parameters[static_cast<std::size_t>(i)];
+    model::ParameterSetting& s = motor.parameters[static_cast<std::size_t>(i)];
     s.min = r.min;
     s.max = r.max;
     s.calibrate = r.calibrated;

@@ -15,20 +15,20 @@ namespace lptn::calibrate {
 // Parameter i as the motor file starts a calibration: name, unit, initial value (also the value
 // until a calibrator sets one), bounds, and whether it is calibrated (an effect's parameter only
 // where the motor has the effect).
-ParameterResult parameter_result(const MotorFile& motor, int i);
+ParameterResult parameter_result(const model::MotorFile& motor, int i);
 
 // A calibration before its calibrator has run: created now by this lptn, the motor (`motor_path`
 // as given), every parameter at its start, the data's files and hashes, the split.
-CalibrationResult new_calibration(const MotorFile& motor, const std::string& motor_path, DatasetRef dataset,
+CalibrationResult new_calibration(const model::MotorFile& motor, const std::string& motor_path, DatasetRef dataset,
                                   const Split& split);
 
 // Sets the train and test metrics of `result`'s parameters on its split (model from its motor).
-void score_calibration(CalibrationResult& result, const MotorFile& motor, DatasetRef dataset,
+void score_calibration(CalibrationResult& result, const model::MotorFile& motor, DatasetRef dataset,
                        const Split& split);
 
 // The motor a calibration was made with: its stored text, its effects, and the parameters'
 // bounds and calibrate flags as the calibration used them.
-MotorFile motor_of(const CalibrationResult& calibration);
+model::MotorFile motor_of(const CalibrationResult& calibration);
 
 // The calibration's own train/test split, found by cycle name in `dataset`; throws
 // BadInput naming a cycle the data lacks.

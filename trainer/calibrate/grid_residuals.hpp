@@ -26,9 +26,9 @@ inline std::size_t count_grid_residuals(const data::Cycle& cycle, std::size_t ma
 // state, which starts at the measurement by construction.) False if the numbers left finite.
 template <class T, class Put>
 bool for_each_grid_residual(const Model<double>& model, const ParamVector<T>& p, const data::Cycle& cycle,
-                            const InitialOffsets<T>& start, Put&& put, std::size_t max_steps = SIZE_MAX) {
+                            const model::InitialOffsets<T>& start, Put&& put, std::size_t max_steps = SIZE_MAX) {
   bool finite = true;
-  run_cycle(model, p.data(), cycle, [&](std::ptrdiff_t k, const T* x) {
+  model::run_cycle(model, p.data(), cycle, [&](std::ptrdiff_t k, const T* x) {
     if (k < 0) return;
     const auto grid = static_cast<std::size_t>(k + 1);
     const float ys = cycle.at(data::Channel::stator_winding_c, grid);

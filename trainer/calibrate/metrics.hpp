@@ -12,14 +12,14 @@ namespace lptn::calibrate {
 // Model-minus-measurement statistics of one cycle; rotor.samples == 0 where the rotor is not measured.
 struct CycleMetrics {
   std::string name;
-  ErrorMetrics stator;
-  ErrorMetrics rotor;
+  model::ErrorMetrics stator;
+  model::ErrorMetrics rotor;
 };
 
 // One side of the split: every cycle and the pooled figures.
 struct SplitMetrics {
-  ErrorMetrics stator;
-  ErrorMetrics rotor;
+  model::ErrorMetrics stator;
+  model::ErrorMetrics rotor;
   std::vector<CycleMetrics> cycles;
 };
 

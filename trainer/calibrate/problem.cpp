@@ -13,10 +13,10 @@
 
 namespace lptn::calibrate {
 
-FreeParameters FreeParameters::from_motor(const MotorFile& motor) {
+FreeParameters FreeParameters::from_motor(const model::MotorFile& motor) {
   FreeParameters f;
   for (int i = 0; i < kNumParams; ++i) {
-    const ParameterSetting& s = motor.parameters[static_cast<std::size_t>(i)];
+    const model::ParameterSetting& s = motor.parameters[static_cast<std::size_t>(i)];
     if (!s.calibrate) continue;
     // A parameter of an effect the model does not have cannot be seen in the data.
     const int effect = effect_of_param(i);
@@ -85,7 +85,7 @@ void join_metrics(std::vector<CycleMetrics>& metrics, DatasetRef dataset, const 
   std::vector<double> sums(metrics.size() * 2 * kFields, 0.0);
   for (std::size_t i = 0; i < metrics.size(); ++i) {
     if (dataset.remote(cycles[i])) continue;
-    const ErrorMetrics* sides[2] = {&metrics[i].stator, &metrics[i].rotor};
+    const model::ErrorMetrics* sides[2] = {&metrics[i].stator, &metrics[i].rotor};
     for (std::size_t s = 0; s < 2; ++s) {
       double* at = sums.data() + (2 * i + s) * kFields;
       at[0] = sides[s]->rmse_k;
@@ -98,7 +98,7 @@ void join_metrics(std::vector<CycleMetrics>& metrics, DatasetRef dataset, const 
   dataset.group().sum(sums);
   for (std::size_t i = 0; i < metrics.size(); ++i) {
     metrics[i].name = dataset.cycles[cycles[i]].name;
-    ErrorMetrics* sides[2] = {&metrics[i].stator, &metrics[i].rotor};
+    model::ErrorMetrics* sides[2] = {&metrics[i].stator, &metrics[i].rotor};
     for (std::size_t s = 0; s < 2; ++s) {
       const double* at = sums.data() + (2 * i + s) * kFields;
       *sides[s] = {at[0], at[1], at[2], at[3], static_cast<std::size_t>(at[4])};
@@ -108,34 +108,34 @@ void join_metrics(std::vector<CycleMetrics>& metrics, DatasetRef dataset, const 
 }  // namespace
 
 CycleEvaluation simulate_and_evaluate(const Model<double>& model, const ParamVector<double>& params,
-                                      const data::Cycle& cycle, const PreparedCycle* prepared) {
+                                      const data::Cycle& cycle, const model::PreparedCycle* prepared) {
   CycleEvaluation e;
-  e.simulation = simulate_cycle(model, params, cycle,
-                                estimate_initial_offsets(model, params, cycle, kInitialOffsetWindowS, prepared), prepared);
+  e.simulation = model::simulate_cycle(model, params, cycle,
+                                model::estimate_initial_offsets(model, params, cycle, model::kInitialOffsetWindowS, prepared), prepared);
   e.metrics.name = cycle.name;
-  e.metrics.stator = compare(e.simulation.stator_sensor, cycle, data::Channel::stator_winding_c);
-  e.metrics.rotor = compare(e.simulation.rotor_sensor, cycle, data::Channel::rotor_c);
+  e.metrics.stator = model::compare(e.simulation.stator_sensor, cycle, data::Channel::stator_winding_c);
+  e.metrics.rotor = model::compare(e.simulation.rotor_sensor, cycle, data::Channel::rotor_c);
   return e;
 }
 
 std::size_t evaluation_steps(const data::Cycle& cycle) {
-  const auto window = static_cast<std::size_t>(kInitialOffsetWindowS / cycle.dt_s) + 1;
+  const auto window = static_cast<std::size_t>(model::kInitialOffsetWindowS / cycle.dt_s) + 1;
   return 3 * std::min(cycle.steps, window) + cycle.steps;
 }
 
 CycleMetrics evaluate_cycle(const Model<double>& model, const ParamVector<double>& params, const data::Cycle& cycle,
-                            const PreparedCycle* prepared) {
+                            const model::PreparedCycle* prepared) {
   // simulate_and_evaluate's metrics, compared as the model runs: the same sums in the same order
   // (a test holds the bits equal), without storing six float series of every step. The time is
   // the model's steps either way (the 48 h drift stage took 1.9 s with it as without); the memory is not.
-  ErrorSum stator, rotor;
+  model::ErrorSum stator, rotor;
   std::size_t k = 0;
-  run_cycle(model, params.data(), cycle, [&](std::ptrdiff_t, const double* x) {
+  model::run_cycle(model, params.data(), cycle, [&](std::ptrdiff_t, const double* x) {
     if (k >= cycle.steps) return;  // an empty cycle: its initial state alone, nothing to compare
     stator.add(static_cast<float>(model.stator_sensor(x)), cycle.at(data::Channel::stator_winding_c, k));
     rotor.add(static_cast<float>(model.rotor_sensor(x)), cycle.at(data::Channel::rotor_c, k));
     ++k;
-  }, estimate_initial_offsets(model, params, cycle, kInitialOffsetWindowS, prepared), SIZE_MAX, prepared);
+  }, model::estimate_initial_offsets(model, params, cycle, model::kInitialOffsetWindowS, prepared), SIZE_MAX, prepared);
   CycleMetrics m;
   m.name = cycle.name;
   m.stator = stator.metrics();
@@ -157,13 +157,13 @@ SplitMetrics evaluate_split(const Model<double>& model, const ParamVector<double
 }
 
 void pool_cycles(SplitMetrics& m) {
-  std::vector<ErrorMetrics> stator, rotor;
+  std::vector<model::ErrorMetrics> stator, rotor;
   for (const CycleMetrics& c : m.cycles) {
     stator.push_back(c.stator);
     if (c.rotor.samples) rotor.push_back(c.rotor);
   }
-  m.stator = pool(stator);
-  m.rotor = pool(rotor);
+  m.stator = model::pool(stator);
+  m.rotor = model::pool(rotor);
 }
 
 }  // namespace lptn::calibrate

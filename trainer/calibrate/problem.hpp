@@ -24,7 +24,7 @@ struct FreeParameters {
   std::vector<double> min, max;
   std::vector<bool> log_scale;
 
-  static FreeParameters from_motor(const MotorFile& motor);
+  static FreeParameters from_motor(const model::MotorFile& motor);
   std::size_t size() const { return index.size(); }
   double to_internal(std::size_t j, double value) const;
   double to_physical(std::size_t j, double internal) const;
@@ -49,19 +49,19 @@ Split split_cycles(const data::Dataset& dataset, const std::vector<std::string>&
 // (estimate_initial_offsets), the whole cycle simulated, and the model-minus-measurement metrics
 // of the stator winding sensor and, where measured, the rotor.
 struct CycleEvaluation {
-  CycleSimulation simulation;
+  model::CycleSimulation simulation;
   CycleMetrics metrics;
 };
 // `prepared`, where given, is prepare_cycle()'s for this model and cycle: for a caller that
 // evaluates one cycle at many parameter sets (diagnose's drift factors).
 CycleEvaluation simulate_and_evaluate(const Model<double>& model, const ParamVector<double>& params,
-                                      const data::Cycle& cycle, const PreparedCycle* prepared = nullptr);
+                                      const data::Cycle& cycle, const model::PreparedCycle* prepared = nullptr);
 // The model steps simulate_and_evaluate takes on a cycle (the offsets' three short runs and the
 // cycle), for calibrators that report their simulation budget.
 std::size_t evaluation_steps(const data::Cycle& cycle);
 // The metrics alone.
 CycleMetrics evaluate_cycle(const Model<double>& model, const ParamVector<double>& params, const data::Cycle& cycle,
-                            const PreparedCycle* prepared = nullptr);
+                            const model::PreparedCycle* prepared = nullptr);
 // Sets m.stator and m.rotor from m.cycles (the rotor over the cycles that measure it).
 void pool_cycles(SplitMetrics& m);
 // Every listed cycle and the pooled figures (cycles simulated in parallel on `threads`). Of a shared

@@ -61,7 +61,7 @@ SetScorer::SetScorer(const Model<double>& model, FreeParameters free, const Para
   for (std::size_t s = 0; s < kSplits; ++s) cut[s] = median(std::move(values[s]));
   cut[3] = 0.0;    // heating: rising at all
   cut[5] = 600.0;  // the first ten minutes (the split holds below the cut, see below)
-  for (const data::Cycle& c : cycles_) prepared_.push_back(prepare_cycle(model_, c));
+  for (const data::Cycle& c : cycles_) prepared_.push_back(model::prepare_cycle(model_, c));
   for (const data::Cycle& c : cycles_) {
     std::vector<std::uint8_t> bits(c.steps, 0);
     for (std::size_t k = 0; k < c.steps; ++k)
@@ -85,11 +85,11 @@ void SetScorer::score_cycle(const ParamVector<double>& p, std::size_t ci, Sums& 
   using data::Channel;
   const data::Cycle& c = cycles_[ci];
   const std::vector<std::uint8_t>& bits = split_bits_[ci];
-  const PreparedCycle* prepared = &prepared_[ci];
-  const InitialOffsets<double> offsets =
-      estimate_initial_offsets(model_, p, c, kInitialOffsetWindowS, prepared);  // the metrics' own fit
+  const model::PreparedCycle* prepared = &prepared_[ci];
+  const model::InitialOffsets<double> offsets =
+      model::estimate_initial_offsets(model_, p, c, model::kInitialOffsetWindowS, prepared);  // the metrics' own fit
   sums.steps = evaluation_steps(c);
-  run_cycle(model_, p.data(), c, [&](std::ptrdiff_t step, const double* x) {
+  model::run_cycle(model_, p.data(), c, [&](std::ptrdiff_t step, const double* x) {
     const auto k = static_cast<std::size_t>(step + 1);
     const double model_reading[2] = {model_.stator_sensor(x), model_.rotor_sensor(x)};
     const float measured[2] = {c.at(Channel::stator_winding_c, k), c.at(Channel::rotor_c, k)};

@@ -62,7 +62,7 @@ class SetScorer {
   FreeParameters free_;
   ParamVector<double> fixed_;
   std::vector<data::Cycle> cycles_;
-  std::vector<PreparedCycle> prepared_;  // each cycle's inputs, prepared once for every set scored
+  std::vector<model::PreparedCycle> prepared_;  // each cycle's inputs, prepared once for every set scored
   std::vector<std::vector<std::uint8_t>> split_bits_;  // per cycle and sample: bit s set where split s holds
 };
 

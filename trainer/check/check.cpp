@@ -20,14 +20,14 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // The figure a calibration claims for a sensor on data it was not fitted on: its test error, or
 // its training error where it held no cycle out.
 double claimed_error(const calibrate::CalibrationResult& c, int s) {
-  const ErrorMetrics& test = s == 0 ? c.test.stator : c.test.rotor;
-  const ErrorMetrics& train = s == 0 ? c.train.stator : c.train.rotor;
+  const model::ErrorMetrics& test = s == 0 ? c.test.stator : c.test.rotor;
+  const model::ErrorMetrics& train = s == 0 ? c.train.stator : c.train.rotor;
   if (test.samples > 0) return test.rmse_k;
   if (train.samples > 0) return train.rmse_k;
   return kNaN;
 }
 
-const ErrorMetrics& metric(const calibrate::CycleMetrics& m, int s) { return s == 0 ? m.stator : m.rotor; }
+const model::ErrorMetrics& metric(const calibrate::CycleMetrics& m, int s) { return s == 0 ? m.stator : m.rotor; }
 
 std::string percent(double change) {
   char buf[48];
@@ -100,10 +100,10 @@ std::string error_reason(const Check& c, int s) {
 
 }  // namespace
 
-Check check(const calibrate::CalibrationResult& calibration, const data::Dataset& dataset, const std::optional<MotorFile>& data_motor,
+Check check(const calibrate::CalibrationResult& calibration, const data::Dataset& dataset, const std::optional<model::MotorFile>& data_motor,
             int threads) {
   if (dataset.cycles.empty()) throw hostio::BadInput("check: the data holds no cycle");
-  const MotorFile motor = calibrate::motor_of(calibration);
+  const model::MotorFile motor = calibrate::motor_of(calibration);
   const Model<double> model = motor.model();
   const ParamVector<double> params = calibration.values();
   Check c;

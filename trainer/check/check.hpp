@@ -74,7 +74,7 @@ inline constexpr const char* kSensorNames[2] = {"stator", "rotor"};
 // `calibration`'s model (motor_of) at its values on `dataset`. `data_motor`: the motor file found
 // beside the data, compared with the calibration's constants.
 Check check(const calibrate::CalibrationResult& calibration, const data::Dataset& dataset,
-            const std::optional<MotorFile>& data_motor, int threads);
+            const std::optional<model::MotorFile>& data_motor, int threads);
 
 // {"holds", "reasons", "adequate", "adequate_within", "sensors" (diagnose's shape, over every cycle
 // given), "thresholds", "calibration_error_k", "cooling_factor", "cooling_factor_std_log",

@@ -106,7 +106,7 @@ std::string Provenance::summary() const {
 }
 
 Provenance provenance(const calibrate::CalibrationResult& calibration, const data::Dataset& dataset,
-                      const std::optional<MotorFile>& data_motor) {
+                      const std::optional<model::MotorFile>& data_motor) {
   std::map<std::string, const calibrate::DataFile*> record_of;  // the calibration's cycle -> its file's record
   for (const calibrate::DataFile& f : calibration.data) record_of[f.cycle] = &f;
   // A file is hashed once however many segments it holds, the files over the cores (a 200 h
@@ -150,14 +150,14 @@ Provenance provenance(const calibrate::CalibrationResult& calibration, const dat
   return p;
 }
 
-std::optional<MotorFile> motor_beside(const std::vector<std::string>& data_paths) {
+std::optional<model::MotorFile> motor_beside(const std::vector<std::string>& data_paths) {
   for (const std::string& d : data_paths) {
     const std::filesystem::path file = std::filesystem::path(d) / "motor.toml";
     std::error_code ec;
     if (!std::filesystem::is_directory(d, ec) || !std::filesystem::is_regular_file(file, ec)) continue;
     try {
-      return load_motor_file(file);
-    } catch (const MotorFileError&) {
+      return model::load_motor_file(file);
+    } catch (const model::MotorFileError&) {
       return std::nullopt;  // not the user's input here: a motor file they did not give is not judged
     }
   }

@@ -44,10 +44,10 @@ struct Provenance {
 // `data_motor`: the motor file found beside the data (DIR/motor.toml), if any. Hashes the cycles'
 // files (each once).
 Provenance provenance(const calibrate::CalibrationResult& calibration, const data::Dataset& dataset,
-                      const std::optional<MotorFile>& data_motor = std::nullopt);
+                      const std::optional<model::MotorFile>& data_motor = std::nullopt);
 
 // The motor file beside a fleet dump directory (DIR/motor.toml), if it is there and reads; the
 // data's own description of its motor.
-std::optional<MotorFile> motor_beside(const std::vector<std::string>& data_paths);
+std::optional<model::MotorFile> motor_beside(const std::vector<std::string>& data_paths);
 
 }  // namespace lptn::check

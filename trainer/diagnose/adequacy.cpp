@@ -61,7 +61,7 @@ calibrate::SplitMetrics split_metrics(std::vector<CycleFinding>::const_iterator 
   return m;
 }
 
-const ErrorMetrics& metric(const calibrate::CycleMetrics& m, int s) { return s == 0 ? m.stator : m.rotor; }
+const model::ErrorMetrics& metric(const calibrate::CycleMetrics& m, int s) { return s == 0 ? m.stator : m.rotor; }
 
 }  // namespace
 
@@ -82,7 +82,7 @@ Adequacy assess_adequacy(const Model<double>& model, const ParamVector<double>& 
     // The noise is the sensor's, not the split's: pooled over every cycle.
     calibrate::NoiseSum noise;
     internal::WhereSums where;
-    std::vector<ErrorMetrics> train_m, test_m;
+    std::vector<model::ErrorMetrics> train_m, test_m;
     for (const CycleFinding& f : train) {
       noise += f.noise[s];
       where += f.where[s];
@@ -97,8 +97,8 @@ Adequacy assess_adequacy(const Model<double>& model, const ParamVector<double>& 
     SensorAdequacy v;
     v.sensor = kSensorTraces[s].name;
     v.noise_k = noise.sigma();
-    v.train_rmse_k = train_m.empty() ? kNaN : pool(train_m).rmse_k;
-    v.test_rmse_k = test_m.empty() ? kNaN : pool(test_m).rmse_k;
+    v.train_rmse_k = train_m.empty() ? kNaN : model::pool(train_m).rmse_k;
+    v.test_rmse_k = test_m.empty() ? kNaN : model::pool(test_m).rmse_k;
     const double bound = kAdequateRatio * v.noise_k;
     const double worst = std::max(std::isnan(v.train_rmse_k) ? 0.0 : v.train_rmse_k,
                                   std::isnan(v.test_rmse_k) ? 0.0 : v.test_rmse_k);

@@ -123,11 +123,11 @@ using BaselineBlocks = std::map<std::size_t, std::vector<double>>;
 // here it starts at the baseline's parameters. Not at its cost: fit_lm starts each cycle's initial
 // offsets afresh, and where the residual is slow (a missing thermal mass: correlation times of
 // many minutes) a refit of refit_iterations can still end above the baseline. It then failed.
-ParamVector<double> neutral_start(const MotorFile& with, int effect, const ParamVector<double>& baseline) {
+ParamVector<double> neutral_start(const model::MotorFile& with, int effect, const ParamVector<double>& baseline) {
   ParamVector<double> at = internal::neutral_point(baseline, effect);
   for (int i = 0; i < kNumParams; ++i)
     if (effect_of_param(i) == effect) {
-      const ParameterSetting& p = with.parameters[static_cast<std::size_t>(i)];
+      const model::ParameterSetting& p = with.parameters[static_cast<std::size_t>(i)];
       at[i] = std::clamp(at[i], p.min, p.max);
     }
   return at;
@@ -138,9 +138,9 @@ ParamVector<double> neutral_start(const MotorFile& with, int effect, const Param
 // can end above the baseline from every start, which says the data pull the effect towards
 // nothing past what the bound allows, not that the fit got lost. The bound it is held at, in
 // words ("sensor_time_constant_s = 0.5 s"), or empty where it is not held there.
-std::string held_at_neutral_bound(const MotorFile& with, int effect, const ParamVector<double>& values) {
+std::string held_at_neutral_bound(const model::MotorFile& with, int effect, const ParamVector<double>& values) {
   const int i = kNumPaperParams + EffectLibrary::kParamOffsets[static_cast<std::size_t>(effect)];
-  const ParameterSetting& p = with.parameters[static_cast<std::size_t>(i)];
+  const model::ParameterSetting& p = with.parameters[static_cast<std::size_t>(i)];
   const double neutral = param_spec(i).neutral, v = values[i];
   const double bound = neutral < p.min ? p.min : neutral > p.max ? p.max : std::numeric_limits<double>::quiet_NaN();
   if (std::isnan(bound) || std::abs(v - bound) > 1e-6 * std::max(1.0, std::abs(bound))) return {};
@@ -185,13 +185,13 @@ void at_baseline(Candidate& c, const Diagnosis& before, const ParamVector<double
   c.reason = std::move(reason);
 }
 
-Candidate examine(const MotorFile& motor, const Scored& scored, const Diagnosis& before, calibrate::DatasetRef dataset,
+Candidate examine(const model::MotorFile& motor, const Scored& scored, const Diagnosis& before, calibrate::DatasetRef dataset,
                   const CoarseGrid& coarse, const calibrate::Split& split, const Settings& settings, const Progress& progress,
                   BaselineBlocks& baseline_blocks) {
   const int effect = scored.effect;
   const auto e = static_cast<std::size_t>(effect);
-  MotorFile with = motor;
-  enable_effect(with, effect);
+  model::MotorFile with = motor;
+  model::enable_effect(with, effect);
   Candidate c;
   c.effect = effect;
   c.name = EffectLibrary::kNames[e];
@@ -464,7 +464,7 @@ const Candidate* Diagnosis::best() const {
   return nullptr;
 }
 
-Diagnosis diagnose(const MotorFile& motor, const ParamVector<double>& calibrated, calibrate::DatasetRef dataset,
+Diagnosis diagnose(const model::MotorFile& motor, const ParamVector<double>& calibrated, calibrate::DatasetRef dataset,
                    const calibrate::Split& split, const Settings& settings, const Progress& progress) {
   Diagnosis d;
   // Refit from the calibration (a few iterations at most): it gives the per-cycle initial
@@ -623,7 +623,7 @@ Diagnosis diagnose(const MotorFile& motor, const ParamVector<double>& calibrated
   return d;
 }
 
-Selection select_effects(const MotorFile& motor, const ParamVector<double>& calibrated, calibrate::DatasetRef dataset,
+Selection select_effects(const model::MotorFile& motor, const ParamVector<double>& calibrated, calibrate::DatasetRef dataset,
                          const calibrate::Split& split, const Settings& settings, const Progress& progress,
                          const RoundDone& round_done) {
   Selection s;
@@ -636,7 +636,7 @@ Selection select_effects(const MotorFile& motor, const ParamVector<double>& cali
     if (round_done) round_done(d);
     const Candidate* best = d.best();
     if (best == nullptr) break;
-    enable_effect(s.motor, best->effect);
+    model::enable_effect(s.motor, best->effect);
     values = best->refit.values;
     s.added.push_back(best->name);
   }

@@ -169,7 +169,7 @@ using Progress = std::function<void(const std::string&)>;
 
 // Diagnoses `motor` (effects and free parameters as calibrated) at `calibrated`, fitted on
 // split.train and tested on split.test.
-Diagnosis diagnose(const MotorFile& motor, const ParamVector<double>& calibrated, calibrate::DatasetRef dataset,
+Diagnosis diagnose(const model::MotorFile& motor, const ParamVector<double>& calibrated, calibrate::DatasetRef dataset,
                    const calibrate::Split& split, const Settings& settings, const Progress& progress = {});
 
 // Forward selection: diagnose, add the best significant and distinguishable effect (its refit
@@ -177,17 +177,17 @@ Diagnosis diagnose(const MotorFile& motor, const ParamVector<double>& calibrated
 struct Selection {
   std::vector<Diagnosis> rounds;  // the last one found nothing to add
   std::vector<std::string> added;
-  MotorFile motor;                // with the added effects
+  model::MotorFile motor;                // with the added effects
 };
 using RoundDone = std::function<void(const Diagnosis&)>;
-Selection select_effects(const MotorFile& motor, const ParamVector<double>& calibrated, calibrate::DatasetRef dataset,
+Selection select_effects(const model::MotorFile& motor, const ParamVector<double>& calibrated, calibrate::DatasetRef dataset,
                          const calibrate::Split& split, const Settings& settings, const Progress& progress = {},
                          const RoundDone& round_done = {});
 
 // `calibration` updated to `motor` (effects, text) and the fit `fit` (values, standard errors,
 // correlated pairs) with metrics recomputed on its split; the method stays "lm". Its data record
 // (files, hashes, data maps, split, time, version) is that of `dataset` and `split`, the data fitted.
-calibrate::CalibrationResult updated_calibration(const calibrate::CalibrationResult& calibration, const MotorFile& motor, const lm::LmReport& fit,
+calibrate::CalibrationResult updated_calibration(const calibrate::CalibrationResult& calibration, const model::MotorFile& motor, const lm::LmReport& fit,
                                        calibrate::DatasetRef dataset, const calibrate::Split& split, const std::string& note);
 
 // The diagnosis file's format (lptn diagnose --json, --json-out; docs/diagnosis.md): 2 added the

@@ -27,13 +27,13 @@ constexpr double kFactorResolution = 0.005;
 
 double squared_error(const calibrate::CycleMetrics& m) {
   double sse = 0;
-  for (const ErrorMetrics* e : {&m.stator, &m.rotor})
+  for (const model::ErrorMetrics* e : {&m.stator, &m.rotor})
     if (e->samples) sse += e->rmse_k * e->rmse_k * static_cast<double>(e->samples);
   return sse;
 }
 
 double squared_error(const Model<double>& model, const ParamVector<double>& p, const data::Cycle& cycle,
-                     const PreparedCycle& prepared) {
+                     const model::PreparedCycle& prepared) {
   return squared_error(calibrate::evaluate_cycle(model, p, cycle, &prepared));
 }
 
@@ -164,7 +164,7 @@ std::optional<double> parabolic_from_baseline(const F& f, double f0) {
 // The factor of the group that fits `cycle` best, the other parameters at `p`; `f0` its error at
 // factor 1 (both groups share it).
 double best_factor(const Model<double>& model, const ParamVector<double>& p, DriftGroup g, const data::Cycle& cycle,
-                   const PreparedCycle& prepared, double f0) {
+                   const model::PreparedCycle& prepared, double f0) {
   auto f = [&](double y) { return squared_error(model, scaled_group(p, g, std::exp(y)), cycle, prepared); };
   if (const std::optional<double> y = parabolic_from_baseline(f, f0)) return std::exp(*y);
   return std::exp(brent_minimum(f));
@@ -224,7 +224,7 @@ double trend_statistic(const std::vector<double>& y) { return trend_of(y).t; }
 const char* to_string(DriftGroup g) { return g == DriftGroup::cooling ? "cooling" : "losses"; }
 
 ParamVector<double> scaled_group(const ParamVector<double>& p, DriftGroup g, double c) {
-  if (g == DriftGroup::cooling) return with_cooling_factor(p, c);
+  if (g == DriftGroup::cooling) return model::with_cooling_factor(p, c);
   ParamVector<double> out = p;
   for (int i : {kKStemp, kKRtemp}) out[i] *= c;
   return out;
@@ -297,7 +297,7 @@ Drift find_drift(const Model<double>& model, const ParamVector<double>& params, 
   std::vector<double> cooling(n), losses(n);
   hostio::parallel_for(n, threads, [&](std::size_t i) {
     const data::Cycle& cycle = dataset.cycles[i];
-    const PreparedCycle prepared = prepare_cycle(model, cycle);
+    const model::PreparedCycle prepared = model::prepare_cycle(model, cycle);
     const double f0 = i < at_params.size() && at_params[i] ? squared_error(*at_params[i]) : squared_error(model, params, cycle, prepared);
     cooling[i] = best_factor(model, params, DriftGroup::cooling, cycle, prepared, f0);
     losses[i] = best_factor(model, params, DriftGroup::losses, cycle, prepared, f0);

@@ -39,10 +39,10 @@ struct Responses {
 // beside the state (the model is affine in its start: a response is exactly how a changed start
 // moves every step, without a run of its own).
 Run run(const Model<double>& model, const ParamVector<double>& params, const data::Cycle& cycle,
-        const InitialOffsets<double>& offsets, const PreparedCycle& prepared, Responses* responses = nullptr) {
+        const model::InitialOffsets<double>& offsets, const model::PreparedCycle& prepared, Responses* responses = nullptr) {
   Run out;
   double x[kMaxStates];
-  initial_state_for(model, cycle, x, offsets);
+  model::initial_state_for(model, cycle, x, offsets);
   typename Model<double>::template StepWorkspace<double> work;
   for (std::size_t k = 0; k + 1 < cycle.steps; ++k) {
     // Grid step 0 starts at the measurement by construction; step k's result is grid k + 1's.
@@ -98,12 +98,12 @@ double shifted_reading_change(float v, double shift) { return static_cast<double
 
 CycleFit fit_cycle(const Model<double>& model, const ParamVector<double>& params, const data::Cycle& cycle) {
   CycleFit f;
-  const PreparedCycle prepared = prepare_cycle(model, cycle);  // the losses once for its runs
+  const model::PreparedCycle prepared = model::prepare_cycle(model, cycle);  // the losses once for its runs
   // The start's changes whose responses one run steps beside the state: a unit offset of each core
   // node, and the start each sensor's readings 1 K higher give (its first reading stored in float).
-  const double stator = first_valid(cycle, kSensors[0]), rotor = first_valid(cycle, kSensors[1]);
+  const double stator = model::first_valid(cycle, kSensors[0]), rotor = model::first_valid(cycle, kSensors[1]);
   double start[kMaxStates], changed[4][kMaxStates];
-  initial_state_for(model, cycle, start);
+  model::initial_state_for(model, cycle, start);
   int response_of[kColumns];
   Responses responses;
   auto add_response = [&](int column, const double* shifted) {
@@ -113,9 +113,9 @@ CycleFit fit_cycle(const Model<double>& model, const ParamVector<double>& params
     response_of[column] = r;
   };
   double shifted[kMaxStates];
-  initial_state_for(model, cycle, shifted, InitialOffsets<double>{1.0, 0.0});
+  model::initial_state_for(model, cycle, shifted, model::InitialOffsets<double>{1.0, 0.0});
   add_response(kStatorCore, shifted);
-  initial_state_for(model, cycle, shifted, InitialOffsets<double>{0.0, 1.0});
+  model::initial_state_for(model, cycle, shifted, model::InitialOffsets<double>{0.0, 1.0});
   add_response(kRotorCore, shifted);
   for (int s = 0; s < 2; ++s) {
     f.measured[s] = cycle.has(kSensors[s]);
@@ -149,7 +149,7 @@ CycleFit fit_cycle(const Model<double>& model, const ParamVector<double>& params
   for (int s = 0; s < 2; ++s) {
     if (!f.measured[s]) continue;
     const std::vector<double>& offset = col[static_cast<std::size_t>(kOffsetColumn[s])];
-    const double first = first_valid(cycle, kSensors[s]);
+    const double first = model::first_valid(cycle, kSensors[s]);
     std::vector<double>& gain = col[static_cast<std::size_t>(kGainColumn[s])];
     gain.resize(m);
     for (std::size_t i = 0; i < m; ++i)

@@ -5,7 +5,7 @@
 
 namespace lptn::diagnose {
 
-calibrate::CalibrationResult updated_calibration(const calibrate::CalibrationResult& calibration, const MotorFile& motor, const lm::LmReport& fit,
+calibrate::CalibrationResult updated_calibration(const calibrate::CalibrationResult& calibration, const model::MotorFile& motor, const lm::LmReport& fit,
                                        calibrate::DatasetRef dataset, const calibrate::Split& split, const std::string& note) {
   calibrate::CalibrationResult r = calibration;
   // The refit is the new calibration's fit, made on the data diagnose read: its record names those

@@ -35,16 +35,16 @@ class CycleCooling final : public ceres::CostFunction {
     const double* offset = blocks[1];
     std::size_t row = 0;
     if (jacobians == nullptr || (jacobians[0] == nullptr && jacobians[1] == nullptr)) {
-      return calibrate::for_each_grid_residual(model_, with_cooling_factor(params_, std::exp(log_factor)),
-                                    cycle_, InitialOffsets<double>{offset[0], offset[1]},
+      return calibrate::for_each_grid_residual(model_, model::with_cooling_factor(params_, std::exp(log_factor)),
+                                    cycle_, model::InitialOffsets<double>{offset[0], offset[1]},
                                     [&](const double& e) { residuals[row++] = e; });
     }
     using Jet = ceres::Jet<double, 3>;
     ParamVector<Jet> p;
     for (int i = 0; i < kNumParams; ++i) p[i] = Jet(params_[i]);
     const Jet factor = exp(Jet(log_factor, 0));
-    return calibrate::for_each_grid_residual(model_, with_cooling_factor(p, factor), cycle_,
-                                  InitialOffsets<Jet>{Jet(offset[0], 1), Jet(offset[1], 2)}, [&](const Jet& e) {
+    return calibrate::for_each_grid_residual(model_, model::with_cooling_factor(p, factor), cycle_,
+                                  model::InitialOffsets<Jet>{Jet(offset[0], 1), Jet(offset[1], 2)}, [&](const Jet& e) {
                                     residuals[row] = e.a;
                                     if (jacobians[0] != nullptr) jacobians[0][row] = e.v[0];
                                     if (jacobians[1] != nullptr) {
@@ -75,7 +75,7 @@ CoolingFactorFit fit_cooling_factor(const Model<double>& model, const ParamVecto
   double log_factor = 0;
   std::vector<std::array<double, 2>> offsets(cycles.size());
   for (std::size_t i = 0; i < cycles.size(); ++i) {
-    const InitialOffsets<double> o = estimate_initial_offsets(model, params, dataset.cycles[cycles[i]]);
+    const model::InitialOffsets<double> o = model::estimate_initial_offsets(model, params, dataset.cycles[cycles[i]]);
     offsets[i] = {o.stator_core, o.rotor_core};
   }
   ceres::Problem problem;  // owns the cost functions
@@ -90,8 +90,8 @@ CoolingFactorFit fit_cooling_factor(const Model<double>& model, const ParamVecto
     problem.AddResidualBlock(cost, nullptr, &log_factor, offsets[i].data());
     offset_blocks.push_back(offsets[i].data());
     for (int j = 0; j < 2; ++j) {
-      problem.SetParameterLowerBound(offsets[i].data(), j, -kInitialOffsetBoundK);
-      problem.SetParameterUpperBound(offsets[i].data(), j, kInitialOffsetBoundK);
+      problem.SetParameterLowerBound(offsets[i].data(), j, -model::kInitialOffsetBoundK);
+      problem.SetParameterUpperBound(offsets[i].data(), j, model::kInitialOffsetBoundK);
     }
   }
   if (out.residuals == 0) throw std::runtime_error("no cycle of the motor has a stator or rotor measurement");

@@ -14,7 +14,7 @@ namespace lptn::fleet {
 struct CoolingFactorFit {
   double factor = 1;
   double log_std_error = 0;  // of ln(factor): the factor is factor * exp(+-log_std_error)
-  std::vector<InitialOffsets<double>> offsets;  // per listed cycle
+  std::vector<model::InitialOffsets<double>> offsets;  // per listed cycle
   std::size_t residuals = 0;
   double rmse_k = 0;             // stator and rotor pooled, at the fitted factor
   double correlation_time = 1;   // the standard error accounts for it, as fit_lm's do

@@ -34,7 +34,7 @@ void fit_motors(const Model<double>& model, const ParamVector<double>& shared, c
 }
 }  // namespace
 
-FleetFit fit_fleet(const MotorFile& motor, const FleetDump& fleet, const std::vector<std::size_t>& train,
+FleetFit fit_fleet(const model::MotorFile& motor, const FleetDump& fleet, const std::vector<std::size_t>& train,
                    const FleetSettings& settings, const std::function<void(const std::string&)>& progress) {
   const auto t0 = std::chrono::steady_clock::now();
   const auto say = [&](const std::string& line) {
@@ -94,7 +94,7 @@ FleetFit fit_fleet(const MotorFile& motor, const FleetDump& fleet, const std::ve
     r.cooling_factor = std::exp(log_factor[m]);
     r.cooling_factor_std = r.cooling_factor * r.fit.log_std_error;
     r.fit.factor = r.cooling_factor;  // as normalized
-    r.parameters = with_cooling_factor(out.shared.values, r.cooling_factor);
+    r.parameters = model::with_cooling_factor(out.shared.values, r.cooling_factor);
     r.metrics = calibrate::evaluate_split(model, r.parameters, fleet.dataset, fleet.motor_cycles[m], settings.lm.threads);
     r.verdict = verdicts[m];
   }

@@ -49,7 +49,7 @@ struct FleetFit {
 
 // `train`: the cycles (indices into fleet.dataset) the shared fit uses. `progress` gets a line per
 // step.
-FleetFit fit_fleet(const MotorFile& motor, const FleetDump& fleet, const std::vector<std::size_t>& train,
+FleetFit fit_fleet(const model::MotorFile& motor, const FleetDump& fleet, const std::vector<std::size_t>& train,
                    const FleetSettings& settings, const std::function<void(const std::string&)>& progress = {});
 
 }  // namespace lptn::fleet

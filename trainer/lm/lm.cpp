@@ -87,7 +87,7 @@ class CycleResiduals final : public CycleBlock {
         ParamVector<double> p = fixed_;
         for (std::size_t j = 0; j < nf; ++j) p[free_.index[j]] = free_.to_physical(j, theta[j]);
         double rss = 0;
-        plain_.ok = fill(with_cooling_factor(p, cooling_), InitialOffsets<double>{offset[0], offset[1]},
+        plain_.ok = fill(model::with_cooling_factor(p, cooling_), model::InitialOffsets<double>{offset[0], offset[1]},
                          [&](const double& e) { rss += e * e; });
         plain_.rss = rss;
         plain_.at.assign(theta, theta + nf);
@@ -150,7 +150,7 @@ class CycleResiduals final : public CycleBlock {
       p[free_.index[j]] = Jet(value, static_cast<int>(j));
       p[free_.index[j]].v[static_cast<int>(j)] = free_.slope(j, value);  // chain rule into internal coordinates
     }
-    const InitialOffsets<Jet> start{Jet(offset[0], static_cast<int>(nf)), Jet(offset[1], static_cast<int>(nf) + 1)};
+    const model::InitialOffsets<Jet> start{Jet(offset[0], static_cast<int>(nf)), Jet(offset[1], static_cast<int>(nf) + 1)};
     // J^T J and J^T r summed a batch of residuals at a time: a product of a kBatch x N block with
     // itself (vectorized, cache-resident) instead of a rank-one update per residual, which took a
     // fifth of the fit. Derivative slots beyond the m columns are zero throughout.
@@ -168,7 +168,7 @@ class CycleResiduals final : public CycleBlock {
       filled = 0;
     };
     rss = 0;
-    const bool ok = fill(with_cooling_factor(p, cooling_), start, [&](const Jet& e) {
+    const bool ok = fill(model::with_cooling_factor(p, cooling_), start, [&](const Jet& e) {
       rows.row(filled) = e.v.transpose();
       values(filled) = e.a;
       rss += e.a * e.a;
@@ -221,7 +221,7 @@ class CycleResiduals final : public CycleBlock {
   std::size_t columns() const { return free_.size() + kOffsets; }
 
   template <class T, class Put>
-  bool fill(const ParamVector<T>& p, const InitialOffsets<T>& start, Put&& put) const {
+  bool fill(const ParamVector<T>& p, const model::InitialOffsets<T>& start, Put&& put) const {
     return calibrate::for_each_grid_residual(model_, p, cycle_, start, put, max_steps_);
   }
 
@@ -351,7 +351,7 @@ class SharedBlock final : public ceres::CostFunction {
 std::array<std::vector<std::vector<double>>, 2> residual_series(const Model<double>& model, const ParamVector<double>& p,
                                                                calibrate::DatasetRef dataset,
                                                                const std::vector<std::size_t>& cycles,
-                                                               const std::vector<InitialOffsets<double>>& offsets,
+                                                               const std::vector<model::InitialOffsets<double>>& offsets,
                                                                const std::vector<double>& cooling, int threads,
                                                                std::array<calibrate::NoiseSum, 2>* noise = nullptr) {
   // Per cycle and sensor, simulated in parallel; then in the cycles' order, skipping the empty.
@@ -360,8 +360,8 @@ std::array<std::vector<std::vector<double>>, 2> residual_series(const Model<doub
   hostio::parallel_for(cycles.size(), threads, [&](std::size_t i) {
     if (dataset.remote(cycles[i])) return;  // its process takes its series
     const data::Cycle& cycle = dataset.cycles[cycles[i]];
-    const ParamVector<double> pc = cooling.empty() ? p : with_cooling_factor(p, cooling[i]);
-    const CycleSimulation sim = simulate_cycle(model, pc, cycle, offsets[i]);
+    const ParamVector<double> pc = cooling.empty() ? p : model::with_cooling_factor(p, cooling[i]);
+    const model::CycleSimulation sim = model::simulate_cycle(model, pc, cycle, offsets[i]);
     const std::pair<data::Channel, const std::vector<float>*> sensors[2] = {
         {data::Channel::stator_winding_c, &sim.stator_sensor}, {data::Channel::rotor_c, &sim.rotor_sensor}};
     for (int s = 0; s < 2; ++s) {
@@ -450,7 +450,7 @@ struct FitExtras {
   std::vector<double> conditional_log_std;
 };
 
-LmReport fit_once(const MotorFile& motor, const ParamVector<double>& start, calibrate::DatasetRef dataset,
+LmReport fit_once(const model::MotorFile& motor, const ParamVector<double>& start, calibrate::DatasetRef dataset,
                   const std::vector<std::size_t>& cycles, const LmSettings& settings, const LmProgress& progress,
                   const std::vector<double>& cooling, FitExtras& extras) {
   const auto t0 = std::chrono::steady_clock::now();
@@ -477,14 +477,14 @@ LmReport fit_once(const MotorFile& motor, const ParamVector<double>& start, cali
   problem_options.cost_function_ownership = ceres::TAKE_OWNERSHIP;
   problem_options.evaluation_callback = &shared;
   ceres::Problem problem(problem_options);
-  report.offsets.assign(cycles.size(), InitialOffsets<double>{});
+  report.offsets.assign(cycles.size(), model::InitialOffsets<double>{});
   std::vector<std::array<double, kOffsets>> offsets(cycles.size(), {0.0, 0.0});
   if (!settings.start_offsets.empty()) {
     if (settings.start_offsets.size() != cycles.size())
       throw std::invalid_argument("fit_lm: start_offsets: one per cycle, or none");
     for (std::size_t i = 0; i < cycles.size(); ++i) {
-      offsets[i][0] = std::clamp(settings.start_offsets[i].stator_core, -kInitialOffsetBoundK, kInitialOffsetBoundK);
-      offsets[i][1] = std::clamp(settings.start_offsets[i].rotor_core, -kInitialOffsetBoundK, kInitialOffsetBoundK);
+      offsets[i][0] = std::clamp(settings.start_offsets[i].stator_core, -model::kInitialOffsetBoundK, model::kInitialOffsetBoundK);
+      offsets[i][1] = std::clamp(settings.start_offsets[i].rotor_core, -model::kInitialOffsetBoundK, model::kInitialOffsetBoundK);
     }
   }
   auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
@@ -503,8 +503,8 @@ LmReport fit_once(const MotorFile& motor, const ParamVector<double>& start, cali
     problem.AddResidualBlock(new SharedBlock(shared, slot, nf), nullptr, theta.data(), offsets[i].data());
     ordering->AddElementToGroup(offsets[i].data(), 0);  // eliminated first: the Schur complement
     for (int j = 0; j < kOffsets; ++j) {
-      problem.SetParameterLowerBound(offsets[i].data(), j, -kInitialOffsetBoundK);
-      problem.SetParameterUpperBound(offsets[i].data(), j, kInitialOffsetBoundK);
+      problem.SetParameterLowerBound(offsets[i].data(), j, -model::kInitialOffsetBoundK);
+      problem.SetParameterUpperBound(offsets[i].data(), j, model::kInitialOffsetBoundK);
     }
   }
   if (report.residuals == 0) throw std::runtime_error("no training cycle has a stator or rotor measurement");
@@ -721,7 +721,7 @@ std::string weak_reason(const calibrate::FreeParameters& free, std::size_t j, do
 
 }  // namespace
 
-std::vector<NotIdentifiable> unseen_parameters(const MotorFile& motor, const ParamVector<double>& start,
+std::vector<NotIdentifiable> unseen_parameters(const model::MotorFile& motor, const ParamVector<double>& start,
                                                calibrate::DatasetRef dataset, const std::vector<std::size_t>& cycles) {
   FitExtras extras;
   extras.judge = true;
@@ -734,7 +734,7 @@ std::vector<NotIdentifiable> unseen_parameters(const MotorFile& motor, const Par
   return out;
 }
 
-LmReport fit_lm(const MotorFile& motor, const ParamVector<double>& start, calibrate::DatasetRef dataset,
+LmReport fit_lm(const model::MotorFile& motor, const ParamVector<double>& start, calibrate::DatasetRef dataset,
                 const std::vector<std::size_t>& cycles, const LmSettings& settings, const LmProgress& progress,
                 const std::vector<double>& cooling) {
   if (!settings.judge_identifiability) {
@@ -745,7 +745,7 @@ LmReport fit_lm(const MotorFile& motor, const ParamVector<double>& start, calibr
   // may pin its partner), and refit the rest from where the last fit ended.
   const auto t0 = std::chrono::steady_clock::now();
   const bool rotor_readings = any_rotor_reading(dataset, cycles);
-  MotorFile m = motor;
+  model::MotorFile m = motor;
   ParamVector<double> from = start;
   std::vector<NotIdentifiable> fixed;
   for (;;) {
@@ -792,7 +792,7 @@ LmReport fit_lm(const MotorFile& motor, const ParamVector<double>& start, calibr
 
 NormalEquations normal_equations(const Model<double>& model, const calibrate::FreeParameters& free, const ParamVector<double>& at,
                                  calibrate::DatasetRef dataset, const std::vector<std::size_t>& cycles,
-                                 const std::vector<InitialOffsets<double>>& offsets, int threads) {
+                                 const std::vector<model::InitialOffsets<double>>& offsets, int threads) {
   // Computed whole on every process: the cycles' samples must be here (share_work's, not load_shared_dump's).
   for (std::size_t c : cycles) {
     const data::Cycle& cycle = dataset.cycles[c];

@@ -29,7 +29,7 @@ struct LmSettings {
   double max_log_std = 0.69314718055994531;  // ln 2: known within a factor of two at 1 sigma
   // Each listed cycle's initial offsets to start from (empty: zero), as a fit of the same cycles
   // ended them (diagnose's refit, polished on the fine grid after its steps on a coarse one).
-  std::vector<InitialOffsets<double>> start_offsets;
+  std::vector<model::InitialOffsets<double>> start_offsets;
   // Asked after every iteration with its number and the cost where the fit stands (half the sum of
   // squared residuals): true ends the fit there, not converged (diagnose's refits that cannot reach
   // their threshold at the pace they gain).
@@ -55,7 +55,7 @@ struct LmReport {
   ParamVector<double> std_error{};  // NaN where not calibrated or not identifiable
   std::vector<calibrate::CorrelatedPair> correlated;
   std::vector<std::vector<double>> correlation;  // free x free, order of FreeParameters::index
-  std::vector<InitialOffsets<double>> offsets;  // per fitted cycle, in the order given
+  std::vector<model::InitialOffsets<double>> offsets;  // per fitted cycle, in the order given
   std::vector<bool> at_bound;    // per free parameter: ended on its bound (its std error is then local only)
   // With judge_identifiability: the parameters fixed because the data could not pin them (then
   // not among the free ones above, std_error NaN, value the start's).
@@ -91,14 +91,14 @@ using LmProgress = std::function<void(int, double, double)>;
 // `cooling` (empty, or one per listed cycle) is each cycle's known cooling factor
 // (cooling_factor.hpp): a fleet's motors share the fitted parameters, each cycle simulated with
 // its motor's conductances to air scaled (fleet_calibration.hpp).
-LmReport fit_lm(const MotorFile& motor, const ParamVector<double>& start, calibrate::DatasetRef dataset,
+LmReport fit_lm(const model::MotorFile& motor, const ParamVector<double>& start, calibrate::DatasetRef dataset,
                 const std::vector<std::size_t>& cycles, const LmSettings& settings, const LmProgress& progress = {},
                 const std::vector<double>& cooling = {});
 
 // The free parameters of `motor` that move no residual of the listed cycles at `start` (for a
 // calibrator that does not judge identifiability itself, TD3 and the search baselines: it then
 // leaves them at the motor file's values). Throws ModelNotSimulable as fit_lm does.
-std::vector<NotIdentifiable> unseen_parameters(const MotorFile& motor, const ParamVector<double>& start,
+std::vector<NotIdentifiable> unseen_parameters(const model::MotorFile& motor, const ParamVector<double>& start,
                                                calibrate::DatasetRef dataset, const std::vector<std::size_t>& cycles);
 
 // The Gauss-Newton normal equations of fit_lm's problem at a given point, for tests of directions
@@ -114,6 +114,6 @@ struct NormalEquations {
 };
 NormalEquations normal_equations(const Model<double>& model, const calibrate::FreeParameters& free, const ParamVector<double>& at,
                                  calibrate::DatasetRef dataset, const std::vector<std::size_t>& cycles,
-                                 const std::vector<InitialOffsets<double>>& offsets, int threads = hostio::worker_threads());
+                                 const std::vector<model::InitialOffsets<double>>& offsets, int threads = hostio::worker_threads());
 
 }  // namespace lptn::lm

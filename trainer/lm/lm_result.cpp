@@ -68,7 +68,7 @@ void record_lm_fit(calibrate::CalibrationResult& r, const LmReport& fit, const c
   r.seconds = fit.seconds;
 }
 
-void calibrate_lm(const calibrate::CalibrationRequest& /*request*/, const MotorFile& motor, calibrate::DatasetRef dataset,
+void calibrate_lm(const calibrate::CalibrationRequest& /*request*/, const model::MotorFile& motor, calibrate::DatasetRef dataset,
                   const calibrate::Split& split, calibrate::CalibrationResult& result, const calibrate::CalibrationProgress& progress) {
   LmSettings settings;
   settings.judge_identifiability = true;  // what the data cannot pin stays the motor file's, said so

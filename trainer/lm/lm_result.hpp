@@ -30,7 +30,7 @@ void mark_not_identifiable(calibrate::CalibrationResult& result, const std::vect
 // `--method lm` (a CalibrationMethod): fit_lm from the motor file's initial values, judging what
 // the data cannot pin (it stays the motor file's, said so), recorded by record_lm_fit. Progress:
 // "lm: iteration N  rmse X K  m:ss".
-void calibrate_lm(const calibrate::CalibrationRequest& request, const MotorFile& motor, calibrate::DatasetRef dataset,
+void calibrate_lm(const calibrate::CalibrationRequest& request, const model::MotorFile& motor, calibrate::DatasetRef dataset,
                   const calibrate::Split& split, calibrate::CalibrationResult& result, const calibrate::CalibrationProgress& progress);
 
 }  // namespace lptn::lm

@@ -5,7 +5,7 @@
 
 #include "lptn/model.hpp"
 
-namespace lptn {
+namespace lptn::model {
 
 template <class T, class F>
 ParamVector<T> with_cooling_factor(ParamVector<T> p, const F& factor) {
@@ -13,4 +13,4 @@ ParamVector<T> with_cooling_factor(ParamVector<T> p, const F& factor) {
   return p;
 }
 
-}  // namespace lptn
+}  // namespace lptn::model

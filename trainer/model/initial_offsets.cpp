@@ -6,7 +6,7 @@
 #include <cstddef>
 #include <vector>
 
-namespace lptn {
+namespace lptn::model {
 namespace {
 
 // Model minus measurement at every measured grid point of the window (r0, offsets zero), in a
@@ -114,4 +114,4 @@ InitialOffsets<double> estimate_initial_offsets(const Model<double>& model, cons
   return {best[0], best[1]};
 }
 
-}  // namespace lptn
+}  // namespace lptn::model

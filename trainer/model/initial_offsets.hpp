@@ -6,7 +6,7 @@
 #include "trainer/data/dataset.hpp"
 #include "trainer/model/simulate.hpp"
 
-namespace lptn {
+namespace lptn::model {
 
 // How far (K) an unmeasured node may start from the rule's value: calibration's bound on the
 // offsets, and this estimate's.
@@ -30,4 +30,4 @@ InitialOffsets<double> estimate_initial_offsets(const Model<double>& model, cons
                                                const data::Cycle& cycle, double window_s = kInitialOffsetWindowS,
                                                const PreparedCycle* prepared = nullptr);
 
-}  // namespace lptn
+}  // namespace lptn::model

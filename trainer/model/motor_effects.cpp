@@ -6,7 +6,7 @@
 
 #include "hostio/bad_input.hpp"
 
-namespace lptn {
+namespace lptn::model {
 
 int effect_by_name(std::string_view name, std::string_view option) {
   const int e = effect_index(name);
@@ -26,4 +26,4 @@ void enable_effect(MotorFile& motor, int effect) {
   motor.text = format_motor_file(motor);
 }
 
-}  // namespace lptn
+}  // namespace lptn::model

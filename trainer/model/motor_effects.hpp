@@ -6,7 +6,7 @@
 
 #include "trainer/model/motor_file.hpp"
 
-namespace lptn {
+namespace lptn::model {
 
 // The library's effect called `name`; throws BadInput ("OPTION: unknown effect 'x'
 // (known: ...)").
@@ -16,4 +16,4 @@ int effect_by_name(std::string_view name, std::string_view option);
 // and rewrites motor.text, so that a calibration made with it keeps a text that rebuilds this model.
 void enable_effect(MotorFile& motor, int effect);
 
-}  // namespace lptn
+}  // namespace lptn::model

@@ -16,7 +16,7 @@
 #include "trainer/data/did_you_mean.hpp"
 #include "trainer/model/internal/motor_rules.hpp"
 
-namespace lptn {
+namespace lptn::model {
 namespace {
 
 using internal::constant_named;
@@ -565,4 +565,4 @@ SettingProblem setting_problem(int index, const ParameterSetting& s) {
 }
 
 }  // namespace internal
-}  // namespace lptn
+}  // namespace lptn::model

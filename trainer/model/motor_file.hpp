@@ -11,7 +11,7 @@
 #include "hostio/bad_input.hpp"
 #include "lptn/model.hpp"
 
-namespace lptn {
+namespace lptn::model {
 
 // A bad motor file; the message is one line: "FILE:LINE: key 'KEY': reason".
 class MotorFileError : public hostio::BadInput {
@@ -61,4 +61,4 @@ MotorFile parse_motor_file(const std::string& text, const std::filesystem::path&
 // replace the initial values where given (NaN = keep).
 std::string format_motor_file(const MotorFile& motor);
 
-}  // namespace lptn
+}  // namespace lptn::model

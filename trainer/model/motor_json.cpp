@@ -7,7 +7,7 @@
 
 #include "trainer/model/internal/motor_rules.hpp"
 
-namespace lptn {
+namespace lptn::model {
 namespace {
 
 using nlohmann::ordered_json;
@@ -165,4 +165,4 @@ MotorFile motor_from_json(const hostio::JsonField& motor_field) {
   return motor;
 }
 
-}  // namespace lptn
+}  // namespace lptn::model

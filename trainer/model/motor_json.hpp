@@ -9,7 +9,7 @@
 #include "hostio/json_file.hpp"
 #include "trainer/model/motor_file.hpp"
 
-namespace lptn {
+namespace lptn::model {
 
 // {"name", "constants": {SECTION: {KEY: value}}, "parameters": {NAME: {initial, min, max,
 // calibrate}} (the ones the file sets), "effects": [NAME]}. Neither the path nor the text.
@@ -19,4 +19,4 @@ nlohmann::ordered_json motor_json(const MotorFile& motor);
 // ("cal.json: field 'motor.constants.thermal.mass_stator_kg': must be greater than zero").
 MotorFile motor_from_json(const hostio::JsonField& motor);
 
-}  // namespace lptn
+}  // namespace lptn::model

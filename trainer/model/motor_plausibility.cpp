@@ -9,7 +9,7 @@
 
 #include "trainer/data/inspection.hpp"
 
-namespace lptn {
+namespace lptn::model {
 namespace {
 
 // Two significant digits, without an exponent between 0.001 and 100000 ("0.0078", "1.2", "4650").
@@ -286,4 +286,4 @@ std::vector<std::string> input_warnings(const data::Dataset& dataset, const Moto
   return out;
 }
 
-}  // namespace lptn
+}  // namespace lptn::model

@@ -36,7 +36,7 @@
 #include "trainer/data/dataset.hpp"
 #include "trainer/model/motor_file.hpp"
 
-namespace lptn {
+namespace lptn::model {
 
 struct MotorFinding {
   std::string key;        // the motor file's key path: "electrical.stator_resistance_20c_ohm",
@@ -72,4 +72,4 @@ std::string implausible_values_summary(const MotorFile& motor);
 // data: ignored or misnamed columns, gaps, another pole count) and then motor_warnings(motor).
 std::vector<std::string> input_warnings(const data::Dataset& dataset, const MotorFile& motor);
 
-}  // namespace lptn
+}  // namespace lptn::model

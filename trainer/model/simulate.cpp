@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-namespace lptn {
+namespace lptn::model {
 namespace {
 
 // The statistics from running sums over `samples` residuals.
@@ -59,4 +59,4 @@ ErrorMetrics pool(const std::vector<ErrorMetrics>& parts) {
   return finish(sum, sum_sq, sum_abs, max_abs, samples);
 }
 
-}  // namespace lptn
+}  // namespace lptn::model

@@ -12,7 +12,7 @@
 #include "lptn/model.hpp"
 #include "trainer/data/dataset.hpp"
 
-namespace lptn {
+namespace lptn::model {
 
 // The model's inputs at grid step k. Torque and voltage count as on the bus where they have a
 // value; the model falls back to the nameplate route for the steps where they do not.
@@ -148,4 +148,4 @@ ErrorMetrics compare(const std::vector<float>& model, const data::Cycle& cycle, 
 // Pools several cycles' metrics into one (weighted by samples).
 ErrorMetrics pool(const std::vector<ErrorMetrics>& parts);
 
-}  // namespace lptn
+}  // namespace lptn::model

@@ -21,7 +21,7 @@ nlohmann::json to_json(const SearchSettings& s) {
           {"sigma", s.sigma}, {"population", s.population}, {"seed", s.seed}};
 }
 
-SearchOutcome search_calibration(SearchMethod method, const MotorFile& motor, const data::Dataset& dataset,
+SearchOutcome search_calibration(SearchMethod method, const model::MotorFile& motor, const data::Dataset& dataset,
                                  const std::vector<std::size_t>& train, const SearchSettings& settings,
                                  const SearchProgress& progress) {
   const auto t0 = std::chrono::steady_clock::now();
@@ -92,7 +92,7 @@ SearchOutcome search_calibration(SearchMethod method, const MotorFile& motor, co
     const ParamVector<double> set = scorer.params_for(u.data());
     const calibrate::SplitMetrics m = calibrate::evaluate_split(model, set, dataset, train, settings.threads);
     for (std::size_t c : train) out.simulated_steps += calibrate::evaluation_steps(dataset.cycles[c]);
-    const double fine = pool({m.stator, m.rotor}).rmse_k;
+    const double fine = model::pool({m.stator, m.rotor}).rmse_k;
     if (fine < out.best_train_rmse_k) {
       out.best_train_rmse_k = fine;
       out.values = set;
@@ -102,7 +102,7 @@ SearchOutcome search_calibration(SearchMethod method, const MotorFile& motor, co
   return out;
 }
 
-void calibrate_by_search(const calibrate::CalibrationRequest& request, const MotorFile& motor, calibrate::DatasetRef dataset,
+void calibrate_by_search(const calibrate::CalibrationRequest& request, const model::MotorFile& motor, calibrate::DatasetRef dataset,
                          const calibrate::Split& split, calibrate::CalibrationResult& result, const calibrate::CalibrationProgress& progress) {
   const SearchMethod method = request.method == "cma-es" ? SearchMethod::cma_es : SearchMethod::random;
   SearchSettings settings;

@@ -47,14 +47,14 @@ struct SearchOutcome {
 // Called after every batch of sets: steps so far, the budget, the best coarse RMSE so far.
 using SearchProgress = std::function<void(std::size_t steps, std::size_t budget, double best_rmse_k, double seconds)>;
 
-SearchOutcome search_calibration(SearchMethod method, const MotorFile& motor, const data::Dataset& dataset,
+SearchOutcome search_calibration(SearchMethod method, const model::MotorFile& motor, const data::Dataset& dataset,
                                  const std::vector<std::size_t>& train, const SearchSettings& settings,
                                  const SearchProgress& progress = {});
 
 // `--method random-search` and `--method cma-es` (a CalibrationMethod): search_calibration with
 // the request's seed and budget, its best set and its details into `result`. Progress: the model
 // steps spent against the budget, the best RMSE so far.
-void calibrate_by_search(const calibrate::CalibrationRequest& request, const MotorFile& motor, calibrate::DatasetRef dataset,
+void calibrate_by_search(const calibrate::CalibrationRequest& request, const model::MotorFile& motor, calibrate::DatasetRef dataset,
                          const calibrate::Split& split, calibrate::CalibrationResult& result, const calibrate::CalibrationProgress& progress);
 
 }  // namespace lptn::search

@@ -25,7 +25,7 @@ constexpr int kObs = 2;
 // Everything the training loop needs to know about the data, fixed for the run.
 class Environment {
  public:
-  Environment(const MotorFile& motor, const data::Dataset& dataset, const std::vector<std::size_t>& train,
+  Environment(const model::MotorFile& motor, const data::Dataset& dataset, const std::vector<std::size_t>& train,
               const TrainingSettings& settings)
       : model_(motor.model()), dataset_(dataset), train_(train), settings_(settings),
         free_(calibrate::FreeParameters::from_motor(motor)), fixed_(motor.initial_values()) {
@@ -53,8 +53,8 @@ class Environment {
   // The unmeasured nodes' start for parameters `p`: the metrics' own fit (estimate_initial_offsets),
   // so that every set is scored on the objective its metrics report, not with offsets that belong
   // to another set.
-  InitialOffsets<double> offsets_for(std::size_t i, const ParamVector<double>& p) const {
-    return estimate_initial_offsets(model_, p, cycle(i));
+  model::InitialOffsets<double> offsets_for(std::size_t i, const ParamVector<double>& p) const {
+    return model::estimate_initial_offsets(model_, p, cycle(i));
   }
 
   void observe(const data::Cycle& cycle, std::size_t k, float* obs) const {
@@ -126,7 +126,7 @@ nlohmann::json identity(const TrainingSettings& settings, const Environment& env
 
 class Trainer {
  public:
-  Trainer(const MotorFile& motor, const data::Dataset& dataset, const std::vector<std::size_t>& train,
+  Trainer(const model::MotorFile& motor, const data::Dataset& dataset, const std::vector<std::size_t>& train,
           const TrainingSettings& settings)
       : settings_(settings), env_(motor, dataset, train, settings),
         agent_(kObs, static_cast<int>(env_.actions()), settings.agent) {
@@ -179,7 +179,7 @@ class Trainer {
   double train_rmse(const ParamVector<double>& p) {
     const calibrate::SplitMetrics m = calibrate::evaluate_split(env_.model(), p, env_.dataset(), env_.train());
     for (std::size_t ci = 0; ci < env_.cycles(); ++ci) state_.simulated_steps += calibrate::evaluation_steps(env_.cycle(ci));
-    return pool({m.stator, m.rotor}).rmse_k;
+    return model::pool({m.stator, m.rotor}).rmse_k;
   }
 
   // The deterministic policy's mean reward on the first window of every training cycle.
@@ -231,12 +231,12 @@ class Trainer {
 
  private:
   // The state at grid step `start`: the model run from the cycle's start with `p`.
-  void warm_up(std::size_t ci, std::size_t start, const ParamVector<double>& p, const InitialOffsets<double>& offsets,
+  void warm_up(std::size_t ci, std::size_t start, const ParamVector<double>& p, const model::InitialOffsets<double>& offsets,
                double* x) {
     const data::Cycle& cycle = env_.cycle(ci);
     state_.simulated_steps += start;
-    initial_state_for(env_.model(), cycle, x, offsets);
-    for (std::size_t k = 0; k < start; ++k) env_.model().step(x, inputs_at(cycle, k), p.data(), cycle.dt_s);
+    model::initial_state_for(env_.model(), cycle, x, offsets);
+    for (std::size_t k = 0; k < start; ++k) env_.model().step(x, model::inputs_at(cycle, k), p.data(), cycle.dt_s);
   }
 
   // Exploration: before learning, uniform random actions (one per hold period); after, Gaussian
@@ -274,7 +274,7 @@ class Trainer {
     double reward_sum = 0, error_sum = 0;
     for (std::size_t t = 0; t < length; ++t) {
       const ParamVector<double> params = env_.params_for(&act_[t * p]);
-      env_.model().step(x, inputs_at(cycle, start + t), params.data(), cycle.dt_s);
+      env_.model().step(x, model::inputs_at(cycle, start + t), params.data(), cycle.dt_s);
       const StepError e = step_error(env_.model(), x, cycle, start + t + 1);
       rew_[t] = static_cast<float>(env_.reward(e.stator, e.rotor, rotor));
       reward_sum += rew_[t];
@@ -311,12 +311,12 @@ class Trainer {
     // The action holds from the cycle's start, so the whole stretch [0, start + length) is scored:
     // one random window alone varies between windows as much as 1.0x and 1.1x LM differ.
     double x[kMaxStates];
-    initial_state_for(env_.model(), cycle, x, env_.offsets_for(ci, params));
+    model::initial_state_for(env_.model(), cycle, x, env_.offsets_for(ci, params));
     state_.simulated_steps += calibrate::evaluation_steps(cycle) - cycle.steps + start + length;
     const bool rotor = cycle.has(data::Channel::rotor_c);
     double stator_sum = 0, rotor_sum = 0;
     for (std::size_t k = 0; k < start + length; ++k) {
-      env_.model().step(x, inputs_at(cycle, k), params.data(), cycle.dt_s);
+      env_.model().step(x, model::inputs_at(cycle, k), params.data(), cycle.dt_s);
       const StepError e = step_error(env_.model(), x, cycle, k + 1);
       stator_sum += e.stator;
       rotor_sum += e.rotor;
@@ -340,7 +340,7 @@ class Trainer {
   Agent agent_;
   RunState state_;
   std::uniform_real_distribution<float> uniform_;
-  std::vector<InitialOffsets<double>> reference_offsets_;  // of state_.reference, per training cycle
+  std::vector<model::InitialOffsets<double>> reference_offsets_;  // of state_.reference, per training cycle
   std::vector<float> obs_, act_, rew_;
   std::vector<std::uint8_t> done_;
 };
@@ -390,7 +390,7 @@ nlohmann::json to_json(const EpisodeRecord& r) {
           {"evaluation", std::isnan(r.evaluation) ? nlohmann::json(nullptr) : nlohmann::json(r.evaluation)}};
 }
 
-calibrate::SplitMetrics evaluate_scheduled_actor(const Td3Outcome& o, const MotorFile& motor, const data::Dataset& dataset,
+calibrate::SplitMetrics evaluate_scheduled_actor(const Td3Outcome& o, const model::MotorFile& motor, const data::Dataset& dataset,
                                       const std::vector<std::size_t>& cycles) {
   const Model<double> model = motor.model();
   const calibrate::FreeParameters free = calibrate::FreeParameters::from_motor(motor);
@@ -402,11 +402,11 @@ calibrate::SplitMetrics evaluate_scheduled_actor(const Td3Outcome& o, const Moto
   out.cycles.resize(cycles.size());
   hostio::parallel_for(cycles.size(), hostio::worker_threads(), [&](std::size_t i) {
     const data::Cycle& cycle = dataset.cycles[cycles[i]];
-    CycleSimulation sim;
+    model::CycleSimulation sim;
     sim.stator_sensor.reserve(cycle.steps);
     sim.rotor_sensor.reserve(cycle.steps);
     double x[kMaxStates];
-    initial_state_for(model, cycle, x, estimate_initial_offsets(model, o.values, cycle));
+    model::initial_state_for(model, cycle, x, model::estimate_initial_offsets(model, o.values, cycle));
     auto record = [&] {
       sim.stator_sensor.push_back(static_cast<float>(model.stator_sensor(x)));
       sim.rotor_sensor.push_back(static_cast<float>(model.rotor_sensor(x)));
@@ -423,12 +423,12 @@ calibrate::SplitMetrics evaluate_scheduled_actor(const Td3Outcome& o, const Moto
           for (std::size_t j = 0; j < free.size(); ++j)
             p[free.index[j]] = from_normalized(static_cast<double>(u[j]), free.min[j], free.max[j]);
       }
-      model.step(x, inputs_at(cycle, k), p.data(), cycle.dt_s);
+      model.step(x, model::inputs_at(cycle, k), p.data(), cycle.dt_s);
       record();
     }
     out.cycles[i].name = cycle.name;
-    out.cycles[i].stator = compare(sim.stator_sensor, cycle, data::Channel::stator_winding_c);
-    out.cycles[i].rotor = compare(sim.rotor_sensor, cycle, data::Channel::rotor_c);
+    out.cycles[i].stator = model::compare(sim.stator_sensor, cycle, data::Channel::stator_winding_c);
+    out.cycles[i].rotor = model::compare(sim.rotor_sensor, cycle, data::Channel::rotor_c);
   });
   calibrate::pool_cycles(out);
   return out;
@@ -440,7 +440,7 @@ EpisodeRecord record_from_json(const nlohmann::json& r) {
           r.at("evaluation").is_null() ? std::nan("") : r.at("evaluation").get<double>()};
 }
 
-Td3Outcome train_td3(const MotorFile& motor, const data::Dataset& dataset, const std::vector<std::size_t>& train,
+Td3Outcome train_td3(const model::MotorFile& motor, const data::Dataset& dataset, const std::vector<std::size_t>& train,
                      const TrainingSettings& settings, const std::filesystem::path& checkpoint_dir, bool resume,
                      const Td3Progress& progress, const WarmStart& warm) {
   if (train.empty()) throw std::runtime_error("no training cycle");

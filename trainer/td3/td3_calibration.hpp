@@ -98,14 +98,14 @@ struct Td3Outcome {
 // the firmware does), the model run open loop over each listed cycle from start offsets fitted
 // for the constant set. What `--use-actor` would give against the constant set on those cycles.
 // Only for the formulations whose actor maps an operating point to a set (not the sequential one).
-calibrate::SplitMetrics evaluate_scheduled_actor(const Td3Outcome& outcome, const MotorFile& motor, const data::Dataset& dataset,
+calibrate::SplitMetrics evaluate_scheduled_actor(const Td3Outcome& outcome, const model::MotorFile& motor, const data::Dataset& dataset,
                                       const std::vector<std::size_t>& cycles);
 
 // Trains on the listed cycles. Checkpoints go to `checkpoint_dir` every checkpoint_every episodes
 // (agent, replay buffer, every random generator's state, the curve), written atomically; with
 // `resume` the run continues after the last checkpoint there (same settings and data required,
 // else std::runtime_error says what differs). Deterministic for a given settings.seed.
-Td3Outcome train_td3(const MotorFile& motor, const data::Dataset& dataset, const std::vector<std::size_t>& train,
+Td3Outcome train_td3(const model::MotorFile& motor, const data::Dataset& dataset, const std::vector<std::size_t>& train,
                      const TrainingSettings& settings, const std::filesystem::path& checkpoint_dir, bool resume,
                      const Td3Progress& progress = {}, const WarmStart& warm = {});
 

@@ -40,7 +40,7 @@ std::string detail(const calibrate::CalibrationResult& r, const char* key) {
 // --warm-start FILE: an earlier td3 calibration of the same free parameters, its agent beside it.
 // Read as every command reads a calibration (load_calibration: a file that is not one is bad input
 // naming its field).
-WarmStart warm_start_from(const calibrate::CalibrationRequest& a, const MotorFile& motor) {
+WarmStart warm_start_from(const calibrate::CalibrationRequest& a, const model::MotorFile& motor) {
   if (a.warm_start.empty()) return {};
   const std::filesystem::path file = a.warm_start;
   const calibrate::CalibrationResult earlier = calibrate::load_calibration(file);
@@ -65,20 +65,20 @@ WarmStart warm_start_from(const calibrate::CalibrationRequest& a, const MotorFil
 }
 
 // The best set of every checkpoint scored on the test cycles, after training (never seen by it).
-nlohmann::json test_curve(const MotorFile& motor, const data::Dataset& dataset, const calibrate::Split& split, const Td3Outcome& o) {
+nlohmann::json test_curve(const model::MotorFile& motor, const data::Dataset& dataset, const calibrate::Split& split, const Td3Outcome& o) {
   nlohmann::json curve = nlohmann::json::array();
   const Model<double> model = motor.model();
   for (std::size_t i = 0; i < o.best_at_checkpoints.size(); ++i) {
     const calibrate::SplitMetrics m = calibrate::evaluate_split(model, o.best_at_checkpoints[i].second, dataset, split.test);
     curve.push_back({{"round", o.best_at_checkpoints[i].first}, {"seconds", o.checkpoint_seconds[i]},
-                     {"test_rmse_k", pool({m.stator, m.rotor}).rmse_k}});
+                     {"test_rmse_k", model::pool({m.stator, m.rotor}).rmse_k}});
   }
   return curve;
 }
 
 }  // namespace
 
-void calibrate_td3(const calibrate::CalibrationRequest& a, const MotorFile& motor, calibrate::DatasetRef shared, const calibrate::Split& split,
+void calibrate_td3(const calibrate::CalibrationRequest& a, const model::MotorFile& motor, calibrate::DatasetRef shared, const calibrate::Split& split,
                    calibrate::CalibrationResult& r, const calibrate::CalibrationProgress& progress) {
   const data::Dataset& dataset = shared.data;  // TD3 runs in one process (the workflow refuses MPI for it)
   const Formulation formulation = formulation_from_method(a.method);
@@ -142,7 +142,7 @@ void calibrate_td3(const calibrate::CalibrationRequest& a, const MotorFile& moto
   if (!split.test.empty()) {
     const calibrate::SplitMetrics scheduled = evaluate_scheduled_actor(o, motor, dataset, split.test);
     const calibrate::SplitMetrics constant = calibrate::evaluate_split(motor.model(), o.values, dataset, split.test);
-    const double s = pool({scheduled.stator, scheduled.rotor}).rmse_k, c = pool({constant.stator, constant.rotor}).rmse_k;
+    const double s = model::pool({scheduled.stator, scheduled.rotor}).rmse_k, c = model::pool({constant.stator, constant.rotor}).rmse_k;
     r.details["scheduled_actor"] = {{"test_rmse_k", s}, {"test_rmse_stator_k", scheduled.stator.rmse_k},
                                     {"test_rmse_rotor_k", scheduled.rotor.rmse_k}, {"constant_set_test_rmse_k", c},
                                     {"actor_wins", s < c},

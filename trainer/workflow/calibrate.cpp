@@ -24,9 +24,9 @@ namespace {
 bool is_search(const std::string& method) { return method == "random-search" || method == "cma-es"; }
 
 // The motor file with the request's effects switched on.
-MotorFile requested_motor(const calibrate::CalibrationRequest& q) {
-  MotorFile motor = load_motor_file(q.motor);
-  for (const std::string& name : q.effects) enable_effect(motor, effect_by_name(name, "--effect"));
+model::MotorFile requested_motor(const calibrate::CalibrationRequest& q) {
+  model::MotorFile motor = model::load_motor_file(q.motor);
+  for (const std::string& name : q.effects) model::enable_effect(motor, model::effect_by_name(name, "--effect"));
   return motor;
 }
 
@@ -34,7 +34,7 @@ MotorFile requested_motor(const calibrate::CalibrationRequest& q) {
 // nameplate (another pole count, a channel's scaling), the motor file's implausible values, and
 // columns the loader ignored (a misnamed rotor column drops the rotor data). Gaps the loader bridged,
 // masked or split as the data contract says are printed but make no calibration doubtful.
-std::vector<std::string> doubtful_input(const data::Dataset& dataset, const MotorFile& motor) {
+std::vector<std::string> doubtful_input(const data::Dataset& dataset, const model::MotorFile& motor) {
   std::vector<std::string> out;
   for (const data::CycleReport& r : dataset.reports)
     for (const data::Finding& f : r.findings)
@@ -42,13 +42,13 @@ std::vector<std::string> doubtful_input(const data::Dataset& dataset, const Moto
         out.push_back(f.message);
   for (const data::Finding& f : data::check_against_nameplate(dataset, motor.constants))
     if (f.severity == data::Finding::Severity::warning) out.push_back(f.message);
-  for (std::string& w : motor_warnings(motor)) out.push_back(std::move(w));
+  for (std::string& w : model::motor_warnings(motor)) out.push_back(std::move(w));
   return out;
 }
 
 // The model ran away at the motor file's values: bad input, naming the most implausible value.
-hostio::BadInput not_simulable(const std::string& path, const MotorFile& motor, const lm::ModelNotSimulable& e) {
-  const std::string why = implausible_values_summary(motor);
+hostio::BadInput not_simulable(const std::string& path, const model::MotorFile& motor, const lm::ModelNotSimulable& e) {
+  const std::string why = model::implausible_values_summary(motor);
   return hostio::BadInput(path + ": " + e.what() + (why.empty() ? std::string() : "; the most implausible value: " + why));
 }
 
@@ -90,14 +90,14 @@ void check_request(const calibrate::CalibrationRequest& q, calibrate::Calibratio
     throw hostio::BadInput("--method " + q.method + ": not shared over MPI processes (only --method lm is); run it without mpirun");
   if (is_td3(q.method) && td3 == nullptr)
     throw hostio::BadInput("--method " + q.method + ": this program has no TD3 calibrator (lptn-td3 has; lptn runs it)");
-  for (const std::string& name : q.effects) static_cast<void>(effect_by_name(name, "--effect"));
+  for (const std::string& name : q.effects) static_cast<void>(model::effect_by_name(name, "--effect"));
 }
 
 calibrate::CalibrationResult calibrate(const calibrate::CalibrationRequest& q, const CalibrationEvents& events, calibrate::CalibrationMethod td3) {
   check_request(q, td3);
   if (!q.fleet.empty()) throw hostio::BadInput("--fleet: a fleet is calibrated by calibrate_fleet");
   const hostio::ProcessGroup& group = calibration_group(q.method);
-  MotorFile motor = requested_motor(q);
+  model::MotorFile motor = requested_motor(q);
   std::vector<std::filesystem::path> paths(q.data.begin(), q.data.end());
   calibrate::SharedDataset dataset = calibrate::load_shared_dump(paths, group, data::with_data_map(q.map));
   try {
@@ -107,7 +107,7 @@ calibrate::CalibrationResult calibrate(const calibrate::CalibrationRequest& q, c
   }
   const calibrate::Split split = calibrate::split_cycles(dataset.data, q.test_cycles, q.test_fraction, q.seed);
   calibrate::balance_training(dataset, split.train, group);  // only LM runs shared
-  if (events.input_warnings) events.input_warnings(input_warnings(dataset.data, motor));
+  if (events.input_warnings) events.input_warnings(model::input_warnings(dataset.data, motor));
   const std::vector<std::string> inspected = doubtful_input(dataset.data, motor);
 
   // LM judges what the data pins as it fits; the other methods would move a parameter the data
@@ -137,7 +137,7 @@ FleetCalibration calibrate_fleet(const calibrate::CalibrationRequest& q, const C
   check_request(q);
   if (q.fleet.empty()) throw hostio::BadInput("calibrate_fleet: give --fleet");
   const hostio::ProcessGroup& group = calibration_group(q.method);
-  const MotorFile motor = requested_motor(q);
+  const model::MotorFile motor = requested_motor(q);
   const fleet::FleetDump fleet = fleet::load_shared_fleet(q.fleet, group, data::with_data_map(q.map));
   const calibrate::Split split = calibrate::split_cycles(fleet.dataset.data, q.test_cycles, q.test_fraction, q.seed);
   FleetCalibration out;
@@ -157,7 +157,7 @@ FleetCalibration calibrate_fleet(const calibrate::CalibrationRequest& q, const C
   lm::record_lm_fit(r, out.fit.shared, calibrate::FreeParameters::from_motor(motor), r.train_cycles, lm::to_json(out.settings.lm));
   r.seconds = out.fit.seconds;
   calibrate::score_calibration(r, motor, fleet.dataset, split);
-  if (events.input_warnings) events.input_warnings(input_warnings(fleet.dataset.data, motor));
+  if (events.input_warnings) events.input_warnings(model::input_warnings(fleet.dataset.data, motor));
   calibrate::judge_outcome(r, doubtful_input(fleet.dataset.data, motor), fleet_adequacy(motor, fleet, out.fit), calibrate::TestVsTrain::not_judged);
   return out;
 }

@@ -103,11 +103,11 @@ std::array<calibrate::NoiseSum, 2> noise_over(const Model<double>& model, const 
   return out;
 }
 
-const ErrorMetrics& side(const calibrate::SplitMetrics& m, int s) { return s == 0 ? m.stator : m.rotor; }
+const model::ErrorMetrics& side(const calibrate::SplitMetrics& m, int s) { return s == 0 ? m.stator : m.rotor; }
 
 }  // namespace
 
-std::vector<calibrate::CalibrationWarning> score_and_judge_adequacy(calibrate::CalibrationResult& r, const MotorFile& motor,
+std::vector<calibrate::CalibrationWarning> score_and_judge_adequacy(calibrate::CalibrationResult& r, const model::MotorFile& motor,
                                                          calibrate::DatasetRef dataset, const calibrate::Split& split) {
   const Model<double> model = motor.model();
   const ParamVector<double> values = r.values();
@@ -124,7 +124,7 @@ std::vector<calibrate::CalibrationWarning> score_and_judge_adequacy(calibrate::C
   const std::array<calibrate::NoiseSum, 2> noise = noise_over(model, [&](std::size_t) { return values; }, dataset, every);
   std::vector<diagnose::SensorAdequacy> sensors;
   for (int s = 0; s < 2; ++s) {
-    const ErrorMetrics &train = side(r.train, s), &test = side(r.test, s);
+    const model::ErrorMetrics &train = side(r.train, s), &test = side(r.test, s);
     if (train.samples == 0 && test.samples == 0) continue;  // not measured
     diagnose::SensorAdequacy a;
     a.sensor = kSensorNames[s];
@@ -137,7 +137,7 @@ std::vector<calibrate::CalibrationWarning> score_and_judge_adequacy(calibrate::C
   return inadequate(sensors, r.method);
 }
 
-std::vector<calibrate::CalibrationWarning> fleet_adequacy(const MotorFile& motor, const fleet::FleetDump& fleet,
+std::vector<calibrate::CalibrationWarning> fleet_adequacy(const model::MotorFile& motor, const fleet::FleetDump& fleet,
                                                const fleet::FleetFit& fit) {
   std::vector<const ParamVector<double>*> params_of(fleet.dataset.data.cycles.size(), nullptr);
   std::vector<std::size_t> every;
@@ -156,7 +156,7 @@ std::vector<calibrate::CalibrationWarning> fleet_adequacy(const MotorFile& motor
     std::size_t measured = 0;
     std::vector<std::pair<double, std::string>> beyond;  // RMSE, motor
     for (const fleet::FleetMotorResult& m : fit.motors) {
-      const ErrorMetrics& e = side(m.metrics, s);
+      const model::ErrorMetrics& e = side(m.metrics, s);
       if (e.samples == 0) continue;
       ++measured;
       if (e.rmse_k > kCalibrationAdequateRatio * sigma) beyond.emplace_back(e.rmse_k, m.id);

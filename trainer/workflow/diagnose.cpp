@@ -24,7 +24,7 @@ std::string file_figures(const calibrate::CalibrationResult& c) {
 }
 
 nlohmann::json file_figures_json(const calibrate::CalibrationResult& c) {
-  auto number = [](const ErrorMetrics& m) { return m.samples ? nlohmann::json(m.rmse_k) : nlohmann::json(nullptr); };
+  auto number = [](const model::ErrorMetrics& m) { return m.samples ? nlohmann::json(m.rmse_k) : nlohmann::json(nullptr); };
   return {{"train", {{"rmse_stator_k", number(c.train.stator)}, {"rmse_rotor_k", number(c.train.rotor)}}},
           {"test", {{"rmse_stator_k", number(c.test.stator)}, {"rmse_rotor_k", number(c.test.rotor)}}}};
 }
@@ -63,13 +63,13 @@ DiagnosisOutcome diagnose(const DiagnosisRequest& q, const DiagnosisEvents& even
   // cycles); every rank holds the whole dump and does the rest too.
   const hostio::ProcessGroup& group = hostio::ProcessGroup::world();
   const calibrate::CalibrationResult calibration = calibrate::load_calibration(q.calibration);
-  const MotorFile motor = calibrate::motor_of(calibration);
+  const model::MotorFile motor = calibrate::motor_of(calibration);
   std::vector<std::filesystem::path> paths(q.data.begin(), q.data.end());
   data::Dataset loaded = data::load_fleet_dump(paths, data::with_data_map(q.map));
   DiagnosisPlan plan;
   plan.corrections = check::correct_as_calibrated(loaded, calibration);
   if (events.input_warnings) {
-    std::vector<std::string> warnings = input_warnings(loaded, motor);
+    std::vector<std::string> warnings = model::input_warnings(loaded, motor);
     if (const std::string caution = calibrate::status_caution(calibration, q.calibration, false); !caution.empty())
       warnings.insert(warnings.begin(), caution);
     events.input_warnings(warnings);

@@ -11,7 +11,7 @@
 
 namespace lptn::testing {
 
-inline void expect_same_metrics(const ErrorMetrics& a, const ErrorMetrics& b, const std::string& what) {
+inline void expect_same_metrics(const model::ErrorMetrics& a, const model::ErrorMetrics& b, const std::string& what) {
   EXPECT_EQ(a.rmse_k, b.rmse_k) << what;
   EXPECT_EQ(a.mean_abs_k, b.mean_abs_k) << what;
   EXPECT_EQ(a.max_abs_k, b.max_abs_k) << what;

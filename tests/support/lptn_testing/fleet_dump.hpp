@@ -17,7 +17,7 @@ namespace lptn::testing {
 struct Dump {
   TempDir dir;
   data::Dataset dataset;
-  MotorFile motor;
+  model::MotorFile motor;
   calibrate::Split split;
 };
 
@@ -25,7 +25,7 @@ struct Dump {
 inline void write_and_load(Dump& d, const gen::GenerateOptions& options) {
   gen::generate(options, d.dir.path());
   d.dataset = data::load_fleet_dump({d.dir.path()});
-  d.motor = load_motor_file(d.dir.path() / "motor.toml");
+  d.motor = model::load_motor_file(d.dir.path() / "motor.toml");
 }
 
 // `cycles` cycles of `min_s`..`max_s` seconds from `seed`, nothing hidden; `test_fraction` of them

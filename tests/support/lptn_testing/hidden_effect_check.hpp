@@ -21,7 +21,7 @@ struct TestErrors {
   double stator, rotor;
 };
 
-inline TestErrors test_errors(const MotorFile& motor, const ParamVector<double>& values, const testing::Generated& g) {
+inline TestErrors test_errors(const model::MotorFile& motor, const ParamVector<double>& values, const testing::Generated& g) {
   const calibrate::SplitMetrics m = calibrate::evaluate_split(motor.model(), values, g.dataset, g.split.test);
   return {m.stator.rmse_k, m.rotor.rmse_k};
 }
@@ -45,8 +45,8 @@ inline void expect_found_and_fixed(const std::string& effect, const testing::Gen
   EXPECT_EQ(d.candidates.front().name, effect);
   EXPECT_EQ(d.candidates.front().verdict, Verdict::significant) << d.candidates.front().reason;
 
-  MotorFile with = g.motor;
-  enable_effect(with, effect_index(effect));
+  model::MotorFile with = g.motor;
+  model::enable_effect(with, effect_index(effect));
   const lm::LmReport fit = lm::fit_lm(with, with.initial_values(), g.dataset, g.split.train, lm::LmSettings{});
   if (refit) *refit = fit;
   const TestErrors before = test_errors(g.motor, g.calibrated.values, g), after = test_errors(with, fit.values, g);

@@ -11,9 +11,9 @@
 namespace lptn::testing {
 
 // docs/motor.example.toml, the motor file the documentation shows.
-inline MotorFile example_motor() { return load_motor_file(LPTN_MOTOR_EXAMPLE); }
+inline model::MotorFile example_motor() { return model::load_motor_file(LPTN_MOTOR_EXAMPLE); }
 
-inline calibrate::CalibrationResult sample_result(const MotorFile& motor = example_motor()) {
+inline calibrate::CalibrationResult sample_result(const model::MotorFile& motor = example_motor()) {
   calibrate::CalibrationResult r;
   r.created_utc = "2026-11-21T10:00:00Z";
   r.lptn_version = "lptn 0.1.0";
@@ -47,7 +47,7 @@ inline calibrate::CalibrationResult sample_result(const MotorFile& motor = examp
   r.test_cycles = {"cycle_02_freight"};
   r.split_rule = "--test-cycles cycle_02_freight";
   auto metrics = [](double base, std::size_t samples) {
-    ErrorMetrics m;
+    model::ErrorMetrics m;
     m.rmse_k = base;
     m.mean_abs_k = base * 0.8;
     m.max_abs_k = base * 3.1;
@@ -59,7 +59,7 @@ inline calibrate::CalibrationResult sample_result(const MotorFile& motor = examp
   r.train.rotor = metrics(0.93, 35000);
   r.train.cycles = {{"cycle_01_suburban", metrics(0.41, 36000), metrics(0.93, 35000)}};
   r.test.stator = metrics(0.52, 30000);  // test cycle without rotor telemetry
-  r.test.cycles = {{"cycle_02_freight", metrics(0.52, 30000), ErrorMetrics{}}};
+  r.test.cycles = {{"cycle_02_freight", metrics(0.52, 30000), model::ErrorMetrics{}}};
   r.has_actor = true;
   r.actor.obs_offset = {1000.0, 0.0};
   r.actor.obs_scale = {1000.0, 2000.0};

@@ -67,15 +67,15 @@ calibrate::SharedDataset coarse_dataset(calibrate::DatasetRef fine, int factor) 
 
 void correct_for_grid(calibrate::SharedDataset& coarse, calibrate::DatasetRef fine, const Model<double>& model,
                       const ParamVector<double>& at, const std::vector<std::size_t>& train,
-                      const std::vector<InitialOffsets<double>>& offsets, int threads) {
+                      const std::vector<model::InitialOffsets<double>>& offsets, int threads) {
   // diagnose's shared dataset keeps every cycle's samples on every rank: each corrects them all.
   hostio::parallel_for(train.size(), threads, [&](std::size_t i) {
     const data::Cycle& f = fine.cycles[train[i]];
     data::Cycle& c = coarse.data.cycles[train[i]];
     if (c.steps == 0 || f.steps == 0) return;
     const std::size_t factor = static_cast<std::size_t>(std::lround(c.dt_s / f.dt_s));
-    const CycleSimulation on_fine = simulate_cycle(model, at, f, offsets[i]);
-    const CycleSimulation on_coarse = simulate_cycle(model, at, c, offsets[i]);
+    const model::CycleSimulation on_fine = model::simulate_cycle(model, at, f, offsets[i]);
+    const model::CycleSimulation on_coarse = model::simulate_cycle(model, at, c, offsets[i]);
     for (const SensorTrace& s : kSensorTraces) {
       if (!c.has(s.channel)) continue;
       std::vector<float>& readings = c.samples[data::index_of(s.channel)];
@@ -87,7 +87,7 @@ void correct_for_grid(calibrate::SharedDataset& coarse, calibrate::DatasetRef fi
   });
 }
 
-std::optional<lm::LmReport> coarse_stage(const MotorFile& with_effect, const ParamVector<double>& start,
+std::optional<lm::LmReport> coarse_stage(const model::MotorFile& with_effect, const ParamVector<double>& start,
                                      calibrate::DatasetRef coarse, const std::vector<std::size_t>& train,
                                      const lm::LmSettings& settings, const lm::LmProgress& progress) {
   // The counts include remote cycles', so every process decides alike.
@@ -111,7 +111,7 @@ std::function<bool(int, double)> stop_short_of(double mark, double base_cost, do
   };
 }
 
-Refit judged(lm::LmReport fit, const MotorFile& with_effect, int effect) {
+Refit judged(lm::LmReport fit, const model::MotorFile& with_effect, int effect) {
   Refit out;
   out.fit = std::move(fit);
   // Whether the effect is there at all is its first parameter's question (a term's size; its
@@ -125,7 +125,7 @@ Refit judged(lm::LmReport fit, const MotorFile& with_effect, int effect) {
   return out;
 }
 
-lm::LmReport moved_to_fine(const MotorFile& with_effect, const lm::LmReport& on_coarse, const lm::LmReport& fine_baseline,
+lm::LmReport moved_to_fine(const model::MotorFile& with_effect, const lm::LmReport& on_coarse, const lm::LmReport& fine_baseline,
                        const lm::LmReport& coarse_baseline) {
   lm::LmReport out = on_coarse;
   const calibrate::FreeParameters free = calibrate::FreeParameters::from_motor(with_effect);
@@ -149,7 +149,7 @@ namespace {
 // Half the sum of squared residuals of `dataset`'s training cycles on its grid at `fit`'s values and
 // initial offsets (infinite where the model does not stay finite). Every process sums every cycle
 // (diagnose's shared dataset keeps each cycle's samples on each rank), so all decide alike.
-double cost_on(const MotorFile& motor, const lm::LmReport& fit, calibrate::DatasetRef dataset, const std::vector<std::size_t>& train,
+double cost_on(const model::MotorFile& motor, const lm::LmReport& fit, calibrate::DatasetRef dataset, const std::vector<std::size_t>& train,
                int threads) {
   const Model<double> model = motor.model();
   std::vector<double> per_cycle(train.size(), 0.0);
@@ -166,7 +166,7 @@ double cost_on(const MotorFile& motor, const lm::LmReport& fit, calibrate::Datas
 
 }  // namespace
 
-lm::LmReport polish_start(const MotorFile& with_effect, const lm::LmReport& on_coarse, const lm::LmReport& fine_baseline,
+lm::LmReport polish_start(const model::MotorFile& with_effect, const lm::LmReport& on_coarse, const lm::LmReport& fine_baseline,
                       const lm::LmReport& coarse_baseline, calibrate::DatasetRef dataset, const std::vector<std::size_t>& train,
                       int threads) {
   lm::LmReport moved = moved_to_fine(with_effect, on_coarse, fine_baseline, coarse_baseline);
@@ -176,7 +176,7 @@ lm::LmReport polish_start(const MotorFile& with_effect, const lm::LmReport& on_c
              : on_coarse;
 }
 
-Refit polish(const MotorFile& with_effect, int effect, const lm::LmReport& on_coarse, calibrate::DatasetRef dataset,
+Refit polish(const model::MotorFile& with_effect, int effect, const lm::LmReport& on_coarse, calibrate::DatasetRef dataset,
              const std::vector<std::size_t>& train, const lm::LmSettings& settings, const lm::LmProgress& progress) {
   lm::LmSettings fine = settings;
   fine.start_offsets = on_coarse.offsets;
@@ -190,7 +190,7 @@ Refit polish(const MotorFile& with_effect, int effect, const lm::LmReport& on_co
   return judged(lm::fit_lm(with_effect, on_coarse.values, dataset, train, fine, progress), with_effect, effect);
 }
 
-Refit refit_with(const MotorFile& with_effect, int effect, const ParamVector<double>& start, calibrate::DatasetRef dataset,
+Refit refit_with(const model::MotorFile& with_effect, int effect, const ParamVector<double>& start, calibrate::DatasetRef dataset,
                  const std::vector<std::size_t>& train, const lm::LmSettings& settings, const lm::LmProgress& progress,
                  const calibrate::SharedDataset* coarse) {
   if (coarse != nullptr)

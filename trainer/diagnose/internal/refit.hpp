@@ -31,7 +31,7 @@ calibrate::SharedDataset coarse_dataset(calibrate::DatasetRef fine, int factor);
 // the data grid's are 3), a score or a likelihood ratio on the corrected grid is the data's.
 void correct_for_grid(calibrate::SharedDataset& coarse, calibrate::DatasetRef fine, const Model<double>& model,
                       const ParamVector<double>& at, const std::vector<std::size_t>& train,
-                      const std::vector<InitialOffsets<double>>& offsets, int threads);
+                      const std::vector<model::InitialOffsets<double>>& offsets, int threads);
 
 // fit_lm of `with_effect` (the calibrated motor with `effect` switched on) from `start`: the
 // baseline's values with the effect's at one of diagnose's starts (the score test's Gauss-Newton
@@ -39,7 +39,7 @@ void correct_for_grid(calibrate::SharedDataset& coarse, calibrate::DatasetRef fi
 // of a few iterations can end worse than the baseline; diagnose.cpp keeps the better of the two).
 // With `coarse` (coarse_dataset of `dataset`): coarse_stage, then polish (below). Without a
 // reading on the coarse grid, the fine fit alone.
-Refit refit_with(const MotorFile& with_effect, int effect, const ParamVector<double>& start, calibrate::DatasetRef dataset,
+Refit refit_with(const model::MotorFile& with_effect, int effect, const ParamVector<double>& start, calibrate::DatasetRef dataset,
                  const std::vector<std::size_t>& train, const lm::LmSettings& settings, const lm::LmProgress& progress,
                  const calibrate::SharedDataset* coarse = nullptr);
 
@@ -47,7 +47,7 @@ Refit refit_with(const MotorFile& with_effect, int effect, const ParamVector<dou
 // the coarse grid keeps no reading of the training cycles (a sensor sampled off its 1 s instants:
 // the fit must run on the data's own grid). diagnose compares its starts here and polishes the
 // better one only: the polish costs ten times a coarse iteration.
-std::optional<lm::LmReport> coarse_stage(const MotorFile& with_effect, const ParamVector<double>& start,
+std::optional<lm::LmReport> coarse_stage(const model::MotorFile& with_effect, const ParamVector<double>& start,
                                      calibrate::DatasetRef coarse, const std::vector<std::size_t>& train,
                                      const lm::LmSettings& settings, const lm::LmProgress& progress);
 
@@ -59,7 +59,7 @@ std::optional<lm::LmReport> coarse_stage(const MotorFile& with_effect, const Par
 // start on the data's grid: on the clean 200 h dump it was 0.393 K there against the baseline's
 // 0.3755, and the polish spent its iterations coming back down (windage's likelihood ratio 2.7
 // after three of them; from the moved point 4.7 at the start and after three alike).
-lm::LmReport moved_to_fine(const MotorFile& with_effect, const lm::LmReport& on_coarse, const lm::LmReport& fine_baseline,
+lm::LmReport moved_to_fine(const model::MotorFile& with_effect, const lm::LmReport& on_coarse, const lm::LmReport& fine_baseline,
                        const lm::LmReport& coarse_baseline);
 
 // Where diagnose polishes `on_coarse`: moved_to_fine of it, or the coarse fit's own point where
@@ -68,7 +68,7 @@ lm::LmReport moved_to_fine(const MotorFile& with_effect, const lm::LmReport& on_
 // dump's crawls it is what makes the polish start at the baseline's footing (the cycles' initial
 // offsets most of all: the parameters moved alone started a likelihood ratio of -5500 below it),
 // but on short cycles with a windage that the data pin, the coarse fit's own offsets were closer.
-lm::LmReport polish_start(const MotorFile& with_effect, const lm::LmReport& on_coarse, const lm::LmReport& fine_baseline,
+lm::LmReport polish_start(const model::MotorFile& with_effect, const lm::LmReport& on_coarse, const lm::LmReport& fine_baseline,
                       const lm::LmReport& coarse_baseline, calibrate::DatasetRef dataset, const std::vector<std::size_t>& train,
                       int threads);
 
@@ -80,7 +80,7 @@ lm::LmReport polish_start(const MotorFile& with_effect, const lm::LmReport& on_c
 // kCrawlPolishIterations: none, which from moved_to_fine's start is the fit there (on the clean
 // 200 h dump three iterations from it moved the crawls' likelihood ratios by 0.0 to 0.16, at 2.6 s
 // each). diagnose polishes moved_to_fine of the coarse fit; refit_with the coarse fit itself.
-Refit polish(const MotorFile& with_effect, int effect, const lm::LmReport& on_coarse, calibrate::DatasetRef dataset,
+Refit polish(const model::MotorFile& with_effect, int effect, const lm::LmReport& on_coarse, calibrate::DatasetRef dataset,
              const std::vector<std::size_t>& train, const lm::LmSettings& settings, const lm::LmProgress& progress);
 
 constexpr int kCrawlPolishIterations = 0;
@@ -109,6 +109,6 @@ std::function<bool(int iteration, double cost)> stop_short_of(double mark, doubl
                                                               int pace_iterations = kPaceIterations);
 
 // `fit` (of `with_effect`, on any grid) with what the data can tell of the effect in it.
-Refit judged(lm::LmReport fit, const MotorFile& with_effect, int effect);
+Refit judged(lm::LmReport fit, const model::MotorFile& with_effect, int effect);
 
 }  // namespace lptn::diagnose::internal

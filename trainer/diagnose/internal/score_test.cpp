@@ -12,7 +12,7 @@ namespace {
 
 // The effect's parameters searched linearly: their neutral value is often 0 (or outside the
 // bounds), where a log coordinate does not exist. The statistic does not depend on the scale.
-calibrate::FreeParameters linear_in_effect(const MotorFile& motor, int effect) {
+calibrate::FreeParameters linear_in_effect(const model::MotorFile& motor, int effect) {
   calibrate::FreeParameters free = calibrate::FreeParameters::from_motor(motor);
   for (std::size_t j = 0; j < free.size(); ++j)
     if (effect_of_param(free.index[j]) == effect) free.log_scale[j] = false;
@@ -92,7 +92,7 @@ bool scored_jointly(int effect) {
 
 }  // namespace
 
-Score score_test(const MotorFile& with_effect, int effect, const lm::LmReport& baseline, calibrate::DatasetRef dataset,
+Score score_test(const model::MotorFile& with_effect, int effect, const lm::LmReport& baseline, calibrate::DatasetRef dataset,
                  const std::vector<std::size_t>& train, int threads) {
   const calibrate::FreeParameters free = linear_in_effect(with_effect, effect);
   const ParamVector<double> at = neutral_point(baseline.values, effect);
@@ -104,7 +104,7 @@ Score score_test(const MotorFile& with_effect, int effect, const lm::LmReport& b
   return score_from(free, at, effect, baseline, jtj, g, ne.rss, ne.residuals);
 }
 
-std::vector<Score> score_tests(const MotorFile& motor, const std::vector<int>& effects, const lm::LmReport& baseline,
+std::vector<Score> score_tests(const model::MotorFile& motor, const std::vector<int>& effects, const lm::LmReport& baseline,
                                calibrate::DatasetRef dataset, const std::vector<std::size_t>& train, int threads,
                                const std::function<void(int)>& scoring) {
   std::vector<Score> out(effects.size());
@@ -112,18 +112,18 @@ std::vector<Score> score_tests(const MotorFile& motor, const std::vector<int>& e
   // with all of them, whose Jacobian holds each one's columns next to the baseline's. An effect at
   // its neutral value does nothing, so each one's normal equations are the joint ones restricted
   // to the baseline's columns and its own: its score test, for the cost of one.
-  MotorFile all = motor;
+  model::MotorFile all = motor;
   std::vector<std::size_t> joint;
   for (std::size_t k = 0; k < effects.size(); ++k)
     if (scored_jointly(effects[k])) {
-      enable_effect(all, effects[k]);
+      model::enable_effect(all, effects[k]);
       joint.push_back(k);
     }
   if (joint.size() < 2) joint.clear();
   for (std::size_t k = 0; k < effects.size(); ++k) {
     if (std::find(joint.begin(), joint.end(), k) != joint.end()) continue;
-    MotorFile with = motor;
-    enable_effect(with, effects[k]);
+    model::MotorFile with = motor;
+    model::enable_effect(with, effects[k]);
     if (scoring) scoring(effects[k]);
     out[k] = score_test(with, effects[k], baseline, dataset, train, threads);
   }
@@ -147,8 +147,8 @@ std::vector<Score> score_tests(const MotorFile& motor, const std::vector<int>& e
   const auto offsets = static_cast<Eigen::Index>(ne.columns - free_all.size());  // the cycles', after the parameters
   for (std::size_t k : joint) {
     const int e = effects[k];
-    MotorFile with = motor;
-    enable_effect(with, e);
+    model::MotorFile with = motor;
+    model::enable_effect(with, e);
     const calibrate::FreeParameters free = linear_in_effect(with, e);
     // The joint columns of this score test's parameters, in its own order, then the offsets.
     std::vector<Eigen::Index> columns;

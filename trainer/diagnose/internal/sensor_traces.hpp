@@ -13,10 +13,10 @@ namespace lptn::diagnose::internal {
 struct SensorTrace {
   const char* name;
   data::Channel channel;
-  std::vector<float> CycleSimulation::*trace;
+  std::vector<float> model::CycleSimulation::*trace;
 };
 inline constexpr SensorTrace kSensorTraces[] = {
-    {"stator", data::Channel::stator_winding_c, &CycleSimulation::stator_sensor},
-    {"rotor", data::Channel::rotor_c, &CycleSimulation::rotor_sensor}};
+    {"stator", data::Channel::stator_winding_c, &model::CycleSimulation::stator_sensor},
+    {"rotor", data::Channel::rotor_c, &model::CycleSimulation::rotor_sensor}};
 
 }  // namespace lptn::diagnose::internal

@@ -10,7 +10,7 @@
 #include "lptn/model.hpp"
 #include "trainer/model/motor_file.hpp"
 
-namespace lptn::internal {
+namespace lptn::model::internal {
 
 // The motor file's sections that hold constants, in the order of their list.
 std::vector<std::string_view> constant_sections();
@@ -29,4 +29,4 @@ struct SettingProblem {
 };
 SettingProblem setting_problem(int index, const ParameterSetting& s);
 
-}  // namespace lptn::internal
+}  // namespace lptn::model::internal

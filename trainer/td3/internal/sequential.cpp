@@ -46,7 +46,7 @@ std::vector<data::Cycle> coarse_cycles(const data::Dataset& dataset, const std::
 
 class SequentialTrainer {
  public:
-  SequentialTrainer(const MotorFile& motor, const data::Dataset& dataset, const std::vector<std::size_t>& train,
+  SequentialTrainer(const model::MotorFile& motor, const data::Dataset& dataset, const std::vector<std::size_t>& train,
                     const TrainingSettings& settings, const WarmStart& warm)
       : settings_(settings), warm_(!warm.agent_file.empty()), q_(settings.sequential), dataset_(dataset), train_(train), model_(motor.model()),
         free_(calibrate::FreeParameters::from_motor(motor)),
@@ -166,7 +166,7 @@ class SequentialTrainer {
   double train_rmse(const ParamVector<double>& p) {
     const calibrate::SplitMetrics m = calibrate::evaluate_split(model_, p, dataset_, train_);
     for (std::size_t c : train_) state_.simulated_steps += calibrate::evaluation_steps(dataset_.cycles[c]);
-    return pool({m.stator, m.rotor}).rmse_k;
+    return model::pool({m.stator, m.rotor}).rmse_k;
   }
 
  private:
@@ -265,7 +265,7 @@ void load_checkpoint(SequentialTrainer& trainer, const std::filesystem::path& di
 
 }  // namespace
 
-Td3Outcome train_sequential(const MotorFile& motor, const data::Dataset& dataset, const std::vector<std::size_t>& train,
+Td3Outcome train_sequential(const model::MotorFile& motor, const data::Dataset& dataset, const std::vector<std::size_t>& train,
                             const TrainingSettings& settings, const std::filesystem::path& checkpoint_dir, bool resume,
                             const Td3Progress& progress, const WarmStart& warm) {
   SequentialTrainer trainer(motor, dataset, train, settings, warm);

@@ -5,7 +5,7 @@
 
 namespace lptn::td3 {
 
-Td3Outcome train_sequential(const MotorFile& motor, const data::Dataset& dataset, const std::vector<std::size_t>& train,
+Td3Outcome train_sequential(const model::MotorFile& motor, const data::Dataset& dataset, const std::vector<std::size_t>& train,
                             const TrainingSettings& settings, const std::filesystem::path& checkpoint_dir, bool resume,
                             const Td3Progress& progress, const WarmStart& warm);
 
