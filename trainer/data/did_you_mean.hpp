@@ -9,7 +9,7 @@
 #include <string_view>
 #include <vector>
 
-namespace lptn {
+namespace lptn::data {
 
 // Levenshtein distance, letters compared without case (a column "Rotor_C" is a typo too).
 inline std::size_t edit_distance(std::string_view a, std::string_view b) {
@@ -57,4 +57,4 @@ std::string did_you_mean(std::string_view word, const Names& known) {
   return best.empty() ? std::string() : " (did you mean '" + best + "'?)";
 }
 
-}  // namespace lptn
+}  // namespace lptn::data

@@ -128,7 +128,7 @@ class TableReader {
     known.insert(known.end(), expected_.begin(), expected_.end());
     for (const auto& [key, node] : table_) {
       if (!seen_.count(std::string(key.str())))
-        fail(file_, node.source(), full(key.str()), "unknown key" + did_you_mean(key.str(), known));
+        fail(file_, node.source(), full(key.str()), "unknown key" + data::did_you_mean(key.str(), known));
     }
   }
 
@@ -146,8 +146,8 @@ class TableReader {
       const std::string_view k = key.str();
       if (std::find(expected_.begin(), expected_.end(), k) != expected_.end()) continue;
       const std::string_view candidates[] = {missing};
-      if (!closest_name(k, candidates).empty())
-        fail(file_, node.source(), full(k), "unknown key" + did_you_mean(k, candidates));
+      if (!data::closest_name(k, candidates).empty())
+        fail(file_, node.source(), full(k), "unknown key" + data::did_you_mean(k, candidates));
     }
   }
 
@@ -336,7 +336,7 @@ MotorFile parse_motor_file(const std::string& text, const std::filesystem::path&
       if (index < 0) {
         std::vector<std::string_view> known;
         for (int i = 0; i < kNumParams; ++i) known.push_back(param_spec(i).name);
-        fail(shown_as, node.source(), "parameters." + name, "unknown parameter" + did_you_mean(name, known));
+        fail(shown_as, node.source(), "parameters." + name, "unknown parameter" + data::did_you_mean(name, known));
       }
       const toml::table* pt = node.as_table();
       if (!pt) fail(shown_as, node.source(), "parameters." + name, "must be a table with initial, min, max");
