@@ -13,6 +13,7 @@
 #include <functional>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -361,6 +362,64 @@ TEST_F(SemanticInput, ReplayOfAnotherMotorsLogWithThisCalibrationSaysSo) {
         }
     }
   }
+}
+
+// replay checks what the log sent against the calibration's nameplate as the ticks go by
+// (data::NameplateCheck fed by replay_to_csv with the last values received); inspect --log checks
+// the same log, decoded as convert would and resampled to the model's grid, against a motor file of
+// the same nameplate. A nameplate this log breaks every way (three pole pairs, 10 A and 100 V
+// rated): both find the same three things at the same share of the drive. The model itself never
+// sees the currents and voltages beyond that nameplate's plausible ranges (conditioning replaces
+// them), so replay also says which inputs did not reach the model as sent.
+TEST_F(SemanticInput, ReplayChecksTheLogAgainstTheNameplateAsInspectDoes) {
+  const fs::path log = scratch("np.log"), cal = scratch("np.json"), m = scratch("np.toml");
+  ASSERT_EQ(run("convert --in " + first_cycle().string() + " --out " + log.string()).code, 0);
+  const Result c = run("calibrate --method lm --data " + dump().string() + " --motor " + motor().string() + " --out " +
+                       cal.string() + " --force");
+  ASSERT_TRUE(c.code == 0 || c.code == 3 || c.code == 4) << c.err;
+  const std::vector<std::pair<std::string, std::string>> nameplate = {
+      {"pole_pairs", "3"}, {"rated_current_a", "10.0"}, {"magnetizing_current_a", "5.0"}, {"rated_voltage_v", "100.0"}};
+  {
+    std::ifstream in(cal);
+    nlohmann::json j = nlohmann::json::parse(in);
+    nlohmann::json& constants = j["motor"]["constants"];
+    for (const auto& [key, value] : nameplate)
+      (key == "magnetizing_current_a" ? constants["electrical"] : constants["nameplate"])[key] = nlohmann::json::parse(value);
+    std::ofstream(cal) << j.dump(2);
+    fs::path from = motor();
+    for (std::size_t i = 0; i < nameplate.size(); ++i) {
+      const fs::path to = scratch("np-" + std::to_string(i) + ".toml");
+      ASSERT_GT(edit_motor(from, to, nameplate[i].first, nameplate[i].second), 0) << nameplate[i].first;
+      from = to;
+    }
+    fs::copy_file(from, m, fs::copy_options::overwrite_existing);
+  }
+  const Result r = run("replay --quiet --log " + log.string() + " --calibration " + cal.string() + " --out " +
+                       scratch("np.csv").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const Result i = run("inspect --log " + log.string() + " --motor " + m.string());
+  // Each check's finding: its share of the drive in per cent, from "at N of M steps".
+  const auto share = [](const std::string& text, const std::string& check) {
+    const std::size_t at = text.find(check);
+    if (at == std::string::npos) return -1.0;
+    unsigned long n = 0, of = 0;
+    const std::size_t counts = text.find(" at ", at);
+    if (counts == std::string::npos || std::sscanf(text.c_str() + counts, " at %lu of %lu", &n, &of) != 2 || of == 0)
+      return -2.0;
+    return 100.0 * static_cast<double>(n) / static_cast<double>(of);
+  };
+  const std::string inspected = i.out + i.err;
+  for (const char* check : {"current_a above 4x rated (10 A)", "voltage_v above 1.3x rated (100 V)",
+                            "frequency_hz differs from speed_rpm * 3 / 60"}) {
+    const double replayed = share(r.err, check), expected = share(inspected, check);
+    EXPECT_GT(expected, 1.0) << check << "\n" << inspected;
+    EXPECT_NEAR(replayed, expected, 0.5) << check << "\n" << r.err << "\n" << inspected;
+  }
+  EXPECT_NE(r.err.find("(the motor of " + cal.string()), std::string::npos) << r.err;
+  for (const char* input : {"current", "voltage"})
+    EXPECT_NE(r.err.find(log.string() + ": input " + input + " did not reach the model as sent: implausible (outside 0 .. "),
+              std::string::npos)
+        << input << "\n" << r.err;
 }
 
 TEST_F(SemanticInput, CalibrationGivenAsMotorIsNamedForWhatItIs) {
