@@ -422,6 +422,56 @@ TEST_F(SemanticInput, ReplayChecksTheLogAgainstTheNameplateAsInspectDoes) {
         << input << "\n" << r.err;
 }
 
+// A stator winding sensor that falls silent halfway through the drive: the estimates of the
+// second half are the model's alone, and replay says so (the CSV's masks say it row by row), with
+// the share of the rows, while the first half of the same log alone gives no such line.
+TEST_F(SemanticInput, ReplaySaysWhenASensorFallsSilent) {
+  const Result c = run("calibrate --method lm --data " + dump().string() + " --motor " + motor().string() + " --out " +
+                       scratch("silent.json").string() + " --force");
+  ASSERT_TRUE(c.code == 0 || c.code == 3 || c.code == 4) << c.err;
+  std::vector<std::string> lines;
+  {
+    std::ifstream in(first_cycle());
+    for (std::string line; std::getline(in, line);) lines.push_back(line);
+  }
+  ASSERT_GT(lines.size(), 1000u);
+  const std::vector<std::string> header = split(lines[0]);
+  const auto column = static_cast<std::size_t>(std::find(header.begin(), header.end(), "stator_winding_c") - header.begin());
+  ASSERT_LT(column, header.size());
+  const std::size_t half = lines.size() / 2;
+  const fs::path silent = scratch("silent.csv"), first_half = scratch("first_half.csv");
+  {
+    std::ofstream all(silent), head(first_half);
+    for (std::size_t k = 0; k < lines.size(); ++k) {
+      std::vector<std::string> cells = split(lines[k]);
+      if (k >= half && column < cells.size()) cells[column].clear();
+      std::string row;
+      for (std::size_t i = 0; i < cells.size(); ++i) row += (i ? "," : "") + cells[i];
+      all << row << '\n';
+      if (k < half) head << row << '\n';
+    }
+  }
+  for (const fs::path& csv : {silent, first_half}) {
+    const fs::path log = scratch(csv.stem().string() + ".log");
+    ASSERT_EQ(run("convert --in " + csv.string() + " --out " + log.string()).code, 0);
+    const Result r = run("replay --quiet --log " + log.string() + " --calibration " + scratch("silent.json").string() +
+                         " --out " + scratch(csv.stem().string() + "-estimates.csv").string());
+    ASSERT_EQ(r.code, 0) << r.err;
+    const std::string said = log.string() + ": input stator_sensor did not reach the model as sent: stale (no good value "
+                                            "within its timeout) at ";
+    const std::size_t at = r.err.find(said);
+    if (csv == first_half) {
+      EXPECT_EQ(r.err.find("did not reach the model"), std::string::npos) << r.err;
+      continue;
+    }
+    ASSERT_NE(at, std::string::npos) << r.err;
+    unsigned long n = 0, rows = 0;
+    ASSERT_EQ(std::sscanf(r.err.c_str() + at + said.size(), "%lu of %lu rows", &n, &rows), 2) << r.err;
+    EXPECT_NEAR(static_cast<double>(n) / static_cast<double>(rows), 0.5, 0.02) << r.err;
+    EXPECT_NE(r.err.find("those rows went without its readings", at), std::string::npos) << r.err;
+  }
+}
+
 TEST_F(SemanticInput, CalibrationGivenAsMotorIsNamedForWhatItIs) {
   // Told by content, not by name: the calibration is called .toml here.
   const fs::path cal = scratch("cal.toml");

@@ -86,8 +86,10 @@ std::vector<std::string> input_warnings(const std::string& log, const ReplaySumm
       line += sep + (optional ? "left out (the model ran without it) at " : "replaced by its conservative value " + std::string(value) + " at ") +
               share(h.substituted);
     }
-    line += h.substituted ? ": the estimates at those rows are not the motor's as the log has it"
-                          : ": the model held the last good value there";
+    const bool sensor = input == fw::Input::stator_sensor || input == fw::Input::rotor_sensor;
+    line += sensor          ? ": those rows went without its readings"
+            : h.substituted ? ": the estimates at those rows are not the motor's as the log has it"
+                            : ": the model held the last good value there";
     out.push_back(line);
   }
   return out;
