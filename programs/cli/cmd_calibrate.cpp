@@ -25,7 +25,7 @@ namespace lptn::cli {
 namespace {
 
 struct CalibrateArgs {
-  CalibrationRequest request;
+  calibrate::CalibrationRequest request;
   bool force = false, quiet = false;
 };
 
@@ -48,30 +48,30 @@ struct CalibrateArgs {
 #endif
 
 // The exit code a calibration's status gives (exit_code.hpp).
-int exit_code_of(const CalibrationResult& r) {
-  return r.status == kStatusFailed ? kExitFailed : (r.status == kStatusWarnings ? kExitWarnings : 0);
+int exit_code_of(const calibrate::CalibrationResult& r) {
+  return r.status == calibrate::kStatusFailed ? kExitFailed : (r.status == calibrate::kStatusWarnings ? kExitWarnings : 0);
 }
 
 // The warnings go to stderr, quiet or not: a script that ignores stdout must still see them. The
 // data's were printed before the work began.
-void print_outcome_warnings(const CalibrationResult& r) {
-  for (const CalibrationWarning& w : r.warnings)
+void print_outcome_warnings(const calibrate::CalibrationResult& r) {
+  for (const calibrate::CalibrationWarning& w : r.warnings)
     if (w.code != "data") std::fprintf(stderr, "lptn: warning: %s\n", w.message.c_str());
 }
 
 // The line that ends a calibration, a motor's or a fleet's: where it went and its status. `took`:
 // how long, in words ("9.6 s of calibration").
-void print_written(const std::string& out, const CalibrationResult& r, const char* took) {
-  if (r.status == kStatusFailed)
+void print_written(const std::string& out, const calibrate::CalibrationResult& r, const char* took) {
+  if (r.status == calibrate::kStatusFailed)
     std::printf("%s written with status FAILED, for inspection only (lptn export refuses it): %zu warning%s above\n",
                 out.c_str(), r.warnings.size(), r.warnings.size() == 1 ? "" : "s");
-  else if (r.status == kStatusWarnings)
+  else if (r.status == calibrate::kStatusWarnings)
     std::printf("%s written with status warnings (%zu; read them before using it; %s)\n", out.c_str(), r.warnings.size(), took);
   else
     std::printf("%s written, status ok (%s)\n", out.c_str(), took);
 }
 
-void print_metrics(const char* side, const SplitMetrics& m) {
+void print_metrics(const char* side, const calibrate::SplitMetrics& m) {
   std::printf("%-6s stator rmse %.3f K  max %.3f K  bias %+.3f K", side, m.stator.rmse_k, m.stator.max_abs_k, m.stator.bias_k);
   if (m.rotor.samples) std::printf(" | rotor rmse %.3f K  max %.3f K", m.rotor.rmse_k, m.rotor.max_abs_k);
   std::printf("  (%zu cycles)\n", m.cycles.size());
@@ -105,7 +105,7 @@ void run_fleet(const CalibrateArgs& a, const hostio::ProcessGroup& group) {
   hostio::ProgressLine line(a.quiet);
   const workflow::FleetCalibration f = workflow::calibrate_fleet(a.request, printed_events(a, group, line));
   line.finish();
-  const CalibrationResult& r = f.result;
+  const calibrate::CalibrationResult& r = f.result;
   set_exit_code(exit_code_of(r));
   if (!group.leads()) return;
   fleet::save_fleet(a.request.out, r, f.fit, f.settings);
@@ -132,8 +132,8 @@ void run_fleet(const CalibrateArgs& a, const hostio::ProcessGroup& group) {
   print_written(a.request.out, r, took);
 }
 
-void run(const CalibrateArgs& given, CalibrationMethod td3) {
-  const CalibrationRequest& q = given.request;
+void run(const CalibrateArgs& given, calibrate::CalibrationMethod td3) {
+  const calibrate::CalibrationRequest& q = given.request;
 #if LPTN_WITH_TD3
   if (workflow::is_td3(q.method) && td3 == nullptr && !hostio::launched_by_mpi()) hand_over_to_td3_program();
 #else
@@ -157,13 +157,13 @@ void run(const CalibrateArgs& given, CalibrationMethod td3) {
   if (!q.fleet.empty()) return run_fleet(a, group);
 
   hostio::ProgressLine line(a.quiet);
-  const CalibrationResult r = workflow::calibrate(q, printed_events(a, group, line), td3);
+  const calibrate::CalibrationResult r = workflow::calibrate(q, printed_events(a, group, line), td3);
   line.finish();
   set_exit_code(exit_code_of(r));
   if (!group.leads()) return;
-  save_calibration(r, q.out);
+  calibrate::save_calibration(r, q.out);
   if (!a.quiet) {
-    for (const ParameterResult& p : r.parameters) {
+    for (const calibrate::ParameterResult& p : r.parameters) {
       if (!p.calibrated && p.identifiable) continue;
       std::printf("  %-24s %12.5g %-8s", p.name.c_str(), p.value, p.unit.c_str());
       if (!p.identifiable) {
@@ -171,9 +171,9 @@ void run(const CalibrateArgs& given, CalibrationMethod td3) {
         continue;
       }
       if (std::isfinite(p.std_error)) std::printf(" +- %.3g", p.std_error);
-      std::printf("   (start %g)%s\n", p.initial, at_bound(p) ? "   AT ITS BOUND" : "");
+      std::printf("   (start %g)%s\n", p.initial, calibrate::at_bound(p) ? "   AT ITS BOUND" : "");
     }
-    for (const CorrelatedPair& c : r.correlated)
+    for (const calibrate::CorrelatedPair& c : r.correlated)
       std::printf("  note: %s and %s are %+.3f correlated: this data pins their combination better than either\n", c.a.c_str(), c.b.c_str(), c.correlation);
     print_metrics("train", r.train);
     if (!r.test.cycles.empty()) print_metrics("test", r.test);
@@ -181,16 +181,16 @@ void run(const CalibrateArgs& given, CalibrationMethod td3) {
   print_outcome_warnings(r);
   char took[64];
   std::snprintf(took, sizeof took, "%.1f s of calibration", r.seconds);
-  if (!a.quiet || r.status != kStatusOk) print_written(q.out, r, took);
+  if (!a.quiet || r.status != calibrate::kStatusOk) print_written(q.out, r, took);
 }
 
 }  // namespace
 
-void add_calibrate(CLI::App& app, CalibrationMethod td3) {
+void add_calibrate(CLI::App& app, calibrate::CalibrationMethod td3) {
   auto* cmd = app.add_subcommand("calibrate", "Fit the model's parameters to a fleet dump (LM or TD3) and write calibration.json; under "
                                                  "`mpirun -np N`, LM shares the files (or --fleet's motors) over N processes");
   auto a = std::make_shared<CalibrateArgs>();
-  CalibrationRequest& q = a->request;
+  calibrate::CalibrationRequest& q = a->request;
   auto* data = cmd->add_option("--data", q.data, "Directories of cycle CSVs, or CSV files")->expected(1, -1);
   auto* fleet = cmd->add_option("--fleet", q.fleet,
                                 "A fleet: FLEET/<motor_id>/*.csv, one motor type; writes fleet.json (docs/fleet.md), --method lm");

@@ -33,7 +33,7 @@ struct CheckArgs {
 };
 
 bool is_fleet_file(const std::string& path) {
-  const nlohmann::json j = read_lptn_json(path);
+  const nlohmann::json j = calibrate::read_lptn_json(path);
   return j.is_object() && j.contains("pooled") && j.contains("motors");
 }
 
@@ -50,8 +50,8 @@ bool check_data(const CheckArgs& a) {
   if (is_fleet_file(a.calibration))
     throw hostio::BadInput(a.calibration + ": a fleet calibration (lptn calibrate --fleet): use --fleet FLEET, each motor against "
                                    "its own cooling factor");
-  const CalibrationResult calibration = load_calibration(a.calibration);
-  if (const std::string caution = status_caution(calibration, a.calibration, false); !caution.empty())
+  const calibrate::CalibrationResult calibration = calibrate::load_calibration(a.calibration);
+  if (const std::string caution = calibrate::status_caution(calibration, a.calibration, false); !caution.empty())
     std::fprintf(stderr, "lptn: warning: %s\n", caution.c_str());
   const std::vector<std::filesystem::path> paths(a.data.begin(), a.data.end());
   data::Dataset dataset = data::load_fleet_dump(paths, with_map(a.map));
@@ -80,11 +80,11 @@ bool check_data(const CheckArgs& a) {
 
 // One motor checked: with fleet.json against the type and its own cooling factor; a motor the
 // fleet calibration does not know, and every motor under a calibration.json, against that calibration.
-nlohmann::json check_motor(const CheckArgs& a, const std::optional<fleet::FleetFile>& fleet_file, const CalibrationResult& single,
+nlohmann::json check_motor(const CheckArgs& a, const std::optional<fleet::FleetFile>& fleet_file, const calibrate::CalibrationResult& single,
                            const fleet::FleetDump& fleet, std::size_t m, const std::optional<MotorFile>& data_motor) {
   const std::string& id = fleet.motor_ids[m];
   std::string against = fleet_file ? "the type (not in " + a.calibration + ")" : a.calibration;
-  CalibrationResult calibration = single;
+  calibrate::CalibrationResult calibration = single;
   if (fleet_file) {
     calibration = fleet_file->pooled;
     for (const fleet::FleetFileMotor& fm : fleet_file->motors)
@@ -112,9 +112,9 @@ bool check_fleet(const CheckArgs& given) {
     if (std::freopen("/dev/null", "w", stdout) == nullptr) throw std::runtime_error("cannot silence rank " + std::to_string(group.rank()));
   }
   std::optional<fleet::FleetFile> fleet_file;
-  CalibrationResult single;
+  calibrate::CalibrationResult single;
   if (is_fleet_file(a.calibration)) fleet_file = fleet::load_fleet_file(a.calibration);
-  else single = load_calibration(a.calibration);
+  else single = calibrate::load_calibration(a.calibration);
   const fleet::FleetDump fleet = fleet::load_shared_fleet(a.fleet, group, with_map(a.map));
   const std::optional<MotorFile> data_motor = check::motor_beside({a.fleet});
   nlohmann::json mine = nlohmann::json::object();  // motor index -> its verdict, for this rank's motors
@@ -122,7 +122,7 @@ bool check_fleet(const CheckArgs& given) {
     hostio::ProgressLine line(a.quiet || a.json);
     for (std::size_t m = 0; m < fleet.motor_ids.size(); ++m) {
       const auto& cycles = fleet.motor_cycles[m];
-      if (cycles.empty() || DatasetRef(fleet.dataset).remote(cycles.front())) continue;  // another rank's
+      if (cycles.empty() || calibrate::DatasetRef(fleet.dataset).remote(cycles.front())) continue;  // another rank's
       line.update("check: " + fleet.motor_ids[m] + " (" + std::to_string(m + 1) + "/" +
                   std::to_string(fleet.motor_ids.size()) + ")", true);
       mine[std::to_string(m)] = check_motor(a, fleet_file, single, fleet, m, data_motor);

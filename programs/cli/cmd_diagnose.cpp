@@ -84,7 +84,7 @@ void run(const DiagnoseArgs& given) {
     std::printf("\nforward selection added: %s\n", added.empty() ? "nothing" : added.c_str());
   }
   if (a.out.empty() || !o.updated || !group.leads()) return;
-  save_calibration(*o.updated, a.out);
+  calibrate::save_calibration(*o.updated, a.out);
   if (!a.json) std::printf("%s written (effects: %s)\n", a.out.c_str(), diagnose::effect_list(o.updated->effects).c_str());
 }
 

@@ -35,8 +35,8 @@ void add_export(CLI::App& app) {
     if (!args->calibration.empty()) check_input_path(args->calibration, "--calibration", InputPath::file);
     if (!args->fleet.empty()) check_input_path(args->fleet, "--fleet", InputPath::file);
     check_output_path(args->out, args->force);
-    const CalibrationResult calibration = args->fleet.empty()
-                                              ? load_calibration(args->calibration)
+    const calibrate::CalibrationResult calibration = args->fleet.empty()
+                                              ? calibrate::load_calibration(args->calibration)
                                               : fleet::motor_calibration(fleet::load_fleet_file(args->fleet), args->motor_id);
     exporter::ExportOptions options;
     options.source_name = std::filesystem::path(args->fleet.empty() ? args->calibration : args->fleet).filename().string();
@@ -44,7 +44,7 @@ void add_export(CLI::App& app) {
     options.actor = args->actor;
     const std::string header = exporter::export_header(calibration, options);  // refuses a failed calibration
     // Each warning on a line of its own (the header carries them too, as comments).
-    for (const CalibrationWarning& w : calibration.warnings)
+    for (const calibrate::CalibrationWarning& w : calibration.warnings)
       std::fprintf(stderr, "lptn: warning: %s: %s\n", options.source_name.c_str(), w.message.c_str());
     hostio::write_file_atomically(args->out, header);
     std::printf("wrote %s (%s calibration of %s%s)\n", args->out.c_str(), calibration.method.c_str(),

@@ -32,13 +32,13 @@
 namespace lptn::cli {
 namespace {
 
-// The log's inputs, as the estimator ran on them (the rows of the CSV just written, as they load
-// as a cycle: `check` was given to replay_to_csv), against the nameplate of the motor the
-// calibration was made for: another pole count (the frequency against the speed), currents or
-// voltages no motor of that nameplate sees. A calibration of another motor type gives estimates
-// that look like any others; this is what says so. Each finding names the log.
+// What the log sent (`check` was given to replay_to_csv: the last values received at every row,
+// plausible or not) against the nameplate of the motor the calibration was made for: another pole
+// count (the frequency against the speed), currents or voltages no motor of that nameplate sees.
+// A calibration of another motor type gives estimates that look like any others; this is what
+// says so. Each finding names the log.
 std::vector<std::string> log_against_motor(const std::string& log, const data::NameplateCheck& check,
-                                           const CalibrationResult& cal, const std::string& source) {
+                                           const calibrate::CalibrationResult& cal, const std::string& source) {
   const std::string who = "cycle " + std::filesystem::path(log).filename().string() + " (" + log + ")";
   std::vector<std::string> out_lines;
   for (const data::Finding& f : check.findings(who))
@@ -78,7 +78,7 @@ struct DirectoryItem {
 // writes. Reported in the order of the names; the first bad log (in that order) is the error, and
 // then nothing is written: the CSVs go into a temporary directory renamed into place at the end.
 void replay_directory(const fs::path& dir, const std::string& out_dir, bool force, const fw::EstimatorConfig<double>& config,
-                      const canfile::LogSelection& select, const CalibrationResult& calibrated,
+                      const canfile::LogSelection& select, const calibrate::CalibrationResult& calibrated,
                       const std::string& source, int threads) {
   const std::vector<fs::path> logs = logs_in(dir);
   hostio::AtomicDirectory out(out_dir, force);
@@ -190,10 +190,10 @@ void add_replay(CLI::App& app) {
     if (args->calibration.empty() && args->fleet.empty())
       throw hostio::BadInput("replay: --calibration or --fleet is required (see --help)");
     const std::string& source = args->fleet.empty() ? args->calibration : args->fleet;
-    const CalibrationResult calibrated =
-        args->fleet.empty() ? load_calibration(args->calibration) : fleet::load_fleet_file(args->fleet).pooled;
+    const calibrate::CalibrationResult calibrated =
+        args->fleet.empty() ? calibrate::load_calibration(args->calibration) : fleet::load_fleet_file(args->fleet).pooled;
     // What a converter flashed with it would estimate: a calibration that is not ok says so first.
-    if (const std::string caution = status_caution(calibrated, source, true); !caution.empty())
+    if (const std::string caution = calibrate::status_caution(calibrated, source, true); !caution.empty())
       std::fprintf(stderr, "lptn: warning: %s\n", caution.c_str());
     const auto cal = replay::estimator_config_from(calibrated, source, map ? map->decoder() : lptn::bus::decoder());
     if (args->use_actor && !cal->config.actor.actor)

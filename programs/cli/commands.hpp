@@ -22,7 +22,7 @@ void add_inspect(CLI::App& app);
 void add_simulate(CLI::App& app);
 // `td3`: the TD3 calibrator where this program links it (lptn-td3); without one (lptn), --method
 // td3|td3-episode runs lptn-td3 from beside this program with the same arguments.
-void add_calibrate(CLI::App& app, CalibrationMethod td3 = nullptr);
+void add_calibrate(CLI::App& app, calibrate::CalibrationMethod td3 = nullptr);
 void add_diagnose(CLI::App& app);
 void add_export(CLI::App& app);
 void add_convert(CLI::App& app);

@@ -397,9 +397,9 @@ void add_options(CLI::App& app) {
         (map ? map->messages().size() : std::size(lptn::bus::kFilterIds)) + static_cast<std::size_t>(fw::kMaxOutputFrames);
     std::unique_ptr<replay::CalibratedEstimatorConfig> cal;
     try {
-      cal = replay::estimator_config_from(load_calibration(args->calibration), args->calibration,
+      cal = replay::estimator_config_from(calibrate::load_calibration(args->calibration), args->calibration,
                                   map ? map->decoder() : lptn::bus::decoder());
-    } catch (const CalibrationFileError& e) {
+    } catch (const calibrate::CalibrationFileError& e) {
       throw BadInput(e.what());
     }
     cal->config.fuse_stator_sensor = !args->open_loop;

@@ -112,7 +112,7 @@ TEST_F(BusRoutes, TheForeignMapAtRunTimeAndAtBuildTimeGiveTheSameEstimates) {
   const auto runtime = replay(path("foreign.log"), kForeignBus, path("foreign-runtime.csv"));
   ASSERT_EQ(runtime.code, 0) << runtime.err;
   // The build-time route: the estimator with the glue generated from the same map.
-  const auto cal = replay::estimator_config_from(load_calibration(LPTN_DEFAULT_CALIBRATION), "default_calibration.json",
+  const auto cal = replay::estimator_config_from(calibrate::load_calibration(LPTN_DEFAULT_CALIBRATION), "default_calibration.json",
                                          lptn::bus::test::decoder());
   const replay::ReplaySummary s = replay::replay_to_csv(path("foreign.log").string(), cal->config, path("foreign-compiled.csv").string(), true);
   EXPECT_EQ(s.stats.bad_records, 0u);
@@ -263,7 +263,7 @@ TEST_F(BusRoutes, ProtectedInputFramesAreDroppedAndReported) {
     cases.push_back({"two lost frames", lines, true});
   }
 
-  const auto cal = replay::estimator_config_from(load_calibration(LPTN_DEFAULT_CALIBRATION), "default_calibration.json",
+  const auto cal = replay::estimator_config_from(calibrate::load_calibration(LPTN_DEFAULT_CALIBRATION), "default_calibration.json",
                                          lptn::bus::test::decoder());
   for (const Case& c : cases) {
     SCOPED_TRACE(c.name);

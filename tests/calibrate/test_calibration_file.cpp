@@ -18,14 +18,14 @@ namespace {
 // The motor file's text as kept (provenance only from format 3 on): escaped and read back whole.
 const std::string kMotorText = "name = \"m\"\n# ünïcode, \"quotes\", \\backslash\\ and a tab\t\n";
 
-CalibrationResult sample() {
-  CalibrationResult r = testing::sample_result();
+calibrate::CalibrationResult sample() {
+  calibrate::CalibrationResult r = testing::sample_result();
   r.motor.text = kMotorText;
   r.motor.effects = effect_bit(effect_index("airgap"));  // the file's own, beside the calibration's two
   return r;
 }
 
-void expect_split_eq(const SplitMetrics& a, const SplitMetrics& b) {
+void expect_split_eq(const calibrate::SplitMetrics& a, const calibrate::SplitMetrics& b) {
   testing::expect_same_metrics(a.stator, b.stator, "stator");
   testing::expect_same_metrics(a.rotor, b.rotor, "rotor");
   ASSERT_EQ(a.cycles.size(), b.cycles.size());
@@ -43,24 +43,24 @@ template <class F>
 std::string error_of(F&& f) {
   try {
     f();
-  } catch (const CalibrationFileError& e) {
+  } catch (const calibrate::CalibrationFileError& e) {
     return e.what();
   }
   return "";
 }
 
 std::string error_for(const nlohmann::json& j) {
-  return error_of([&] { calibration_from_json(j, "cal.json"); });
+  return error_of([&] { calibrate::calibration_from_json(j, "cal.json"); });
 }
 
 TEST(CalibrationFile, RoundTripKeepsEveryField) {
   testing::TempDir t;
-  const CalibrationResult a = sample();
+  const calibrate::CalibrationResult a = sample();
   const auto path = t.path() / "calibration.json";
-  save_calibration(a, path);
-  const CalibrationResult b = load_calibration(path);
+  calibrate::save_calibration(a, path);
+  const calibrate::CalibrationResult b = calibrate::load_calibration(path);
 
-  EXPECT_EQ(b.format_version, kCalibrationFormatVersion);
+  EXPECT_EQ(b.format_version, calibrate::kCalibrationFormatVersion);
   EXPECT_EQ(b.created_utc, a.created_utc);
   EXPECT_EQ(b.lptn_version, a.lptn_version);
   EXPECT_EQ(b.motor.name, a.motor.name);
@@ -72,7 +72,7 @@ TEST(CalibrationFile, RoundTripKeepsEveryField) {
   EXPECT_EQ(b.effects, a.effects);
   ASSERT_EQ(b.parameters.size(), static_cast<std::size_t>(kNumParams));
   for (int i = 0; i < kNumParams; ++i) {
-    const ParameterResult &p = a.parameters[i], &q = b.parameters[i];
+    const calibrate::ParameterResult &p = a.parameters[i], &q = b.parameters[i];
     EXPECT_EQ(q.name, p.name);
     EXPECT_EQ(q.unit, p.unit);
     EXPECT_EQ(q.value, p.value) << p.name;  // bit for bit
@@ -124,9 +124,9 @@ TEST(CalibrationFile, RoundTripKeepsEveryField) {
 
 TEST(CalibrationFile, LayoutAsDocumented) {
   testing::TempDir t;
-  CalibrationResult a = sample();
+  calibrate::CalibrationResult a = sample();
   const auto path = t.path() / "calibration.json";
-  save_calibration(a, path);
+  calibrate::save_calibration(a, path);
   const std::string text = slurp(path);
   // The file reads top-down: the version first, parameters in model order.
   EXPECT_EQ(text.find("\"format_version\""), 4u);
@@ -140,19 +140,19 @@ TEST(CalibrationFile, LayoutAsDocumented) {
   EXPECT_EQ(j["metrics"]["train"]["samples_rotor"], 35000);
   EXPECT_FALSE(j["metrics"]["test"].contains("rmse_rotor_k"));  // rotor not measured on the test side
   EXPECT_EQ(j["actor"]["param_names"], nlohmann::json({"lambda_1s", "airgap_lambda"}));
-  EXPECT_EQ(nlohmann::json::parse(text), to_json(a));
+  EXPECT_EQ(nlohmann::json::parse(text), calibrate::to_json(a));
 
   a.has_actor = false;
-  save_calibration(a, path);
+  calibrate::save_calibration(a, path);
   EXPECT_FALSE(nlohmann::json::parse(slurp(path)).contains("actor"));
-  EXPECT_FALSE(load_calibration(path).has_actor);
+  EXPECT_FALSE(calibrate::load_calibration(path).has_actor);
 }
 
 TEST(CalibrationFile, BadJsonNamesTheLine) {
   testing::TempDir t;
   const auto path = t.path() / "cal.json";
   std::ofstream(path) << "{\n  \"format_version\": 1,\n  \"motor\": {\"name\": \"m\",\n";  // cut short
-  const std::string e = error_of([&] { load_calibration(path); });
+  const std::string e = error_of([&] { calibrate::load_calibration(path); });
   EXPECT_EQ(e.rfind(path.string() + ": line 4: ", 0), 0u) << e;
   EXPECT_NE(e.find("unexpected end of input"), std::string::npos) << e;
   EXPECT_EQ(e.find("json.exception"), std::string::npos) << e;
@@ -161,43 +161,43 @@ TEST(CalibrationFile, BadJsonNamesTheLine) {
   // A number beyond a double: nlohmann throws another exception (out_of_range, no position) for it,
   // which escaped the reader until the fuzzer found it (fuzz_motor_json).
   std::ofstream(path) << "{\n  \"format_version\": 3,\n  \"seconds\": 1e400\n}\n";
-  EXPECT_EQ(error_of([&] { load_calibration(path); }), path.string() + ": line 3: number overflow parsing '1e400'");
+  EXPECT_EQ(error_of([&] { calibrate::load_calibration(path); }), path.string() + ": line 3: number overflow parsing '1e400'");
 
   std::ofstream(path) << "{\n  \"a\": 1,\n  \"b\": ]\n}\n";
-  const std::string e2 = error_of([&] { load_calibration(path); });
+  const std::string e2 = error_of([&] { calibrate::load_calibration(path); });
   EXPECT_EQ(e2.rfind(path.string() + ": line 3: ", 0), 0u) << e2;
 
   // A truncated real file: the line is where the text ends.
-  save_calibration(sample(), path);
+  calibrate::save_calibration(sample(), path);
   std::string text = slurp(path);
   text.resize(text.size() / 2);
   std::ofstream(path, std::ios::trunc) << text;
   const auto lines = std::count(text.begin(), text.end(), '\n') + 1;
-  const std::string e3 = error_of([&] { load_calibration(path); });
+  const std::string e3 = error_of([&] { calibrate::load_calibration(path); });
   EXPECT_EQ(e3.rfind(path.string() + ": line " + std::to_string(lines) + ": ", 0), 0u) << e3;
 
-  EXPECT_EQ(error_of([&] { load_calibration(t.path() / "missing.json"); }),
+  EXPECT_EQ(error_of([&] { calibrate::load_calibration(t.path() / "missing.json"); }),
             (t.path() / "missing.json").string() + ": cannot read (missing or not readable)");
 }
 
 TEST(CalibrationFile, WrongTypeNamesTheField) {
-  nlohmann::json j = to_json(sample());
+  nlohmann::json j = calibrate::to_json(sample());
   j["metrics"]["test"]["rmse_stator_k"] = "0.5";
   EXPECT_EQ(error_for(j), "cal.json: field 'metrics.test.rmse_stator_k': expected a number");
 
-  j = to_json(sample());
+  j = calibrate::to_json(sample());
   j["metrics"]["train"]["cycles"][0].erase("samples_stator");
   EXPECT_EQ(error_for(j), "cal.json: field 'metrics.train.cycles[0].samples_stator': missing");
 
-  j = to_json(sample());
+  j = calibrate::to_json(sample());
   j["parameters"][3]["calibrated"] = 1;
   EXPECT_EQ(error_for(j), "cal.json: field 'parameters[3].calibrated': expected true or false");
 
-  j = to_json(sample());
+  j = calibrate::to_json(sample());
   j["data"]["files"][1]["sha256"] = nullptr;
   EXPECT_EQ(error_for(j), "cal.json: field 'data.files[1].sha256': expected a string");
 
-  j = to_json(sample());
+  j = calibrate::to_json(sample());
   j["parameters"][0]["value"] = nullptr;  // only std_error may be null
   EXPECT_EQ(error_for(j), "cal.json: field 'parameters[0].value': expected a number");
 
@@ -205,9 +205,9 @@ TEST(CalibrationFile, WrongTypeNamesTheField) {
 }
 
 TEST(CalibrationFile, OtherVersionIsRefused) {
-  nlohmann::json j = to_json(sample());
+  nlohmann::json j = calibrate::to_json(sample());
   j.erase("parameters");  // the version is checked before anything else
-  j["format_version"] = kCalibrationFormatVersion + 1;
+  j["format_version"] = calibrate::kCalibrationFormatVersion + 1;
   EXPECT_EQ(error_for(j), "cal.json: field 'format_version': version 4, this lptn reads 1 to 3");
   j["format_version"] = 0;
   EXPECT_EQ(error_for(j), "cal.json: field 'format_version': version 0, this lptn reads 1 to 3");
@@ -223,9 +223,9 @@ nlohmann::json with_motor_as_text(nlohmann::json j, const std::string& text, int
 // Format 2's files (every calibration.json until format 3) still read: the motor parsed from its
 // text, to the same constants, settings and effects as the structured copy.
 TEST(CalibrationFile, VersionTwoReadsTheMotorText) {
-  CalibrationResult a = sample();
+  calibrate::CalibrationResult a = sample();
   a.motor.text = format_motor_file(a.motor);
-  const CalibrationResult b = calibration_from_json(with_motor_as_text(to_json(a), a.motor.text, 2), "old.json");
+  const calibrate::CalibrationResult b = calibrate::calibration_from_json(with_motor_as_text(calibrate::to_json(a), a.motor.text, 2), "old.json");
   EXPECT_EQ(b.format_version, 2);
   EXPECT_EQ(b.status, a.status);
   EXPECT_EQ(format_motor_file(b.motor), a.motor.text);
@@ -237,14 +237,14 @@ TEST(CalibrationFile, VersionTwoReadsTheMotorText) {
   // A text that is no motor file: one line naming the field, the text's line and key.
   std::string bad = a.motor.text;
   bad.replace(bad.find("pole_pairs = 2"), 14, "pole_pairs = \"two\"");
-  EXPECT_EQ(error_for(with_motor_as_text(to_json(a), bad, 2)),
+  EXPECT_EQ(error_for(with_motor_as_text(calibrate::to_json(a), bad, 2)),
             "cal.json: field 'motor.text': line 5: key 'nameplate.pole_pairs': must be a finite number");
 }
 
 // The structured motor is read by the motor file's rules: a hand-edited value is refused with the
 // field that holds it.
 TEST(CalibrationFile, MotorFieldsAreCheckedAsInTheMotorFile) {
-  const nlohmann::json good = to_json(sample());
+  const nlohmann::json good = calibrate::to_json(sample());
   EXPECT_EQ(good["motor"]["constants"]["nameplate"]["pole_pairs"], 2);
   EXPECT_EQ(good["motor"]["constants"]["losses"]["harmonic_frequency_hz"].size(), 5u);
   EXPECT_EQ(good["motor"]["parameters"]["lambda_1s"]["initial"], 40.0);
@@ -291,16 +291,16 @@ TEST(CalibrationFile, MotorFieldsAreCheckedAsInTheMotorFile) {
 // A file of the format before outcomes were judged is read, but never as "ok": its parameters
 // marked calibrated may be a motor file's guesses.
 TEST(CalibrationFile, VersionOneIsReadAsUnchecked) {
-  CalibrationResult a = sample();
-  nlohmann::json j = with_motor_as_text(to_json(a), format_motor_file(a.motor), 1);
+  calibrate::CalibrationResult a = sample();
+  nlohmann::json j = with_motor_as_text(calibrate::to_json(a), format_motor_file(a.motor), 1);
   j.erase("status");
   j.erase("warnings");
   for (auto& p : j["parameters"]) {
     p.erase("identifiable");
     p.erase("identifiability");
   }
-  const CalibrationResult r = calibration_from_json(j, "old.json");
-  EXPECT_EQ(r.status, kStatusUnchecked);
+  const calibrate::CalibrationResult r = calibrate::calibration_from_json(j, "old.json");
+  EXPECT_EQ(r.status, calibrate::kStatusUnchecked);
   ASSERT_EQ(r.warnings.size(), 1u);
   EXPECT_EQ(r.warnings[0].code, "unchecked");
   EXPECT_TRUE(r.parameters[0].identifiable);
@@ -308,50 +308,50 @@ TEST(CalibrationFile, VersionOneIsReadAsUnchecked) {
 
 // Status, warnings and identifiability survive a round trip; an unknown status is refused.
 TEST(CalibrationFile, OutcomeRoundTrips) {
-  CalibrationResult a = sample();
-  a.status = kStatusWarnings;
+  calibrate::CalibrationResult a = sample();
+  a.status = calibrate::kStatusWarnings;
   a.warnings.push_back({"not_identifiable", "lambda_1r is not identifiable", {"lambda_1r"}});
   a.parameters[3].calibrated = false;
   a.parameters[3].identifiable = false;
   a.parameters[3].identifiability = "no rotor readings";
-  const CalibrationResult b = calibration_from_json(to_json(a), "cal.json");
-  EXPECT_EQ(b.status, kStatusWarnings);
+  const calibrate::CalibrationResult b = calibrate::calibration_from_json(calibrate::to_json(a), "cal.json");
+  EXPECT_EQ(b.status, calibrate::kStatusWarnings);
   ASSERT_EQ(b.warnings.size(), 1u);
   EXPECT_EQ(b.warnings[0].code, "not_identifiable");
   EXPECT_EQ(b.warnings[0].parameters, std::vector<std::string>{"lambda_1r"});
   EXPECT_FALSE(b.parameters[3].identifiable);
   EXPECT_EQ(b.parameters[3].identifiability, "no rotor readings");
-  nlohmann::json j = to_json(a);
+  nlohmann::json j = calibrate::to_json(a);
   j["status"] = "fine";
   EXPECT_EQ(error_for(j), "cal.json: field 'status': 'fine', expected ok, warnings or failed");
 }
 
 TEST(CalibrationFile, UnknownNamesAreRefused) {
-  nlohmann::json j = to_json(sample());
+  nlohmann::json j = calibrate::to_json(sample());
   j["parameters"][2]["name"] = "lambda_99";
   EXPECT_EQ(error_for(j), "cal.json: field 'parameters[2].name': unknown parameter 'lambda_99'");
 
-  j = to_json(sample());
+  j = calibrate::to_json(sample());
   j["effects"][1] = "flux_capacitor";
   EXPECT_EQ(error_for(j), "cal.json: field 'effects[1]': unknown effect 'flux_capacitor'");
 
-  j = to_json(sample());
+  j = calibrate::to_json(sample());
   j["correlated"][1]["b"] = "k_nope";
   EXPECT_EQ(error_for(j), "cal.json: field 'correlated[1].b': unknown parameter 'k_nope'");
 
-  j = to_json(sample());
+  j = calibrate::to_json(sample());
   j["actor"]["param_names"][0] = "k_nope";
   EXPECT_EQ(error_for(j), "cal.json: field 'actor.param_names[0]': unknown parameter 'k_nope'");
 
-  j = to_json(sample());
+  j = calibrate::to_json(sample());
   j["parameters"].erase(4);
   EXPECT_NE(error_for(j).find("cal.json: field 'parameters': 'lambda_2r' is missing"), std::string::npos);
 
-  j = to_json(sample());
+  j = calibrate::to_json(sample());
   j["parameters"][1]["name"] = "lambda_1s";
   EXPECT_EQ(error_for(j), "cal.json: field 'parameters[1].name': 'lambda_1s' appears twice");
 
-  j = to_json(sample());
+  j = calibrate::to_json(sample());
   j["parameters"][0]["unit"] = "W";
   EXPECT_EQ(error_for(j), "cal.json: field 'parameters[0].unit': 'W', but this lptn has lambda_1s in 'W/K'");
 }
@@ -359,14 +359,14 @@ TEST(CalibrationFile, UnknownNamesAreRefused) {
 // A file written before an effect was appended to the library lacks that effect's parameters; it
 // stays readable as long as it does not enable the effect (docs/effects.md, "Writing a new effect").
 TEST(CalibrationFile, ParametersOfEffectsItDoesNotEnableMayBeAbsent) {
-  const CalibrationResult sample = lptn::sample();
+  const calibrate::CalibrationResult sample = lptn::sample();
   int absent_effect = kNumEffects - 1;  // the last effect the sample leaves off
   while (absent_effect >= 0 && (sample.effects & effect_bit(absent_effect))) --absent_effect;
   ASSERT_GE(absent_effect, 0);
   const int p = kNumPaperParams + EffectLibrary::kParamOffsets[absent_effect];
-  nlohmann::json j = to_json(sample);
+  nlohmann::json j = calibrate::to_json(sample);
   j["parameters"].erase(static_cast<std::size_t>(p));
-  const CalibrationResult r = calibration_from_json(j, "cal.json");
+  const calibrate::CalibrationResult r = calibrate::calibration_from_json(j, "cal.json");
   EXPECT_EQ(r.parameters[p].name, param_spec(p).name);
   EXPECT_EQ(r.parameters[p].value, param_spec(p).initial);
   EXPECT_FALSE(r.parameters[p].calibrated);
@@ -377,7 +377,7 @@ TEST(CalibrationFile, ParametersOfEffectsItDoesNotEnableMayBeAbsent) {
   }
 
   // Not so for an effect the file enables.
-  j = to_json(sample);
+  j = calibrate::to_json(sample);
   j["effects"].push_back(std::string(EffectLibrary::kNames[absent_effect]));
   j["parameters"].erase(static_cast<std::size_t>(p));
   // Built by appending: GCC 12's -Wrestrict misfires on "'" + std::string(...) here.
@@ -387,20 +387,20 @@ TEST(CalibrationFile, ParametersOfEffectsItDoesNotEnableMayBeAbsent) {
 }
 
 TEST(CalibrationFile, InconsistentActorIsRefused) {
-  nlohmann::json j = to_json(sample());
+  nlohmann::json j = calibrate::to_json(sample());
   j["actor"]["layers"][1]["weight"].erase(0);
   EXPECT_EQ(error_for(j), "cal.json: field 'actor.layers[1].weight': 8 numbers, expected in x out = 9");
 
-  j = to_json(sample());
+  j = calibrate::to_json(sample());
   j["actor"]["layers"][1]["in"] = 4;
   EXPECT_EQ(error_for(j), "cal.json: field 'actor.layers[1].in': 4, but the layer before gives 3");
 
-  j = to_json(sample());
+  j = calibrate::to_json(sample());
   j["actor"]["param_indices"][1] = 3;
   EXPECT_EQ(error_for(j), "cal.json: field 'actor.param_indices[1]': 3, but param_names[1] 'airgap_lambda' is parameter " +
                               std::to_string(param_index("airgap_lambda")));
 
-  j = to_json(sample());
+  j = calibrate::to_json(sample());
   j["actor"]["check_actions"].erase(0);
   EXPECT_EQ(error_for(j), "cal.json: field 'actor.check_actions': 3 numbers, expected 2 checks x 2 outputs");
 }

@@ -29,7 +29,7 @@ TEST(CoarseRefit, EndsWhereTheFineRefitEndsWhereTheDataPinTheEffect) {
   enable_effect(with, windage);
   lm::LmSettings lm;
   lm.threads = 2;
-  const SharedDataset coarse = internal::coarse_dataset(g->dataset, kCoarse);
+  const calibrate::SharedDataset coarse = internal::coarse_dataset(g->dataset, kCoarse);
   const auto fine = internal::refit_with(with, windage, g->calibrated.values, g->dataset, g->split.train, lm, {});
   const auto staged = internal::refit_with(with, windage, g->calibrated.values, g->dataset, g->split.train, lm, {}, &coarse);
   const int w = param_index("windage_base_w");
@@ -57,7 +57,7 @@ TEST(CoarseRefit, WithoutAReadingOnTheCoarseGridTheFineRefitRunsAlone) {
   lm::LmSettings lm;
   lm.threads = 2;
   lm.max_iterations = 5;
-  const SharedDataset coarse = internal::coarse_dataset(g->dataset, kCoarse);
+  const calibrate::SharedDataset coarse = internal::coarse_dataset(g->dataset, kCoarse);
   const auto fine = internal::refit_with(with, windage, g->calibrated.values, g->dataset, g->split.train, lm, {});
   internal::Refit staged;
   ASSERT_NO_THROW(staged = internal::refit_with(with, windage, g->calibrated.values, g->dataset, g->split.train, lm, {},
@@ -74,8 +74,8 @@ TEST(CoarseRefit, TheCorrectedGridSeesTheDataGridsMisfitAtTheBaseline) {
   const Model<double> model = g->motor.model();
   const lm::LmReport& at = g->calibrated;
   ASSERT_EQ(at.offsets.size(), g->split.train.size());
-  const SharedDataset coarse = internal::coarse_dataset(g->dataset, kCoarse);
-  SharedDataset corrected = coarse;
+  const calibrate::SharedDataset coarse = internal::coarse_dataset(g->dataset, kCoarse);
+  calibrate::SharedDataset corrected = coarse;
   internal::correct_for_grid(corrected, g->dataset, model, at.values, g->split.train, at.offsets, 2);
   double worst_corrected = 0, sum_uncorrected = 0;
   std::size_t readings = 0;
@@ -109,7 +109,7 @@ double cost_on(const MotorFile& motor, const ParamVector<double>& values, const 
   const Model<double> model = motor.model();
   double sum = 0;
   for (std::size_t i = 0; i < train.size(); ++i)
-    for_each_grid_residual(model, values, dataset.cycles[train[i]], offsets[i], [&](double r) { sum += r * r; });
+    calibrate::for_each_grid_residual(model, values, dataset.cycles[train[i]], offsets[i], [&](double r) { sum += r * r; });
   return 0.5 * sum;
 }
 
@@ -121,7 +121,7 @@ double cost_on(const MotorFile& motor, const ParamVector<double>& values, const 
 TEST(CoarseRefit, APolishStartsFromTheCoarseFitMovedByTheBaselinesDifferenceOrItsOwnPoint) {
   const auto g = testing::generate({"windage"}, 4, 20, 25, 5);
   const lm::LmReport& fine_baseline = g->calibrated;
-  SharedDataset coarse = internal::coarse_dataset(g->dataset, kCoarse);
+  calibrate::SharedDataset coarse = internal::coarse_dataset(g->dataset, kCoarse);
   internal::correct_for_grid(coarse, g->dataset, g->motor.model(), fine_baseline.values, g->split.train,
                              fine_baseline.offsets, 2);
   lm::LmSettings lm;

@@ -16,7 +16,7 @@ namespace {
 
 // Both sensors' squared error of `cycle` at `p` (the drift's own measure of a factor).
 double squared_error(const Model<double>& model, const ParamVector<double>& p, const data::Cycle& cycle) {
-  const CycleMetrics m = evaluate_cycle(model, p, cycle);
+  const calibrate::CycleMetrics m = calibrate::evaluate_cycle(model, p, cycle);
   double sse = 0;
   for (const ErrorMetrics* e : {&m.stator, &m.rotor})
     if (e->samples) sse += e->rmse_k * e->rmse_k * static_cast<double>(e->samples);

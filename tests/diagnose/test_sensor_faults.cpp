@@ -80,7 +80,7 @@ lm::LmReport calibrated_around(const testing::Generated& g, const std::string& s
 // Every free parameter of `around` within `share` of `clean`'s.
 void expect_parameters_near(const MotorFile& motor, const lm::LmReport& around, const lm::LmReport& clean, double share,
                             const char* label) {
-  const FreeParameters free = FreeParameters::from_motor(motor);
+  const calibrate::FreeParameters free = calibrate::FreeParameters::from_motor(motor);
   for (int i : free.index) {
     const double a = around.values[i], c = clean.values[i];
     std::printf("  %s: %-12s around the fault %9.3f, without it %9.3f (%+.2f %%)\n", label,

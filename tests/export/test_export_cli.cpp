@@ -40,10 +40,10 @@ int files_in(const std::filesystem::path& dir) {
 class ExportCli : public ::testing::Test {
  protected:
   void SetUp() override {
-    CalibrationResult c = testing::sample_result();
-    save_calibration(c, with_actor_);
+    calibrate::CalibrationResult c = testing::sample_result();
+    calibrate::save_calibration(c, with_actor_);
     c.has_actor = false;
-    save_calibration(c, without_actor_);
+    calibrate::save_calibration(c, without_actor_);
   }
   testing::TempDir t_;
   std::filesystem::path with_actor_ = t_.path() / "td3.json", without_actor_ = t_.path() / "lm.json";
@@ -52,12 +52,12 @@ class ExportCli : public ::testing::Test {
 
 // A failed calibration: exit 2, one line naming the file and why, nothing written.
 TEST_F(ExportCli, RefusesAFailedCalibration) {
-  CalibrationResult c = testing::sample_result();
+  calibrate::CalibrationResult c = testing::sample_result();
   c.has_actor = false;
-  c.status = kStatusFailed;
+  c.status = calibrate::kStatusFailed;
   c.warnings = {{"not_converged", "the fit did not converge", {}}};
   const auto failed = t_.path() / "failed.json";
-  save_calibration(c, failed);
+  calibrate::save_calibration(c, failed);
   const Result r = run("export --calibration " + failed.string() + " --out " + out_.string(), t_.path());
   EXPECT_EQ(r.code, 2);
   EXPECT_EQ(lines(r.err), 1) << r.err;
@@ -67,13 +67,13 @@ TEST_F(ExportCli, RefusesAFailedCalibration) {
 
 // Warnings: each printed on a line of its own, the header written with them as comments.
 TEST_F(ExportCli, PrintsEachWarning) {
-  CalibrationResult c = testing::sample_result();
+  calibrate::CalibrationResult c = testing::sample_result();
   c.has_actor = false;
-  c.status = kStatusWarnings;
+  c.status = calibrate::kStatusWarnings;
   c.warnings = {{"at_bound", "lambda_1s ended at its lower bound", {"lambda_1s"}},
                 {"not_converged", "the fit did not converge", {}}};
   const auto warned = t_.path() / "warned.json";
-  save_calibration(c, warned);
+  calibrate::save_calibration(c, warned);
   const Result r = run("export --calibration " + warned.string() + " --out " + out_.string(), t_.path());
   EXPECT_EQ(r.code, 0) << r.err;
   EXPECT_EQ(lines(r.err), 2) << r.err;

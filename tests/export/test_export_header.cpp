@@ -66,7 +66,7 @@ TEST(CppLiterals, StringsAndComments) {
 }
 
 TEST(ExportHeader, HasEverySection) {
-  const CalibrationResult c = testing::sample_result();
+  const calibrate::CalibrationResult c = testing::sample_result();
   const std::string h = exporter::export_header(c, {"cal.json", true});
   for (const char* s : {"#pragma once", "#include \"lptn/model.hpp\"", "#include \"lptn/motor_constants.hpp\"",
                         "#include \"lptn/actor.hpp\"", "namespace lptn::calibration {", "kMethod[] = \"lm\"",
@@ -77,7 +77,7 @@ TEST(ExportHeader, HasEverySection) {
                         "kHasRotorMetrics = false", "alignas(16) inline constexpr float kActorW1[]",
                         "inline constexpr ActorView kActor{2, 3, 2, kActorW1", "kActorChecks = 2;"})
     EXPECT_NE(h.find(s), std::string::npos) << s;
-  EXPECT_NE(h.find("kCalibrationFormatVersion = " + std::to_string(kCalibrationFormatVersion) + ";"), std::string::npos);
+  EXPECT_NE(h.find("kCalibrationFormatVersion = " + std::to_string(calibrate::kCalibrationFormatVersion) + ";"), std::string::npos);
   EXPECT_NE(h.find("// [1] lambda_2s [W/K] (calibrated)"), std::string::npos);  // NaN std_error: none shown
   EXPECT_NE(h.find("// [0] lambda_1s [W/K] +- 0.00143 (calibrated)"), std::string::npos);
 
@@ -88,24 +88,24 @@ TEST(ExportHeader, HasEverySection) {
 
 // A failed calibration is refused, on one line that says why (its warnings' messages).
 TEST(ExportHeader, RefusesAFailedCalibration) {
-  CalibrationResult c = testing::sample_result();
-  c.status = kStatusFailed;
+  calibrate::CalibrationResult c = testing::sample_result();
+  c.status = calibrate::kStatusFailed;
   c.warnings = {{"not_converged", "the fit did not converge in 60 iterations", {}},
                 {"at_bound", "lambda_1s ended at its lower bound 1 W/K", {"lambda_1s"}}};
   const std::string e = error_of([&] { exporter::export_header(c, {"cal.json", false}); });
   EXPECT_EQ(e, "cal.json: status 'failed', not exported: the fit did not converge in 60 iterations; lambda_1s ended at "
                "its lower bound 1 W/K");
-  c.status = kStatusWarnings;
+  c.status = calibrate::kStatusWarnings;
   EXPECT_EQ(error_of([&] { exporter::export_header(c, {"cal.json", false}); }), "");
 }
 
 // Warnings are comments in the header; a parameter the data could not pin says so, and carries
 // no standard error; a calibrated one its standard error.
 TEST(ExportHeader, CarriesWarningsAndEachParametersSpread) {
-  CalibrationResult c = testing::sample_result();
-  c.status = kStatusWarnings;
+  calibrate::CalibrationResult c = testing::sample_result();
+  c.status = calibrate::kStatusWarnings;
   c.warnings = {{"not_identifiable", "lambda_1r is not identifiable from this data: no rotor readings", {"lambda_1r"}}};
-  ParameterResult& r = c.parameters[3];
+  calibrate::ParameterResult& r = c.parameters[3];
   r.identifiable = false;
   r.calibrated = false;
   r.std_error = std::nan("");
@@ -151,13 +151,13 @@ TEST(ExportHeader, WritesEveryMotorConstant) {
 }
 
 TEST(ExportHeader, NoEffectsIsZero) {
-  CalibrationResult c = testing::sample_result();
+  calibrate::CalibrationResult c = testing::sample_result();
   c.effects = 0;
   EXPECT_NE(exporter::export_header(c, {}).find("kEffects = 0;  // the paper's model only"), std::string::npos);
 }
 
 TEST(ExportHeader, Refusals) {
-  CalibrationResult c = testing::sample_result();
+  calibrate::CalibrationResult c = testing::sample_result();
   c.has_actor = false;
   EXPECT_EQ(error_of([&] { exporter::export_header(c, {"cal.json", true}); }),
             "cal.json: --actor: this calibration has no actor (method 'lm'; only td3-paper and td3-episode keep one: their actor maps speed and torque to parameters)");

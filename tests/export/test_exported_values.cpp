@@ -14,13 +14,13 @@
 namespace lptn {
 namespace {
 
-const CalibrationResult& fixture() {
-  static const CalibrationResult c = load_calibration(LPTN_EXPORT_FIXTURE);
+const calibrate::CalibrationResult& fixture() {
+  static const calibrate::CalibrationResult c = calibrate::load_calibration(LPTN_EXPORT_FIXTURE);
   return c;
 }
 
 TEST(ExportedHeader, Provenance) {
-  const CalibrationResult& c = fixture();
+  const calibrate::CalibrationResult& c = fixture();
   EXPECT_EQ(calibration::kCalibrationFormatVersion, c.format_version);
   EXPECT_STREQ(calibration::kSourceFile, "calibration.json");
   EXPECT_EQ(calibration::kMethod, c.method);
@@ -39,7 +39,7 @@ TEST(ExportedHeader, Provenance) {
 }
 
 TEST(ExportedHeader, EffectsAndParameters) {
-  const CalibrationResult& c = fixture();
+  const calibrate::CalibrationResult& c = fixture();
   EXPECT_EQ(calibration::kEffects, c.effects);
   const ParamVector<double> v = c.values();
   for (int i = 0; i < kNumParams; ++i) EXPECT_EQ(calibration::kParams[i], v[i]) << param_spec(i).name;
@@ -71,7 +71,7 @@ void expect_floats_eq(const float (&exported)[N], const std::vector<float>& expe
 }
 
 TEST(ExportedHeader, ActorEqualsTheCalibrations) {
-  const ActorExport& a = fixture().actor;
+  const calibrate::ActorExport& a = fixture().actor;
   EXPECT_EQ(calibration::kActor.inputs, 2);
   EXPECT_EQ(calibration::kActor.hidden, a.layers[0].out);
   EXPECT_EQ(calibration::kActor.outputs, a.layers[2].out);

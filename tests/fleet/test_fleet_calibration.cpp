@@ -30,7 +30,7 @@ struct FleetCase {
   std::vector<gen::FleetMotorSummary> truth;
   FleetDump fleet;
   MotorFile motor;
-  Split split;
+  calibrate::Split split;
   FleetFit fit;
 };
 
@@ -47,7 +47,7 @@ std::unique_ptr<FleetCase> calibrated_fleet(std::uint64_t seed, int weak) {
   c->truth = gen::generate_fleet(o, c->dir.path());
   c->fleet = load_fleet(c->dir.path());
   c->motor = load_motor_file(c->dir.path() / "motor.toml");
-  c->split = split_cycles(c->fleet.dataset.data, {}, 1.0 / 3.0, seed);
+  c->split = calibrate::split_cycles(c->fleet.dataset.data, {}, 1.0 / 3.0, seed);
   c->fit = fit_fleet(c->motor, c->fleet, c->split.train, FleetSettings{},
                      [](const std::string& line) { std::printf("  %s\n", line.c_str()); });
   return c;
@@ -90,9 +90,9 @@ TEST(FleetCalibration, FindsEveryMotorsCoolingAndNamesTheWeakMotorAlone) {
   std::printf("%d rounds, %.1f s\n", c->fit.rounds, c->fit.seconds);
 
   // fleet.json: written, read back, one motor exported as a calibration of its own.
-  CalibrationResult pooled = new_calibration(c->motor, "motor.toml", c->fleet.dataset, c->split);
-  lm::record_lm_fit(pooled, c->fit.shared, FreeParameters::from_motor(c->motor), pooled.train_cycles, lm::to_json(lm::LmSettings{}));
-  score_calibration(pooled, c->motor, c->fleet.dataset, c->split);
+  calibrate::CalibrationResult pooled = calibrate::new_calibration(c->motor, "motor.toml", c->fleet.dataset, c->split);
+  lm::record_lm_fit(pooled, c->fit.shared, calibrate::FreeParameters::from_motor(c->motor), pooled.train_cycles, lm::to_json(lm::LmSettings{}));
+  calibrate::score_calibration(pooled, c->motor, c->fleet.dataset, c->split);
   const auto path = c->dir.path() / "fleet.json";
   save_fleet(path, pooled, c->fit, FleetSettings{});
   const FleetFile file = load_fleet_file(path);
@@ -100,7 +100,7 @@ TEST(FleetCalibration, FindsEveryMotorsCoolingAndNamesTheWeakMotorAlone) {
   for (std::size_t m = 0; m < 6; ++m) {
     EXPECT_EQ(file.motors[m].id, c->fit.motors[m].id);
     EXPECT_EQ(file.motors[m].outlier, c->fit.motors[m].verdict.outlier);
-    const CalibrationResult one = motor_calibration(file, file.motors[m].id);
+    const calibrate::CalibrationResult one = motor_calibration(file, file.motors[m].id);
     const ParamVector<double> values = one.values();
     for (int i = 0; i < kNumParams; ++i)
       EXPECT_DOUBLE_EQ(values[static_cast<std::size_t>(i)], c->fit.motors[m].parameters[static_cast<std::size_t>(i)]);
@@ -119,7 +119,7 @@ TEST(FleetCalibration, FindsEveryMotorsCoolingAndNamesTheWeakMotorAlone) {
     std::ofstream(edited) << j.dump(2);
     try {
       load_fleet_file(edited);
-    } catch (const CalibrationFileError& e) {
+    } catch (const calibrate::CalibrationFileError& e) {
       return std::string(e.what());
     }
     return std::string();

@@ -44,7 +44,7 @@ TEST(OnboardCooling, EachMotorsFactorWithin5PercentAfterAnHourAndTheAlarmOnTheWe
      fleet.string());
   ok("calibrate --fleet " + fleet.string() + " --motor " + (fleet / "motor.toml").string() +
      " --method lm --quiet --out " + (d / "fleet.json").string());
-  const nlohmann::json truth = read_lptn_json(fleet / "truth.json").at("motors");
+  const nlohmann::json truth = calibrate::read_lptn_json(fleet / "truth.json").at("motors");
   std::vector<double> factors;
   for (const auto& [id, m] : truth.items()) factors.push_back(m.at("cooling_factor").get<double>());
   const double fleet_median = median_factor(factors);

@@ -31,7 +31,7 @@ const Fixture& generated() {
   return *f;
 }
 
-double pooled(const SplitMetrics& m) { return pool({m.stator, m.rotor}).rmse_k; }
+double pooled(const calibrate::SplitMetrics& m) { return pool({m.stator, m.rotor}).rmse_k; }
 
 TEST(CoarseGrid, AveragesInputsKeepsTheCurrentsRmsAndSamplesTheSensors) {
   data::Cycle c;
@@ -67,12 +67,12 @@ TEST(CoarseGrid, OneSecondGridMovesTheErrorAtLmsOptimumByLessThanTwoHundredthsOf
   const Fixture& f = generated();
   const Model<double> model = f.motor.model();
   const ParamVector<double>& best = f.fine_fit.values;
-  const double fine_train = pooled(evaluate_split(model, best, f.dataset, f.split.train));
-  const double coarse_train = pooled(evaluate_split(model, best, f.coarse, f.split.train));
+  const double fine_train = pooled(calibrate::evaluate_split(model, best, f.dataset, f.split.train));
+  const double coarse_train = pooled(calibrate::evaluate_split(model, best, f.coarse, f.split.train));
   const lm::LmReport coarse_fit = lm::fit_lm(f.motor, f.motor.initial_values(), f.coarse, f.split.train, lm::LmSettings{});
-  const double fine_test = pooled(evaluate_split(model, best, f.dataset, f.split.test));
-  const double coarse_fit_test = pooled(evaluate_split(model, coarse_fit.values, f.dataset, f.split.test));
-  const double coarse_fit_train = pooled(evaluate_split(model, coarse_fit.values, f.dataset, f.split.train));
+  const double fine_test = pooled(calibrate::evaluate_split(model, best, f.dataset, f.split.test));
+  const double coarse_fit_test = pooled(calibrate::evaluate_split(model, coarse_fit.values, f.dataset, f.split.test));
+  const double coarse_fit_train = pooled(calibrate::evaluate_split(model, coarse_fit.values, f.dataset, f.split.train));
   std::printf("LM's optimum: train %.4f K on 0.1 s, %.4f K on 1 s; the 1 s fit on 0.1 s: train %.4f K, test %.4f K (0.1 s fit %.4f K)\n",
               fine_train, coarse_train, coarse_fit_train, coarse_fit_test, fine_test);
   EXPECT_LT(std::abs(coarse_train - fine_train), 0.02);
@@ -80,13 +80,13 @@ TEST(CoarseGrid, OneSecondGridMovesTheErrorAtLmsOptimumByLessThanTwoHundredthsOf
   EXPECT_LT(std::abs(coarse_fit_train - fine_train), 0.02);
 }
 
-std::vector<double> normalized(const FreeParameters& free, const ParamVector<double>& p) {
+std::vector<double> normalized(const calibrate::FreeParameters& free, const ParamVector<double>& p) {
   std::vector<double> u;
   for (std::size_t j = 0; j < free.size(); ++j) u.push_back(to_normalized(p[free.index[j]], free.min[j], free.max[j]));
   return u;
 }
 
-std::vector<data::Cycle> train_cycles(const data::Dataset& d, const Split& s) {
+std::vector<data::Cycle> train_cycles(const data::Dataset& d, const calibrate::Split& s) {
   std::vector<data::Cycle> out;
   for (std::size_t c : s.train) out.push_back(d.cycles[c]);
   return out;
@@ -95,17 +95,17 @@ std::vector<data::Cycle> train_cycles(const data::Dataset& d, const Split& s) {
 TEST(SetScorer, ScoresASetAsTheMetricsDoOnAnyNumberOfThreads) {
   const Fixture& f = generated();
   const Model<double> model = f.motor.model();
-  const FreeParameters free = FreeParameters::from_motor(f.motor);
-  const SetScorer scorer(model, free, f.motor.initial_values(), train_cycles(f.dataset, f.split));
+  const calibrate::FreeParameters free = calibrate::FreeParameters::from_motor(f.motor);
+  const calibrate::SetScorer scorer(model, free, f.motor.initial_values(), train_cycles(f.dataset, f.split));
   std::vector<double> u = normalized(free, f.fine_fit.values);
   const std::vector<double> guess = normalized(free, f.motor.initial_values());
   u.insert(u.end(), guess.begin(), guess.end());
-  SetScore one[2], two[2];
+  calibrate::SetScore one[2], two[2];
   scorer.score(u.data(), 2, one, 1);
   scorer.score(u.data(), 2, two, 2);
   const ParamVector<double> sets[2] = {scorer.params_for(u.data()), scorer.params_for(u.data() + free.size())};
   for (int i = 0; i < 2; ++i) {
-    const SplitMetrics m = evaluate_split(model, sets[i], f.dataset, f.split.train);
+    const calibrate::SplitMetrics m = calibrate::evaluate_split(model, sets[i], f.dataset, f.split.train);
     EXPECT_NEAR(one[i].rmse_k, pooled(m), 1e-6 * pooled(m)) << i;
     EXPECT_NEAR(one[i].stator_rmse_k, m.stator.rmse_k, 1e-6 * m.stator.rmse_k) << i;
     EXPECT_NEAR(one[i].rotor_rmse_k, m.rotor.rmse_k, 1e-6 * m.rotor.rmse_k) << i;
@@ -121,17 +121,17 @@ TEST(SetScorer, ScoresASetAsTheMetricsDoOnAnyNumberOfThreads) {
 TEST(SetScorer, FeaturesPointAtTheConductanceThatIsOff) {
   const Fixture& f = generated();
   const Model<double> model = f.motor.model();
-  const FreeParameters free = FreeParameters::from_motor(f.motor);
-  const SetScorer scorer(model, free, f.motor.initial_values(), train_cycles(f.dataset, f.split));
+  const calibrate::FreeParameters free = calibrate::FreeParameters::from_motor(f.motor);
+  const calibrate::SetScorer scorer(model, free, f.motor.initial_values(), train_cycles(f.dataset, f.split));
   ParamVector<double> p = f.fine_fit.values;
-  SetScore at_fit, off;
+  calibrate::SetScore at_fit, off;
   std::vector<double> u = normalized(free, p);
   scorer.score(u.data(), 1, &at_fit, 1);
   p[kLambda1s] *= 1.3;
   u = normalized(free, p);
   scorer.score(u.data(), 1, &off, 1);
   const std::size_t bias = 1, high_airflow = 2;  // stator's: ln RMSE, bias, then the splits in kResidualSplits' order
-  ASSERT_EQ(kResidualSplits[0], "high_airflow");
+  ASSERT_EQ(calibrate::kResidualSplits[0], "high_airflow");
   std::printf("stator bias feature %.3f -> %.3f, high-airflow split %.3f -> %.3f\n", at_fit.features[bias], off.features[bias],
               at_fit.features[high_airflow], off.features[high_airflow]);
   EXPECT_LT(std::abs(at_fit.features[bias]), 0.5);

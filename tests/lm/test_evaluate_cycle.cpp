@@ -44,11 +44,11 @@ TEST(EvaluateCycle, MetricsAreSimulateAndEvaluatesToTheBit) {
   for (const data::Cycle& cycle : cycles)
     for (const ParamVector<double>* p : {&guess, &off}) {
       const PreparedCycle prepared = prepare_cycle(model, cycle);
-      const CycleMetrics stored = simulate_and_evaluate(model, *p, cycle).metrics;
+      const calibrate::CycleMetrics stored = calibrate::simulate_and_evaluate(model, *p, cycle).metrics;
       ASSERT_GT(stored.stator.samples, 0u) << cycle.name;
       rotor_cycles += stored.rotor.samples > 0;
       for (const PreparedCycle* with : {static_cast<const PreparedCycle*>(nullptr), &prepared}) {
-        const CycleMetrics streamed = evaluate_cycle(model, *p, cycle, with);
+        const calibrate::CycleMetrics streamed = calibrate::evaluate_cycle(model, *p, cycle, with);
         EXPECT_EQ(streamed.name, cycle.name);
         testing::expect_same_metrics(streamed.stator, stored.stator, cycle.name + ", stator");
         testing::expect_same_metrics(streamed.rotor, stored.rotor, cycle.name + ", rotor");

@@ -43,8 +43,8 @@ TEST(LevenbergMarquardt, RecoversTrueConductancesAndFitsUnseenCyclesToTheNoise) 
     EXPECT_GT(std::abs(start[i] / truth[i] - 1.0), 0.05) << param_spec(i).name;
   }
   const Model<double> model = f.motor.model();
-  const SplitMetrics test = evaluate_split(model, r.values, f.dataset, f.split.test);
-  const SplitMetrics before = evaluate_split(model, start, f.dataset, f.split.test);
+  const calibrate::SplitMetrics test = calibrate::evaluate_split(model, r.values, f.dataset, f.split.test);
+  const calibrate::SplitMetrics before = calibrate::evaluate_split(model, start, f.dataset, f.split.test);
   EXPECT_LT(test.stator.rmse_k, 1.5 * 0.4);
   EXPECT_LT(test.rotor.rmse_k, 1.5 * 0.5);
   EXPECT_GT(before.stator.rmse_k, 5 * test.stator.rmse_k);
@@ -56,7 +56,7 @@ TEST(LevenbergMarquardt, ReportsStandardErrorsThatCoverTheTruth) {
   const testing::Dump& f = generated();
   const lm::LmReport r = lm::fit_lm(f.motor, f.motor.initial_values(), f.dataset, f.split.train, lm::LmSettings{});
   const ParamVector<double> truth = gen::true_parameters();
-  const FreeParameters free = FreeParameters::from_motor(f.motor);
+  const calibrate::FreeParameters free = calibrate::FreeParameters::from_motor(f.motor);
   for (std::size_t j = 0; j < free.size(); ++j) {
     const int i = free.index[j];
     ASSERT_TRUE(std::isfinite(r.std_error[i])) << param_spec(i).name;
@@ -82,7 +82,7 @@ TEST(LevenbergMarquardt, FlagsParametersTheDataCannotTellApart) {
   std::vector<std::size_t> all{0, 1, 2};
   const lm::LmReport r = lm::fit_lm(motor, motor.initial_values(), d, all, lm::LmSettings{});
   bool rotor_flagged = false;
-  for (const CorrelatedPair& p : r.correlated) rotor_flagged |= p.a.find("r") != std::string::npos;
+  for (const calibrate::CorrelatedPair& p : r.correlated) rotor_flagged |= p.a.find("r") != std::string::npos;
   const int rotor_param = param_index("lambda_1r");
   EXPECT_TRUE(rotor_flagged || !std::isfinite(r.std_error[rotor_param]));
 }
@@ -233,13 +233,13 @@ TEST(InitialOffsets, AtTheBoundItIsTheBoundedMinimum) {
 
 TEST(Split, SeededFractionIsRepeatableAndNamedCyclesAreHonoured) {
   const testing::Dump& f = generated();
-  const Split a = split_cycles(f.dataset, {}, 1.0 / 3.0, 5), b = split_cycles(f.dataset, {}, 1.0 / 3.0, 5);
+  const calibrate::Split a = calibrate::split_cycles(f.dataset, {}, 1.0 / 3.0, 5), b = calibrate::split_cycles(f.dataset, {}, 1.0 / 3.0, 5);
   EXPECT_EQ(a.test, b.test);
-  const Split named = split_cycles(f.dataset, {f.dataset.cycles[2].name}, 0, 0);
+  const calibrate::Split named = calibrate::split_cycles(f.dataset, {f.dataset.cycles[2].name}, 0, 0);
   ASSERT_EQ(named.test.size(), 1u);
   EXPECT_EQ(named.test[0], 2u);
   EXPECT_EQ(named.train.size(), 8u);
-  EXPECT_THROW(split_cycles(f.dataset, {"no-such-cycle"}, 0, 0), hostio::BadInput);
+  EXPECT_THROW(calibrate::split_cycles(f.dataset, {"no-such-cycle"}, 0, 0), hostio::BadInput);
 }
 
 }  // namespace

@@ -89,7 +89,7 @@ TEST_F(ReplayGolden, OpenLoopReplayIsTheTrainersSimulationOfTheSameInputs) {
   const data::Dataset ds = data::load_cycle_file(out);
   ASSERT_EQ(ds.cycles.size(), 1u) << "one unbroken cycle";
   const data::Cycle& cycle = ds.cycles[0];
-  const CalibrationResult cal = load_calibration(kCalibration);
+  const calibrate::CalibrationResult cal = calibrate::load_calibration(kCalibration);
   const Model<double> model(cal.motor.constants, cal.effects);
   const CycleSimulation sim = simulate_cycle(model, cal.values(), cycle);
 
@@ -186,7 +186,7 @@ TEST_F(ReplayGolden, TheDaemonsRecordReplaysToItsFramesBitForBit) {
   ASSERT_FALSE(sent.empty());
   EXPECT_EQ(recorded, sent) << "the record's tick frames are the frames the daemon sent";
 
-  const auto config = replay::estimator_config_from(load_calibration(kCalibration), kCalibration.string());
+  const auto config = replay::estimator_config_from(calibrate::load_calibration(kCalibration), kCalibration.string());
   fw::Estimator<double> estimator(config->config);
   const fw::RecordReplay replayed = fw::replay_record(record, estimator, lptn::bus::kOutputIds);
   EXPECT_EQ(replayed.received, played.size());

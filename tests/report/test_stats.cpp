@@ -86,17 +86,17 @@ std::vector<float> interpolated_sensor(std::size_t readings, std::size_t offset,
 // later), and the noise alone where there is nothing else (the stator's).
 TEST(ReportStats, SensorNoiseIsTheNoiseNotTheSlowErrorAtAnyPhase) {
   for (std::size_t offset : {0u, 5u, 9u}) {
-    EXPECT_NEAR(sensor_noise(interpolated_sensor(6000, offset, 0.4, 0, 7), 10).sigma(), 0.4, 0.02) << offset;
-    EXPECT_NEAR(sensor_noise(interpolated_sensor(6000, offset, 0.4, 8, 7), 10).sigma(), 0.4, 0.02) << offset;
+    EXPECT_NEAR(calibrate::sensor_noise(interpolated_sensor(6000, offset, 0.4, 0, 7), 10).sigma(), 0.4, 0.02) << offset;
+    EXPECT_NEAR(calibrate::sensor_noise(interpolated_sensor(6000, offset, 0.4, 8, 7), 10).sigma(), 0.4, 0.02) << offset;
   }
   // Pooled over cycles; every 0.1 s step a reading (period 1) is plain white noise.
-  NoiseSum pooled = sensor_noise(interpolated_sensor(3000, 3, 0.5, 0, 8), 10);
-  pooled += sensor_noise(interpolated_sensor(3000, 6, 0.5, 0, 9), 10);
+  calibrate::NoiseSum pooled = calibrate::sensor_noise(interpolated_sensor(3000, 3, 0.5, 0, 8), 10);
+  pooled += calibrate::sensor_noise(interpolated_sensor(3000, 6, 0.5, 0, 9), 10);
   EXPECT_NEAR(pooled.sigma(), 0.5, 0.03);
   std::vector<float> white;
   for (double v : white_noise(6000, 10)) white.push_back(static_cast<float>(0.3 * v));
-  EXPECT_NEAR(sensor_noise(white, 1).sigma(), 0.3, 0.015);
-  EXPECT_TRUE(std::isnan(sensor_noise(std::vector<float>(5, std::nanf("")), 1).sigma()));
+  EXPECT_NEAR(calibrate::sensor_noise(white, 1).sigma(), 0.3, 0.015);
+  EXPECT_TRUE(std::isnan(calibrate::sensor_noise(std::vector<float>(5, std::nanf("")), 1).sigma()));
 }
 
 TEST(ReportStats, RegionBinsCountEveryValidSampleOnce) {

@@ -20,25 +20,25 @@ const testing::Dump& generated() {
   return *f;
 }
 
-double pooled(const SplitMetrics& m) { return pool({m.stator, m.rotor}).rmse_k; }
+double pooled(const calibrate::SplitMetrics& m) { return pool({m.stator, m.rotor}).rmse_k; }
 
 TEST(Search, BothMethodsBeatTheGuessAndCmaEsComesCloseToLm) {
   const testing::Dump& f = generated();
   const Model<double> model = f.motor.model();
-  const double guess = pooled(evaluate_split(model, f.motor.initial_values(), f.dataset, f.split.test));
+  const double guess = pooled(calibrate::evaluate_split(model, f.motor.initial_values(), f.dataset, f.split.test));
   const lm::LmReport lm = lm::fit_lm(f.motor, f.motor.initial_values(), f.dataset, f.split.train, lm::LmSettings{});
-  const double lm_test = pooled(evaluate_split(model, lm.values, f.dataset, f.split.test));
+  const double lm_test = pooled(calibrate::evaluate_split(model, lm.values, f.dataset, f.split.test));
   SearchSettings s;
   s.budget_steps = 40'000'000;
   for (SearchMethod m : {SearchMethod::random, SearchMethod::cma_es}) {
     const SearchOutcome o = search_calibration(m, f.motor, f.dataset, f.split.train, s);
-    const double test = pooled(evaluate_split(model, o.values, f.dataset, f.split.test));
+    const double test = pooled(calibrate::evaluate_split(model, o.values, f.dataset, f.split.test));
     std::printf("%s: test %.3f K (guess %.3f K, LM %.3f K), %zu sets, %.2e steps, %.1f s\n", to_string(m), test, guess, lm_test,
                 o.evaluations, double(o.simulated_steps), o.seconds);
     EXPECT_LT(test, 0.5 * guess) << to_string(m);
     EXPECT_GE(o.simulated_steps, s.budget_steps);
     EXPECT_LT(o.simulated_steps, s.budget_steps + s.budget_steps / 10) << "stops at its budget";
-    EXPECT_NEAR(o.best_train_rmse_k, pooled(evaluate_split(model, o.values, f.dataset, f.split.train)), 1e-9);
+    EXPECT_NEAR(o.best_train_rmse_k, pooled(calibrate::evaluate_split(model, o.values, f.dataset, f.split.train)), 1e-9);
     if (m == SearchMethod::cma_es) {
       EXPECT_LT(test, 1.1 * lm_test);
     }

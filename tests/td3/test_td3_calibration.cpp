@@ -52,8 +52,8 @@ void expect_learns(Formulation f, int episodes, int random) {
   const Td3Outcome o = train_td3(d.motor, d.dataset, d.split.train, s, checkpoints.path(), false);
   ASSERT_EQ(o.curve.size(), static_cast<std::size_t>(episodes));
   const Model<double> model = d.motor.model();
-  const SplitMetrics before = evaluate_split(model, d.motor.initial_values(), d.dataset, d.split.test);
-  const SplitMetrics after = evaluate_split(model, o.values, d.dataset, d.split.test);
+  const calibrate::SplitMetrics before = calibrate::evaluate_split(model, d.motor.initial_values(), d.dataset, d.split.test);
+  const calibrate::SplitMetrics after = calibrate::evaluate_split(model, o.values, d.dataset, d.split.test);
   // The deterministic policy's reward on fixed windows (evaluated at every checkpoint) rises from
   // the untrained policy's; so does the training episodes' own average where windows vary less.
   double last_evaluation = std::nan("");
@@ -84,7 +84,7 @@ TEST(Td3Calibration, SequentialFormulationLearnsWithASmallBudget) {
   const testing::Dump& d = generated();
   testing::TempDir checkpoints;
   const Td3Outcome o = train_td3(d.motor, d.dataset, d.split.train, small(Formulation::sequential, 20), checkpoints.path(), false);
-  const SplitMetrics train = evaluate_split(d.motor.model(), o.values, d.dataset, d.split.train);
+  const calibrate::SplitMetrics train = calibrate::evaluate_split(d.motor.model(), o.values, d.dataset, d.split.train);
   EXPECT_NEAR(o.best_train_rmse_k, pool({train.stator, train.rotor}).rmse_k, 1e-9) << "the result is scored as the metrics score it";
   EXPECT_GT(o.simulated_steps, 0u);
   EXPECT_GT(o.updates, 0);
@@ -118,14 +118,14 @@ TEST(Td3Calibration, TheScheduledActorIsScoredOnTheCyclesGiven) {
   const Td3Outcome o = train_td3(d.motor, d.dataset, d.split.train, small(Formulation::per_step, 4), dir.path(), false);
   Td3Outcome flat = o;  // an actor whose every output is the constant set: zero weights, biases atanh(u)
   std::fill(flat.actor.w3.begin(), flat.actor.w3.end(), 0.0f);
-  const FreeParameters free = FreeParameters::from_motor(d.motor);
+  const calibrate::FreeParameters free = calibrate::FreeParameters::from_motor(d.motor);
   for (std::size_t j = 0; j < free.size(); ++j)
     flat.actor.b3[j] = static_cast<float>(std::atanh(to_normalized(o.values[free.index[j]], free.min[j], free.max[j])));
   const Model<double> model = d.motor.model();
-  const SplitMetrics constant = evaluate_split(model, o.values, d.dataset, d.split.test);
-  const SplitMetrics held = evaluate_scheduled_actor(flat, d.motor, d.dataset, d.split.test);
+  const calibrate::SplitMetrics constant = calibrate::evaluate_split(model, o.values, d.dataset, d.split.test);
+  const calibrate::SplitMetrics held = evaluate_scheduled_actor(flat, d.motor, d.dataset, d.split.test);
   EXPECT_NEAR(held.stator.rmse_k, constant.stator.rmse_k, 1e-3 * constant.stator.rmse_k);
-  const SplitMetrics scheduled = evaluate_scheduled_actor(o, d.motor, d.dataset, d.split.test);
+  const calibrate::SplitMetrics scheduled = evaluate_scheduled_actor(o, d.motor, d.dataset, d.split.test);
   EXPECT_NE(scheduled.stator.rmse_k, constant.stator.rmse_k);
   EXPECT_EQ(scheduled.cycles.size(), d.split.test.size());
 }

@@ -12,7 +12,7 @@ namespace lptn::workflow {
 
 struct GeneratedFleet {
   std::vector<gen::FleetMotorSummary> truth;  // each motor as generated (its id, whether weak)
-  CalibrationRequest request;                 // the fleet's folder with the motor file written beside it
+  calibrate::CalibrationRequest request;                 // the fleet's folder with the motor file written beside it
 };
 
 inline GeneratedFleet generate_fleet_request(const gen::FleetOptions& options, const std::filesystem::path& dir) {

@@ -30,12 +30,12 @@ TEST(WorkflowAdequacy, AFleetWhoseWeakMotorIsInTheTestSplitIsNotCalledOverfitted
   o.motor.seed = 7;
   o.motor.min_duration_s = 30 * 60;
   o.motor.max_duration_s = 40 * 60;
-  const CalibrationRequest q = generate_fleet_request(o, t.path()).request;
+  const calibrate::CalibrationRequest q = generate_fleet_request(o, t.path()).request;
   const FleetCalibration f = calibrate_fleet(q, {});
   ASSERT_GT(f.result.test.stator.rmse_k, 2 * f.result.train.stator.rmse_k) << "the weak motor should be in the test split";
   std::string all;
-  for (const CalibrationWarning& w : f.result.warnings) all += w.code + ": " + w.message + "\n";
-  EXPECT_EQ(f.result.status, kStatusOk) << all;
+  for (const calibrate::CalibrationWarning& w : f.result.warnings) all += w.code + ": " + w.message + "\n";
+  EXPECT_EQ(f.result.status, calibrate::kStatusOk) << all;
 }
 
 // A fleet whose motors all have friction growing with speed cubed, which the paper's model lacks:
@@ -50,11 +50,11 @@ TEST(WorkflowAdequacy, AFleetThatLacksThePlantsPhysicsIsWarnedOncePerSensor) {
   o.motor.min_duration_s = 20 * 60;
   o.motor.max_duration_s = 25 * 60;
   o.motor.plant = gen::plant_bit(gen::PlantPhysics::windage_cubed);
-  const CalibrationRequest q = generate_fleet_request(o, t.path()).request;
+  const calibrate::CalibrationRequest q = generate_fleet_request(o, t.path()).request;
   const FleetCalibration f = calibrate_fleet(q, {});
-  EXPECT_EQ(f.result.status, kStatusWarnings);
+  EXPECT_EQ(f.result.status, calibrate::kStatusWarnings);
   std::vector<std::string> inadequate;
-  for (const CalibrationWarning& w : f.result.warnings)
+  for (const calibrate::CalibrationWarning& w : f.result.warnings)
     if (w.code == "not_adequate") inadequate.push_back(w.message);
   ASSERT_GE(inadequate.size(), 1u);
   ASSERT_LE(inadequate.size(), 2u) << "one per sensor, not one per motor";

@@ -42,8 +42,8 @@ class Workflow : public ::testing::Test {
     gen::generate(o, dir_->path());
   }
   static void TearDownTestSuite() { delete dir_; }
-  static CalibrationRequest request(const std::string& method) {
-    CalibrationRequest q;
+  static calibrate::CalibrationRequest request(const std::string& method) {
+    calibrate::CalibrationRequest q;
     q.data = {dir_->path().string()};
     q.motor = (dir_->path() / "motor.toml").string();
     q.method = method;
@@ -72,7 +72,7 @@ struct Heard {
 
 TEST_F(Workflow, LmIsFittedScoredAndJudgedWithItsDetails) {
   Heard heard;
-  const CalibrationResult r = calibrate(request("lm"), heard.events());
+  const calibrate::CalibrationResult r = calibrate(request("lm"), heard.events());
   EXPECT_EQ(r.method, "lm");
   EXPECT_TRUE(r.details.contains("iterations") && r.details.contains("correlation")) << r.details.dump();
   EXPECT_EQ(r.test_cycles, std::vector<std::string>{"cycle_02_regional"});
@@ -81,10 +81,10 @@ TEST_F(Workflow, LmIsFittedScoredAndJudgedWithItsDetails) {
   EXPECT_LT(r.test.stator.rmse_k, 0.6);
   EXPECT_LT(r.train.stator.rmse_k, 0.6);
   // Judged: a status, and no parameter marked calibrated without a value.
-  EXPECT_TRUE(r.status == kStatusOk || r.status == kStatusWarnings) << r.status;
-  for (const ParameterResult& p : r.parameters) EXPECT_TRUE(std::isfinite(p.value)) << p.name;
+  EXPECT_TRUE(r.status == calibrate::kStatusOk || r.status == calibrate::kStatusWarnings) << r.status;
+  for (const calibrate::ParameterResult& p : r.parameters) EXPECT_TRUE(std::isfinite(p.value)) << p.name;
   // The model is the plant's: at its sensors' noise, not warned inadequate.
-  for (const CalibrationWarning& w : r.warnings) EXPECT_NE(w.code, "not_adequate") << w.message;
+  for (const calibrate::CalibrationWarning& w : r.warnings) EXPECT_NE(w.code, "not_adequate") << w.message;
   // The inspection's warnings first, then the plan, then LM's iterations.
   ASSERT_GE(heard.said.size(), 3u);
   EXPECT_EQ(heard.said[0], "warnings");
@@ -110,17 +110,17 @@ TEST(WorkflowAdequacy, AModelThatLacksThePlantsPhysicsIsWarnedNotAdequate) {
   o.max_duration_s = 25 * 60;
   o.plant = gen::plant_bit(gen::PlantPhysics::eddy_loss);
   gen::generate(o, dir.path());
-  CalibrationRequest q;
+  calibrate::CalibrationRequest q;
   q.data = {dir.path().string()};
   q.motor = (dir.path() / "motor.toml").string();
   q.method = "lm";
   q.test_cycles = {"cycle_02_regional"};
-  const CalibrationResult r = calibrate(q, {});
+  const calibrate::CalibrationResult r = calibrate(q, {});
   std::string all;
-  for (const CalibrationWarning& w : r.warnings) all += w.code + ": " + w.message + "\n";
-  EXPECT_EQ(r.status, kStatusWarnings) << all;
+  for (const calibrate::CalibrationWarning& w : r.warnings) all += w.code + ": " + w.message + "\n";
+  EXPECT_EQ(r.status, calibrate::kStatusWarnings) << all;
   std::vector<std::string> inadequate;
-  for (const CalibrationWarning& w : r.warnings)
+  for (const calibrate::CalibrationWarning& w : r.warnings)
     if (w.code == "not_adequate") inadequate.push_back(w.message);
   ASSERT_EQ(inadequate.size(), 1u) << "the stator sensor only: the eddy loss heats the stator winding";
   EXPECT_EQ(inadequate[0].rfind("the model is not adequate on the stator sensor: ", 0), 0u) << inadequate[0];
@@ -130,10 +130,10 @@ TEST(WorkflowAdequacy, AModelThatLacksThePlantsPhysicsIsWarnedNotAdequate) {
 }
 
 TEST_F(Workflow, ASearchRecordsItsBudgetAndDetails) {
-  CalibrationRequest q = request("cma-es");
+  calibrate::CalibrationRequest q = request("cma-es");
   q.budget_steps = 3'000'000;
   Heard heard;
-  const CalibrationResult r = calibrate(q, heard.events());
+  const calibrate::CalibrationResult r = calibrate(q, heard.events());
   EXPECT_EQ(r.method, "cma-es");
   EXPECT_EQ(r.settings["budget_steps"], 3'000'000);
   EXPECT_GE(r.details["simulated_steps"].get<double>(), 3e6);
@@ -146,7 +146,7 @@ TEST_F(Workflow, ASearchRecordsItsBudgetAndDetails) {
 // A request that cannot run is refused by its option before any file is read: the data here does
 // not exist, and the message is still the option's.
 TEST_F(Workflow, BadRequestsAreRefusedByTheirOption) {
-  auto refused = [](const CalibrationRequest& q, CalibrationMethod td3 = nullptr) -> std::string {
+  auto refused = [](const calibrate::CalibrationRequest& q, calibrate::CalibrationMethod td3 = nullptr) -> std::string {
     try {
       check_request(q, td3);
     } catch (const hostio::BadInput& e) {
@@ -154,7 +154,7 @@ TEST_F(Workflow, BadRequestsAreRefusedByTheirOption) {
     }
     return "accepted";
   };
-  CalibrationRequest q = request("td3");
+  calibrate::CalibrationRequest q = request("td3");
   q.data = {"/nonexistent"};
   EXPECT_NE(refused(q).find("no TD3 calibrator"), std::string::npos) << refused(q);
   q.method = "simplex";
@@ -190,7 +190,7 @@ TEST_F(Workflow, AFleetIsCalibratedWithEachMotorsCooling) {
   o.motor.min_duration_s = 25 * 60;
   o.motor.max_duration_s = 30 * 60;
   const GeneratedFleet g = generate_fleet_request(o, t.path());
-  CalibrationRequest q = g.request;
+  calibrate::CalibrationRequest q = g.request;
   CalibrationPlan plan;
   CalibrationEvents events;
   events.started = [&](const CalibrationPlan& p) { plan = p; };
@@ -208,14 +208,14 @@ TEST_F(Workflow, AFleetIsCalibratedWithEachMotorsCooling) {
     else EXPECT_NEAR(f.fit.motors[m].cooling_factor, 1.0, 0.08) << g.truth[m].id;
   }
   // The weak motor is the model with its own factor: no motor is warned inadequate.
-  for (const CalibrationWarning& w : f.result.warnings) EXPECT_NE(w.code, "not_adequate") << w.message;
+  for (const calibrate::CalibrationWarning& w : f.result.warnings) EXPECT_NE(w.code, "not_adequate") << w.message;
   q.method = "cma-es";
   EXPECT_THROW(calibrate_fleet(q), hostio::BadInput);
 }
 
 // What the data refuses is said once, by the option that brought it.
 TEST_F(Workflow, ASensorFaultOnACycleTheDataLacksNamesItsOption) {
-  CalibrationRequest q = request("lm");
+  calibrate::CalibrationRequest q = request("lm");
   q.sensor_faults = {"stator:offset:+2:no_such_cycle"};
   try {
     calibrate(q);
@@ -234,13 +234,13 @@ TEST_F(Workflow, TheSameFilesReadThroughAnotherDataMapAreNotTheCalibrationsData)
   // A current transducer's factor: the files still read without the map, as other currents.
   const std::filesystem::path map = t.path() / "export.toml";
   std::ofstream(map) << "[columns]\ncurrent_a = { column = \"current_a\", scale = 1.02 }\n";
-  CalibrationRequest q = request("lm");
+  calibrate::CalibrationRequest q = request("lm");
   q.map = map.string();
   const std::filesystem::path file = t.path() / "calibration.json";
-  save_calibration(calibrate(q), file);
-  const CalibrationResult calibration = load_calibration(file);
+  calibrate::save_calibration(calibrate(q), file);
+  const calibrate::CalibrationResult calibration = calibrate::load_calibration(file);
   ASSERT_EQ(calibration.data.size(), 3u);
-  for (const DataFile& f : calibration.data) {
+  for (const calibrate::DataFile& f : calibration.data) {
     EXPECT_TRUE(f.map_recorded);
     EXPECT_EQ(f.map_file, map.string());
     EXPECT_EQ(f.map_sha256.size(), 64u);
@@ -268,7 +268,7 @@ TEST_F(Workflow, TheSameFilesReadThroughAnotherDataMapAreNotTheCalibrationsData)
   std::ifstream(file) >> j;
   for (auto& f : j["data"]["files"]) f.erase("map");
   std::ofstream(file) << j.dump(2);
-  const CalibrationResult older = load_calibration(file);
+  const calibrate::CalibrationResult older = calibrate::load_calibration(file);
   EXPECT_FALSE(older.data.front().map_recorded);
   EXPECT_TRUE(check::provenance(older, data::load_fleet_dump(paths)).all_seen());
 }
@@ -292,11 +292,11 @@ TEST(WorkflowDiagnosis, TheCubedWindageOfLongCyclesIsFound) {
   g.max_duration_s = 90 * 60;
   g.plant = gen::plant_bit(gen::PlantPhysics::windage_cubed);
   gen::generate(g, t.path() / "dump");
-  CalibrationRequest c;
+  calibrate::CalibrationRequest c;
   c.data = {(t.path() / "dump").string()};
   c.motor = (t.path() / "dump" / "motor.toml").string();
   const std::string calibration = (t.path() / "calibration.json").string();
-  save_calibration(calibrate(c), calibration);
+  calibrate::save_calibration(calibrate(c), calibration);
   DiagnosisRequest q;
   q.data = c.data;
   q.calibration = calibration;
@@ -310,7 +310,7 @@ TEST(WorkflowDiagnosis, TheCubedWindageOfLongCyclesIsFound) {
 TEST_F(Workflow, ADiagnosisSaysWhetherTheDataIsTheCalibrations) {
   testing::TempDir t;
   const std::string calibration = (t.path() / "calibration.json").string();
-  save_calibration(calibrate(request("lm")), calibration);
+  calibrate::save_calibration(calibrate(request("lm")), calibration);
   DiagnosisRequest q;
   q.data = {dir_->path().string()};
   q.calibration = calibration;
@@ -356,7 +356,7 @@ TEST_F(Workflow, ADiagnosisSaysWhetherTheDataIsTheCalibrations) {
   // The calibration it writes was fitted on the other data, and its record says so: the other
   // files, their split; the first calibration's data is not its data.
   const data::Dataset other_data = data::load_fleet_dump({other.path().string()});
-  const CalibrationResult& updated = *elsewhere.updated;
+  const calibrate::CalibrationResult& updated = *elsewhere.updated;
   ASSERT_EQ(updated.data.size(), other_data.cycles.size());
   for (std::size_t i = 0; i < updated.data.size(); ++i) {
     EXPECT_EQ(updated.data[i].cycle, other_data.cycles[i].name);
@@ -366,7 +366,7 @@ TEST_F(Workflow, ADiagnosisSaysWhetherTheDataIsTheCalibrations) {
   for (const std::string& name : updated.train_cycles)
     EXPECT_TRUE(std::any_of(other_data.cycles.begin(), other_data.cycles.end(),
                             [&](const data::Cycle& c) { return c.name == name; })) << name;
-  EXPECT_NE(updated.data_sha256, load_calibration(calibration).data_sha256);
+  EXPECT_NE(updated.data_sha256, calibrate::load_calibration(calibration).data_sha256);
   EXPECT_TRUE(check::provenance(updated, other_data).all_seen()) << check::provenance(updated, other_data).summary();
   EXPECT_FALSE(check::provenance(updated, data::load_fleet_dump({dir_->path().string()})).all_seen());
 

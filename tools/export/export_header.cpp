@@ -55,7 +55,7 @@ std::vector<std::string> effect_names(EffectSet set) {
 
 std::string rmse_text(const ErrorMetrics& m) { return m.samples ? fmt("%.3f K", m.rmse_k) : "not measured"; }
 
-std::string provenance(const CalibrationResult& c, const ExportOptions& o) {
+std::string provenance(const calibrate::CalibrationResult& c, const ExportOptions& o) {
   const std::string source = comment_text(o.source_name);
   const std::vector<std::string> effects = effect_names(c.effects);
   std::string s;
@@ -75,11 +75,11 @@ std::string provenance(const CalibrationResult& c, const ExportOptions& o) {
   s += cat("//   effects      ", effects.empty() ? std::string("none (the paper's model)") : join(effects, ", "), "\n");
   if (o.actor) s += cat("//   actor        TD3, drives ", str(static_cast<long long>(c.actor.param_indices.size())), " parameters\n");
   s += cat("//   status       ", comment_text(c.status), c.warnings.empty() ? "" : ", read these warnings first:", "\n");
-  for (const CalibrationWarning& w : c.warnings) s += cat("//   warning      ", comment_text(w.code), ": ", comment_text(w.message), "\n");
+  for (const calibrate::CalibrationWarning& w : c.warnings) s += cat("//   warning      ", comment_text(w.code), ": ", comment_text(w.message), "\n");
   return s;
 }
 
-std::string constants(const CalibrationResult& c, const ExportOptions& o) {
+std::string constants(const calibrate::CalibrationResult& c, const ExportOptions& o) {
   auto text = [](const char* name, const std::string& v) {
     return cat("inline constexpr char ", name, "[] = ", string_literal(v), ";\n");
   };
@@ -106,7 +106,7 @@ std::string constants(const CalibrationResult& c, const ExportOptions& o) {
   return s;
 }
 
-std::string effects_source(const CalibrationResult& c) {
+std::string effects_source(const calibrate::CalibrationResult& c) {
   std::string s = "// Effects beyond the paper's model, by name (their bits follow the library's order).\n";
   std::vector<std::string> bits;
   for (const std::string& n : effect_names(c.effects)) {
@@ -119,7 +119,7 @@ std::string effects_source(const CalibrationResult& c) {
   return s;
 }
 
-std::string parameters_source(const CalibrationResult& c, const ExportOptions& o) {
+std::string parameters_source(const calibrate::CalibrationResult& c, const ExportOptions& o) {
   if (c.parameters.size() != static_cast<std::size_t>(kNumParams))
     throw ExportError(cat(o.source_name, ": field 'parameters': ", str(static_cast<long long>(c.parameters.size())),
                           " entries, this lptn's model has ", str(kNumParams)));
@@ -135,7 +135,7 @@ std::string parameters_source(const CalibrationResult& c, const ExportOptions& o
   s += "\n// The parameters in model order (+- the fit's standard error, where the method gives one).\n";
   s += "inline constexpr ParamVector<double> kParams = {{\n";
   for (int i = 0; i < kNumParams; ++i) {
-    const ParameterResult& p = c.parameters[i];
+    const calibrate::ParameterResult& p = c.parameters[i];
     const std::string name(param_spec(i).name);
     s += cat("    ", double_literal(p.value, cat("parameters.", name, ".value")), ",  // [", str(i), "] ", name, " [",
              param_spec(i).unit, "]", std::isnan(p.std_error) ? std::string() : fmt(" +- %.3g", p.std_error),
@@ -152,7 +152,7 @@ std::string parameters_source(const CalibrationResult& c, const ExportOptions& o
   s += "// spreads with lptn/firmware/parameter_uncertainty.hpp (a parameter not pinned: ln 1.5).\n";
   std::string stds, fitted, pinned;
   for (int i = 0; i < kNumParams; ++i) {
-    const ParameterResult& p = c.parameters[i];
+    const calibrate::ParameterResult& p = c.parameters[i];
     const std::string name(param_spec(i).name);
     const double se = std::isfinite(p.std_error) && p.std_error >= 0 ? p.std_error : -1.0;
     stds += cat("    ", double_literal(se, cat("parameters.", name, ".std_error")), ",  // [", str(i), "] ", name, "\n");
@@ -167,7 +167,7 @@ std::string parameters_source(const CalibrationResult& c, const ExportOptions& o
 
 // Every constant as an assignment, in the order of their list (lptn/motor_constant_fields.hpp); a
 // table's columns row by row.
-std::string motor_constants_source(const CalibrationResult& c) {
+std::string motor_constants_source(const calibrate::CalibrationResult& c) {
   const MotorConstants<double>& m = c.motor.constants;
   std::string s = cat("// The motor file's constants (", comment_text(c.motor.path.string()), ", kept whole in the calibration).\n");
   s += "constexpr MotorConstants<double> motor_constants() {\n";
@@ -219,11 +219,11 @@ std::string float_array(const char* name, const V& values, bool aligned) {
   return s + "\n};\n";
 }
 
-std::string actor_source(const CalibrationResult& c, const ExportOptions& o) {
+std::string actor_source(const calibrate::CalibrationResult& c, const ExportOptions& o) {
   if (!c.has_actor)
     throw ExportError(cat(o.source_name, ": --actor: this calibration has no actor (method '", c.method,
                           "'; only td3-paper and td3-episode keep one: their actor maps speed and torque to parameters)"));
-  const ActorExport& a = c.actor;
+  const calibrate::ActorExport& a = c.actor;
   if (a.layers.size() != 3 || a.layers[0].in != 2 || a.layers[1].in != a.layers[0].out ||
       a.layers[1].out != a.layers[0].out || a.layers[2].in != a.layers[1].out)
     throw ExportError(cat(o.source_name, ": field 'actor.layers': the firmware's actor is 2 -> H -> H -> P (three "
@@ -275,16 +275,16 @@ std::string actor_source(const CalibrationResult& c, const ExportOptions& o) {
 
 // A failed calibration is kept for inspection only: no firmware gets it. The reason is its
 // warnings' messages, on one line.
-void refuse_failed(const CalibrationResult& c, const ExportOptions& o) {
-  if (c.status != kStatusFailed) return;
+void refuse_failed(const calibrate::CalibrationResult& c, const ExportOptions& o) {
+  if (c.status != calibrate::kStatusFailed) return;
   std::vector<std::string> why;
-  for (const CalibrationWarning& w : c.warnings) why.push_back(w.message);
+  for (const calibrate::CalibrationWarning& w : c.warnings) why.push_back(w.message);
   throw ExportError(cat(o.source_name, ": status 'failed', not exported: ",
                         why.empty() ? std::string("no reason recorded") : join(why, "; ")));
 }
 
 // The whole header: provenance, constants, effects, parameters, motor constants, the actor.
-std::string header(const CalibrationResult& c, const ExportOptions& o) {
+std::string header(const calibrate::CalibrationResult& c, const ExportOptions& o) {
   refuse_failed(c, o);
   const std::string actor = o.actor ? actor_source(c, o) : "";  // first: a missing actor fails before any work
   std::string s = provenance(c, o);
@@ -306,7 +306,7 @@ std::string header(const CalibrationResult& c, const ExportOptions& o) {
 
 }  // namespace
 
-std::string export_header(const CalibrationResult& c, const ExportOptions& o) {
+std::string export_header(const calibrate::CalibrationResult& c, const ExportOptions& o) {
   try {
     return header(c, o);
   } catch (const std::invalid_argument& e) {  // a value with no literal (NaN, infinity)

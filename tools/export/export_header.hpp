@@ -24,6 +24,6 @@ struct ExportOptions {
 
 // The header's full text. Throws ExportError, or MotorFileError if the embedded motor text does not
 // parse (named "SOURCE: motor.text:LINE").
-std::string export_header(const CalibrationResult& calibration, const ExportOptions& options);
+std::string export_header(const calibrate::CalibrationResult& calibration, const ExportOptions& options);
 
 }  // namespace lptn::exporter

@@ -5,7 +5,7 @@
 
 namespace lptn::replay {
 
-std::unique_ptr<CalibratedEstimatorConfig> estimator_config_from(const CalibrationResult& c, const std::string& shown_as,
+std::unique_ptr<CalibratedEstimatorConfig> estimator_config_from(const calibrate::CalibrationResult& c, const std::string& shown_as,
                                                                   const fw::BusDecoder& bus) {
   auto out = std::make_unique<CalibratedEstimatorConfig>();
   out->config = fw::default_config<double>(c.motor.constants, c.effects, c.values(), bus);
@@ -13,16 +13,16 @@ std::unique_ptr<CalibratedEstimatorConfig> estimator_config_from(const Calibrati
   for (int j = 0; j < kNumParams; ++j) {
     ln_std[j] = 0.0;
     if (static_cast<std::size_t>(j) >= c.parameters.size()) continue;
-    const ParameterResult& p = c.parameters[static_cast<std::size_t>(j)];
+    const calibrate::ParameterResult& p = c.parameters[static_cast<std::size_t>(j)];
     ln_std[j] = fw::parameter_ln_std(p.value, p.std_error, p.calibrated, p.identifiable);
   }
   fw::apply_calibration_uncertainty(out->config, ln_std, c.test.stator.samples > 0, c.test.stator.rmse_k);
   if (!c.has_actor) return out;
 
-  const ActorExport& a = c.actor;
+  const calibrate::ActorExport& a = c.actor;
   if (a.layers.size() != 3 || a.layers[0].in != 2 || a.layers[0].out > 256 || a.layers[2].out > 32 ||
       a.layers[2].out != static_cast<int>(a.param_indices.size()))
-    throw CalibrationFileError(shown_as + ": field 'actor': not the firmware's shape (2 -> at most 256 -> 256 -> at most 32)");
+    throw calibrate::CalibrationFileError(shown_as + ": field 'actor': not the firmware's shape (2 -> at most 256 -> 256 -> at most 32)");
   for (int l = 0; l < 3; ++l) {
     out->weights[l] = a.layers[l].weight;
     out->biases[l] = a.layers[l].bias;

@@ -23,7 +23,7 @@ struct CalibratedEstimatorConfig {
 // Throws MotorFileError if the embedded motor text does not parse, CalibrationFileError if the
 // actor's shape is not the firmware's (3 dense layers, at most 256 hidden units, 32 outputs).
 // `bus`: the converter's frames (default: the bus map the firmware was built for, lptn::bus).
-std::unique_ptr<CalibratedEstimatorConfig> estimator_config_from(const CalibrationResult& calibration,
+std::unique_ptr<CalibratedEstimatorConfig> estimator_config_from(const calibrate::CalibrationResult& calibration,
                                                                   const std::string& shown_as,
                                                                   const fw::BusDecoder& bus = lptn::bus::decoder());
 

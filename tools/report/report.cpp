@@ -53,7 +53,7 @@ struct CycleRun {
   // "unseen" where it never saw it (a cycle of the same name in another file included), else "".
   std::string role;
   CycleSimulation sim;
-  CycleMetrics metrics;
+  calibrate::CycleMetrics metrics;
   std::vector<float> stator_residual, rotor_residual;  // model - measured, per grid step
   // Grid steps between a sensor's own readings (the loader interpolates between them).
   std::size_t stator_period = 1, rotor_period = 1;
@@ -106,7 +106,7 @@ std::vector<std::string> effect_names(EffectSet effects) {
   return names;
 }
 
-CalibratedModel calibrated_model(const CalibrationResult& cal) {
+CalibratedModel calibrated_model(const calibrate::CalibrationResult& cal) {
   return {Model<double>(cal.motor.constants, cal.effects), cal.values()};
 }
 
@@ -125,7 +125,7 @@ CycleRun run_cycle_model(const CalibratedModel& cm, const data::Cycle& cycle, co
   CycleRun run;
   run.cycle = &cycle;
   run.role = role;
-  CycleEvaluation e = simulate_and_evaluate(cm.model, cm.params, cycle);
+  calibrate::CycleEvaluation e = calibrate::simulate_and_evaluate(cm.model, cm.params, cycle);
   run.sim = std::move(e.simulation);
   run.metrics = std::move(e.metrics);
   run.stator_residual = residual(run.sim.stator_sensor, cycle, Channel::stator_winding_c);
@@ -182,7 +182,7 @@ json compare_cycle(const CycleRun& run) {
 struct SensorSeries {
   const SensorDef* def = nullptr;
   Segments residual, measured;
-  NoiseSum noise;  // from the grid residual, at the sensor's own readings
+  calibrate::NoiseSum noise;  // from the grid residual, at the sensor's own readings
 };
 
 // The 1 s means the statistics run on, one segment per cycle.
@@ -201,7 +201,7 @@ StatSeries stat_series(const std::vector<CycleRun>& runs) {
     for (SensorSeries& sensor : s.sensors) {
       sensor.residual.push_back(block_means(run.*(sensor.def->residual), block));
       sensor.measured.push_back(block_means(channel(c, sensor.def->measured), block));
-      sensor.noise += sensor_noise(run.*(sensor.def->residual), run.*(sensor.def->period));
+      sensor.noise += calibrate::sensor_noise(run.*(sensor.def->residual), run.*(sensor.def->period));
     }
     s.speed.push_back(block_means(channel(c, Channel::speed_rpm), block));
     s.torque.push_back(block_means(channel(c, Channel::torque_nm), block));
@@ -411,7 +411,7 @@ json combined_rmse(const ErrorMetrics& stator, const ErrorMetrics& rotor) {
   return number(std::sqrt(sum / (ns + nr)));
 }
 
-json history_entry(const std::filesystem::path& file, const CalibrationResult& cal, bool current) {
+json history_entry(const std::filesystem::path& file, const calibrate::CalibrationResult& cal, bool current) {
   const bool test = !cal.test.cycles.empty();
   json e = {{"file", file.filename().string()}, {"created_utc", cal.created_utc}, {"method", cal.method},
             {"effects", effect_names(cal.effects)}, {"motor", cal.motor.name}, {"current", current},
@@ -433,7 +433,7 @@ json history_json(const std::filesystem::path& dir, const std::filesystem::path&
   for (const auto& f : std::filesystem::directory_iterator(dir, ec)) {
     if (!f.is_regular_file() || f.path().extension() != ".json") continue;
     try {
-      const CalibrationResult cal = load_calibration(f.path());
+      const calibrate::CalibrationResult cal = calibrate::load_calibration(f.path());
       entries.emplace_back(cal.created_utc + f.path().filename().string(),
                            history_entry(f.path(), cal, std::filesystem::equivalent(f.path(), current, ec)));
     } catch (const std::exception&) {
@@ -448,7 +448,7 @@ json history_json(const std::filesystem::path& dir, const std::filesystem::path&
 
 // Where the data is not the calibration's own: which cycles it never saw and lptn check's verdict
 // on them (null for the calibration's own data).
-json check_json(const CalibrationResult& cal, const data::Dataset& ds, const check::Provenance& provenance,
+json check_json(const calibrate::CalibrationResult& cal, const data::Dataset& ds, const check::Provenance& provenance,
                 const std::optional<MotorFile>& data_motor) {
   if (provenance.all_seen()) return nullptr;
   const check::Check c = check::check(cal, ds, data_motor, hostio::worker_threads());
@@ -459,19 +459,19 @@ json check_json(const CalibrationResult& cal, const data::Dataset& ds, const che
 }
 
 // The calibration's warnings in words, for the page to list under its status.
-json warning_messages(const CalibrationResult& cal) {
+json warning_messages(const calibrate::CalibrationResult& cal) {
   json out = json::array();
-  for (const CalibrationWarning& w : cal.warnings) out.push_back(w.message);
+  for (const calibrate::CalibrationWarning& w : cal.warnings) out.push_back(w.message);
   return out;
 }
 
-json meta_json(const ReportOptions& o, const CalibrationResult& cal, const data::Dataset& ds) {
+json meta_json(const ReportOptions& o, const calibrate::CalibrationResult& cal, const data::Dataset& ds) {
   double hours = 0;
   for (const auto& c : ds.cycles) hours += c.duration_s() / 3600;
   return {{"calibration", o.calibration.string()}, {"data", o.data.string()}, {"method", cal.method},
           {"created_utc", cal.created_utc}, {"motor", cal.motor.name}, {"effects", effect_names(cal.effects)},
           // A calibration that is not ok says so at the top of the page, as lptn replay says it.
-          {"status", cal.status}, {"status_caution", status_caution(cal, o.calibration.string(), true)},
+          {"status", cal.status}, {"status_caution", calibrate::status_caution(cal, o.calibration.string(), true)},
           {"warnings", warning_messages(cal)},
           {"cycles", ds.cycles.size()}, {"hours", hours}, {"generated_utc", hostio::utc_now()},
           {"train_rmse_stator_k", number(cal.train.stator.rmse_k)},
@@ -488,7 +488,7 @@ nlohmann::json report_data(const ReportOptions& o, const std::function<void(cons
     return {{"fleet", fleet_section(o.fleet)}, {"generated_utc", hostio::utc_now()}};
   }
   const json fleet = o.fleet.empty() ? json(nullptr) : fleet_section(o.fleet);  // bad input fails fast
-  const CalibrationResult cal = load_calibration(o.calibration);
+  const calibrate::CalibrationResult cal = calibrate::load_calibration(o.calibration);
   std::optional<SavedDiagnosis> diagnosis;
   if (!o.diagnosis.empty()) diagnosis = diagnose::load_diagnosis(o.diagnosis);  // before the long part: bad input fails fast
   const CalibratedModel cm = calibrated_model(cal);
@@ -505,8 +505,8 @@ nlohmann::json report_data(const ReportOptions& o, const std::function<void(cons
   for (const data::Cycle& cycle : ds.cycles) {
     progress("cycle " + std::to_string(runs.size() + 1) + "/" + std::to_string(ds.cycles.size()) + " " + cycle.name);
     runs.push_back(run_cycle_model(cm, cycle, role_of(provenance.cycles[runs.size()])));
-    runs.back().stator_period = reading_period(ds, cycle, Channel::stator_winding_c);
-    runs.back().rotor_period = reading_period(ds, cycle, Channel::rotor_c);
+    runs.back().stator_period = calibrate::reading_period(ds, cycle, Channel::stator_winding_c);
+    runs.back().rotor_period = calibrate::reading_period(ds, cycle, Channel::rotor_c);
     cycles.push_back(compare_cycle(runs.back()));
   }
   progress("statistics");

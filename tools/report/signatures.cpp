@@ -53,7 +53,7 @@ std::optional<Signature> refit_signature(std::string_view effect, const std::vec
   for (const RefitValue& v : values)
     if (v.param >= 0 && v.param < kNumParams) with_params[v.param] = v.value;
   const Model<double> with(model.motor(), model.effects() | effect_bit(e));
-  const CycleSimulation w = simulate_and_evaluate(with, with_params, cycle).simulation;
+  const CycleSimulation w = calibrate::simulate_and_evaluate(with, with_params, cycle).simulation;
   const bool rotor = EffectLibrary::kNodes[static_cast<std::size_t>(e)] >= kRotorWinding;
   const std::vector<float>& a = rotor ? w.rotor_sensor : w.stator_sensor;
   const std::vector<float>& b = rotor ? sim.rotor_sensor : sim.stator_sensor;

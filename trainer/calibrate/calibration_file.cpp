@@ -12,7 +12,7 @@
 #include "trainer/model/motor_json.hpp"
 #include "trainer/data/sensor_fault.hpp"
 
-namespace lptn {
+namespace lptn::calibrate {
 namespace {
 
 using nlohmann::ordered_json;
@@ -436,4 +436,4 @@ CalibrationResult load_calibration(const std::filesystem::path& path) {
   return calibration_from_json(read_lptn_json(path), path.string());
 }
 
-}  // namespace lptn
+}  // namespace lptn::calibrate

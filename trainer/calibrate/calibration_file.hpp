@@ -16,7 +16,7 @@
 #include "trainer/calibrate/metrics.hpp"
 #include "trainer/model/motor_file.hpp"
 
-namespace lptn {
+namespace lptn::calibrate {
 
 // Bumped whenever a key changes meaning; a reader refuses versions it does not know. Version 1 is
 // read as "unchecked" (it had no status and marked every free parameter calibrated, pinned by the
@@ -146,4 +146,4 @@ CalibrationResult load_calibration(const std::filesystem::path& path);
 // read (...)", "FILE: line N: reason", or, for a motor file or a cycle given in its place, what it is.
 nlohmann::json read_lptn_json(const std::filesystem::path& path);
 
-}  // namespace lptn
+}  // namespace lptn::calibrate

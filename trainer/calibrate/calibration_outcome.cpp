@@ -6,7 +6,7 @@
 
 #include "lptn/params.hpp"
 
-namespace lptn {
+namespace lptn::calibrate {
 namespace {
 
 // A test error this many times the training error, and this much above it, means the model
@@ -126,4 +126,4 @@ std::string status_caution(const CalibrationResult& r, const std::string& path, 
                  : ": read its warnings (calibration.json's \"warnings\") before trusting what follows");
 }
 
-}  // namespace lptn
+}  // namespace lptn::calibrate

@@ -8,7 +8,7 @@
 
 #include "trainer/calibrate/calibration_file.hpp"
 
-namespace lptn {
+namespace lptn::calibrate {
 
 // Sets result.warnings and result.status from a scored calibration (parameters and metrics set),
 // keeping warnings already there (`data_findings`: what inspecting the data found, one line each).
@@ -40,4 +40,4 @@ std::string status_caution(const CalibrationResult& result, const std::string& p
 // Whether a calibrated parameter ended on (or within rounding of) one of its bounds.
 bool at_bound(const ParameterResult& p);
 
-}  // namespace lptn
+}  // namespace lptn::calibrate

@@ -17,7 +17,7 @@
 #include "trainer/data/dataset.hpp"
 #include "trainer/model/motor_file.hpp"
 
-namespace lptn {
+namespace lptn::calibrate {
 
 struct CalibrationRequest {
   std::vector<std::string> data;  // directories of cycle CSVs, or CSV files
@@ -52,4 +52,4 @@ using CalibrationProgress = std::function<void(const std::string& line, bool don
 using CalibrationMethod = void (*)(const CalibrationRequest& request, const MotorFile& motor, DatasetRef dataset,
                                    const Split& split, CalibrationResult& result, const CalibrationProgress& progress);
 
-}  // namespace lptn
+}  // namespace lptn::calibrate

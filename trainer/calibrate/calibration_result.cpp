@@ -9,7 +9,7 @@
 #include "hostio/utc_stamp.hpp"
 #include "lptn/version.hpp"
 
-namespace lptn {
+namespace lptn::calibrate {
 
 ParameterResult parameter_result(const MotorFile& motor, int i) {
   const ParameterSetting& s = motor.parameters[static_cast<std::size_t>(i)];
@@ -101,4 +101,4 @@ Split split_of(const CalibrationResult& calibration, const data::Dataset& datase
   return split;
 }
 
-}  // namespace lptn
+}  // namespace lptn::calibrate

@@ -10,7 +10,7 @@
 #include "trainer/data/dataset.hpp"
 #include "trainer/model/motor_file.hpp"
 
-namespace lptn {
+namespace lptn::calibrate {
 
 // Parameter i as the motor file starts a calibration: name, unit, initial value (also the value
 // until a calibrator sets one), bounds, and whether it is calibrated (an effect's parameter only
@@ -34,4 +34,4 @@ MotorFile motor_of(const CalibrationResult& calibration);
 // BadInput naming a cycle the data lacks.
 Split split_of(const CalibrationResult& calibration, const data::Dataset& dataset);
 
-}  // namespace lptn
+}  // namespace lptn::calibrate

@@ -8,7 +8,7 @@
 
 #include "trainer/model/simulate.hpp"
 
-namespace lptn {
+namespace lptn::calibrate {
 
 // How many residuals the first `max_steps` grid steps of `cycle` give (its samples must be here: a
 // shared dataset's remote cycle has its count in its CycleShare, DatasetRef::residuals).
@@ -40,4 +40,4 @@ bool for_each_grid_residual(const Model<double>& model, const ParamVector<T>& p,
   return finite;
 }
 
-}  // namespace lptn
+}  // namespace lptn::calibrate

@@ -7,7 +7,7 @@
 
 #include "trainer/model/simulate.hpp"
 
-namespace lptn {
+namespace lptn::calibrate {
 
 // Model-minus-measurement statistics of one cycle; rotor.samples == 0 where the rotor is not measured.
 struct CycleMetrics {
@@ -23,4 +23,4 @@ struct SplitMetrics {
   std::vector<CycleMetrics> cycles;
 };
 
-}  // namespace lptn
+}  // namespace lptn::calibrate

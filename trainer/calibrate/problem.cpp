@@ -11,7 +11,7 @@
 #include "trainer/model/initial_offsets.hpp"
 #include "trainer/model/simulate.hpp"
 
-namespace lptn {
+namespace lptn::calibrate {
 
 FreeParameters FreeParameters::from_motor(const MotorFile& motor) {
   FreeParameters f;
@@ -166,4 +166,4 @@ void pool_cycles(SplitMetrics& m) {
   m.rotor = pool(rotor);
 }
 
-}  // namespace lptn
+}  // namespace lptn::calibrate

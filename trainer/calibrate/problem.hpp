@@ -13,7 +13,7 @@
 #include "trainer/data/dataset.hpp"
 #include "trainer/model/motor_file.hpp"
 
-namespace lptn {
+namespace lptn::calibrate {
 
 // The parameters a calibration moves (those marked `calibrate` in the motor file) and their
 // bounds. Calibrators work in internal coordinates: log(value) for a parameter searched on a log
@@ -70,4 +70,4 @@ void pool_cycles(SplitMetrics& m);
 SplitMetrics evaluate_split(const Model<double>& model, const ParamVector<double>& params, DatasetRef dataset,
                             const std::vector<std::size_t>& cycles, int threads = hostio::worker_threads());
 
-}  // namespace lptn
+}  // namespace lptn::calibrate

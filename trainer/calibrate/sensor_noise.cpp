@@ -4,7 +4,7 @@
 #include <cmath>
 #include <limits>
 
-namespace lptn {
+namespace lptn::calibrate {
 namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 }  // namespace
@@ -36,4 +36,4 @@ std::size_t reading_period(const data::Dataset& dataset, const data::Cycle& cycl
   return 1;
 }
 
-}  // namespace lptn
+}  // namespace lptn::calibrate

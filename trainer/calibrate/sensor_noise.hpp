@@ -7,7 +7,7 @@
 
 #include "trainer/data/dataset.hpp"
 
-namespace lptn {
+namespace lptn::calibrate {
 
 // A sensor's noise from the residual on the model's grid, where a sensor that reports every
 // `period` steps is interpolated in between. At the steps where it reported, e_k - (e_{k-p} +
@@ -31,4 +31,4 @@ NoiseSum sensor_noise(const std::vector<float>& e, std::size_t period);
 // (1 where it has none: every step then counts as a reading).
 std::size_t reading_period(const data::Dataset& dataset, const data::Cycle& cycle, data::Channel c);
 
-}  // namespace lptn
+}  // namespace lptn::calibrate

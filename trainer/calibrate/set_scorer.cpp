@@ -7,7 +7,7 @@
 #include "trainer/model/initial_offsets.hpp"
 #include "trainer/model/simulate.hpp"
 
-namespace lptn {
+namespace lptn::calibrate {
 
 constexpr std::size_t kSplits = kResidualSplits.size();
 
@@ -157,4 +157,4 @@ void SetScorer::score(const double* u, std::size_t n, SetScore* out, int threads
   }
 }
 
-}  // namespace lptn
+}  // namespace lptn::calibrate

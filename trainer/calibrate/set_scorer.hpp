@@ -15,7 +15,7 @@
 #include "trainer/data/dataset.hpp"
 #include "trainer/model/simulate.hpp"
 
-namespace lptn {
+namespace lptn::calibrate {
 
 // Splits of the samples (each at the training data's median unless said otherwise). A feature is
 // the mean residual where the split holds minus where it does not: a conductance to the cooling
@@ -66,4 +66,4 @@ class SetScorer {
   std::vector<std::vector<std::uint8_t>> split_bits_;  // per cycle and sample: bit s set where split s holds
 };
 
-}  // namespace lptn
+}  // namespace lptn::calibrate

@@ -11,7 +11,7 @@
 #include "hostio/sha256.hpp"
 #include "trainer/calibrate/grid_residuals.hpp"
 
-namespace lptn {
+namespace lptn::calibrate {
 
 SharedDataset join_units(std::size_t units, std::vector<LoadedUnit> mine, const hostio::ProcessGroup& group,
                          std::vector<std::size_t>* unit_of_cycle) {
@@ -202,4 +202,4 @@ SharedDataset load_shared_dump(const std::vector<std::filesystem::path>& paths, 
   return join_units(files.size(), std::move(mine), group);
 }
 
-}  // namespace lptn
+}  // namespace lptn::calibrate

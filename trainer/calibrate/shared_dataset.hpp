@@ -16,7 +16,7 @@
 #include "trainer/calibrate/grid_residuals.hpp"
 #include "trainer/data/dataset.hpp"
 
-namespace lptn {
+namespace lptn::calibrate {
 
 // Where a cycle of a shared dataset is held.
 struct CycleShare {
@@ -99,4 +99,4 @@ void balance_training(SharedDataset& dataset, const std::vector<std::size_t>& tr
 // work needs every cycle on every rank (lptn diagnose, whose LM refits are what takes long).
 SharedDataset share_work(data::Dataset dataset, const hostio::ProcessGroup& group);
 
-}  // namespace lptn
+}  // namespace lptn::calibrate

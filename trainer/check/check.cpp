@@ -19,7 +19,7 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // The figure a calibration claims for a sensor on data it was not fitted on: its test error, or
 // its training error where it held no cycle out.
-double claimed_error(const CalibrationResult& c, int s) {
+double claimed_error(const calibrate::CalibrationResult& c, int s) {
   const ErrorMetrics& test = s == 0 ? c.test.stator : c.test.rotor;
   const ErrorMetrics& train = s == 0 ? c.train.stator : c.train.rotor;
   if (test.samples > 0) return test.rmse_k;
@@ -27,7 +27,7 @@ double claimed_error(const CalibrationResult& c, int s) {
   return kNaN;
 }
 
-const ErrorMetrics& metric(const CycleMetrics& m, int s) { return s == 0 ? m.stator : m.rotor; }
+const ErrorMetrics& metric(const calibrate::CycleMetrics& m, int s) { return s == 0 ? m.stator : m.rotor; }
 
 std::string percent(double change) {
   char buf[48];
@@ -100,16 +100,16 @@ std::string error_reason(const Check& c, int s) {
 
 }  // namespace
 
-Check check(const CalibrationResult& calibration, const data::Dataset& dataset, const std::optional<MotorFile>& data_motor,
+Check check(const calibrate::CalibrationResult& calibration, const data::Dataset& dataset, const std::optional<MotorFile>& data_motor,
             int threads) {
   if (dataset.cycles.empty()) throw hostio::BadInput("check: the data holds no cycle");
-  const MotorFile motor = motor_of(calibration);
+  const MotorFile motor = calibrate::motor_of(calibration);
   const Model<double> model = motor.model();
   const ParamVector<double> params = calibration.values();
   Check c;
   c.provenance = provenance(calibration, dataset, data_motor);
   const std::size_t n = dataset.cycles.size();
-  Split every;
+  calibrate::Split every;
   every.train.resize(n);
   std::iota(every.train.begin(), every.train.end(), std::size_t{0});
   c.adequacy = diagnose::assess_adequacy(model, params, dataset, every, threads);
@@ -122,7 +122,7 @@ Check check(const CalibrationResult& calibration, const data::Dataset& dataset, 
     const data::Cycle& cycle = dataset.cycles[i];
     cc.name = cycle.name;
     cc.provenance = c.provenance.cycles[i];
-    const CycleMetrics m = evaluate_cycle(model, params, cycle);
+    const calibrate::CycleMetrics m = calibrate::evaluate_cycle(model, params, cycle);
     for (int s = 0; s < 2; ++s) {
       SensorCheck& sc = cc.sensors[s];
       if (metric(m, s).samples == 0) continue;

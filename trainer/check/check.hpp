@@ -73,7 +73,7 @@ inline constexpr const char* kSensorNames[2] = {"stator", "rotor"};
 
 // `calibration`'s model (motor_of) at its values on `dataset`. `data_motor`: the motor file found
 // beside the data, compared with the calibration's constants.
-Check check(const CalibrationResult& calibration, const data::Dataset& dataset,
+Check check(const calibrate::CalibrationResult& calibration, const data::Dataset& dataset,
             const std::optional<MotorFile>& data_motor, int threads);
 
 // {"holds", "reasons", "adequate", "adequate_within", "sensors" (diagnose's shape, over every cycle

@@ -105,10 +105,10 @@ std::string Provenance::summary() const {
   return out;
 }
 
-Provenance provenance(const CalibrationResult& calibration, const data::Dataset& dataset,
+Provenance provenance(const calibrate::CalibrationResult& calibration, const data::Dataset& dataset,
                       const std::optional<MotorFile>& data_motor) {
-  std::map<std::string, const DataFile*> record_of;  // the calibration's cycle -> its file's record
-  for (const DataFile& f : calibration.data) record_of[f.cycle] = &f;
+  std::map<std::string, const calibrate::DataFile*> record_of;  // the calibration's cycle -> its file's record
+  for (const calibrate::DataFile& f : calibration.data) record_of[f.cycle] = &f;
   // A file is hashed once however many segments it holds, the files over the cores (a 200 h
   // dump is 600 MB of CSV: about a second of one core's hashing here).
   std::map<std::string, std::string> file_hash;
@@ -125,7 +125,7 @@ Provenance provenance(const CalibrationResult& calibration, const data::Dataset&
     if (known == record_of.end()) {
       cp.why = "not among the calibration's cycles";
     } else {
-      const DataFile& seen = *known->second;
+      const calibrate::DataFile& seen = *known->second;
       cp.seen = file_hash.at(c.file.string()) == seen.sha256;
       if (!cp.seen) {
         cp.why = kOtherFile;

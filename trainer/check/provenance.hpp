@@ -43,7 +43,7 @@ struct Provenance {
 
 // `data_motor`: the motor file found beside the data (DIR/motor.toml), if any. Hashes the cycles'
 // files (each once).
-Provenance provenance(const CalibrationResult& calibration, const data::Dataset& dataset,
+Provenance provenance(const calibrate::CalibrationResult& calibration, const data::Dataset& dataset,
                       const std::optional<MotorFile>& data_motor = std::nullopt);
 
 // The motor file beside a fleet dump directory (DIR/motor.toml), if it is there and reads; the

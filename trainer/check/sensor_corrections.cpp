@@ -6,7 +6,7 @@
 
 namespace lptn::check {
 
-std::vector<std::string> correct_as_calibrated(data::Dataset& dataset, const CalibrationResult& calibration) {
+std::vector<std::string> correct_as_calibrated(data::Dataset& dataset, const calibrate::CalibrationResult& calibration) {
   std::vector<std::string> said;
   for (const std::string& spec : calibration.sensor_faults) {
     const data::SensorFaultSpec parsed = data::parse_sensor_fault(spec);  // load_calibration checked it

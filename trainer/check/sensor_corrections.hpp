@@ -15,6 +15,6 @@ namespace lptn::check {
 // says what it did in one line each: "readings corrected for the fault the calibration was made
 // around: stator:offset:+3.02:cycle_05_freight", or, where the data lacks that cycle, that they
 // are compared as they are.
-std::vector<std::string> correct_as_calibrated(data::Dataset& dataset, const CalibrationResult& calibration);
+std::vector<std::string> correct_as_calibrated(data::Dataset& dataset, const calibrate::CalibrationResult& calibration);
 
 }  // namespace lptn::check

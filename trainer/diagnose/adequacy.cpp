@@ -23,14 +23,14 @@ using internal::kSensorTraces;
 
 // One cycle's contribution per sensor: its metrics and the noise sums of its residual.
 struct CycleFinding {
-  CycleMetrics metrics;
-  NoiseSum noise[2];
+  calibrate::CycleMetrics metrics;
+  calibrate::NoiseSum noise[2];
   internal::WhereSums where[2];
 };
 
-CycleFinding examine(const Model<double>& model, const ParamVector<double>& params, DatasetRef dataset,
+CycleFinding examine(const Model<double>& model, const ParamVector<double>& params, calibrate::DatasetRef dataset,
                      const data::Cycle& cycle, const internal::RegionEdges& edges) {
-  CycleEvaluation e = simulate_and_evaluate(model, params, cycle);
+  calibrate::CycleEvaluation e = calibrate::simulate_and_evaluate(model, params, cycle);
   CycleFinding f;
   f.metrics = std::move(e.metrics);
   for (int s = 0; s < 2; ++s) {
@@ -38,14 +38,14 @@ CycleFinding examine(const Model<double>& model, const ParamVector<double>& para
     const std::vector<float>& m = e.simulation.*(kSensorTraces[s].trace);
     std::vector<float> r(cycle.steps);
     for (std::size_t k = 0; k < cycle.steps; ++k) r[k] = m[k] - cycle.at(kSensorTraces[s].channel, k);
-    f.noise[s] = sensor_noise(r, reading_period(dataset.data, cycle, kSensorTraces[s].channel));
+    f.noise[s] = calibrate::sensor_noise(r, calibrate::reading_period(dataset.data, cycle, kSensorTraces[s].channel));
     f.where[s] = internal::where_sums(cycle, kSensorTraces[s].channel, r, edges);
   }
   return f;
 }
 
 std::vector<CycleFinding> examine_all(const Model<double>& model, const ParamVector<double>& params,
-                                      DatasetRef dataset, const std::vector<std::size_t>& cycles,
+                                      calibrate::DatasetRef dataset, const std::vector<std::size_t>& cycles,
                                       const internal::RegionEdges& edges, int threads) {
   std::vector<CycleFinding> out(cycles.size());
   hostio::parallel_for(cycles.size(), threads,
@@ -54,19 +54,19 @@ std::vector<CycleFinding> examine_all(const Model<double>& model, const ParamVec
 }
 
 // The cycles' metrics as evaluate_split pools them.
-SplitMetrics split_metrics(std::vector<CycleFinding>::const_iterator from, std::vector<CycleFinding>::const_iterator to) {
-  SplitMetrics m;
+calibrate::SplitMetrics split_metrics(std::vector<CycleFinding>::const_iterator from, std::vector<CycleFinding>::const_iterator to) {
+  calibrate::SplitMetrics m;
   for (auto f = from; f != to; ++f) m.cycles.push_back(f->metrics);
-  pool_cycles(m);
+  calibrate::pool_cycles(m);
   return m;
 }
 
-const ErrorMetrics& metric(const CycleMetrics& m, int s) { return s == 0 ? m.stator : m.rotor; }
+const ErrorMetrics& metric(const calibrate::CycleMetrics& m, int s) { return s == 0 ? m.stator : m.rotor; }
 
 }  // namespace
 
-Adequacy assess_adequacy(const Model<double>& model, const ParamVector<double>& params, DatasetRef dataset,
-                         const Split& split, int threads) {
+Adequacy assess_adequacy(const Model<double>& model, const ParamVector<double>& params, calibrate::DatasetRef dataset,
+                         const calibrate::Split& split, int threads) {
   std::vector<std::size_t> every = split.train;
   every.insert(every.end(), split.test.begin(), split.test.end());
   const internal::RegionEdges edges = internal::region_edges(dataset.data, every);
@@ -80,7 +80,7 @@ Adequacy assess_adequacy(const Model<double>& model, const ParamVector<double>& 
   a.test = split_metrics(test.begin(), test.end());
   for (int s = 0; s < 2; ++s) {
     // The noise is the sensor's, not the split's: pooled over every cycle.
-    NoiseSum noise;
+    calibrate::NoiseSum noise;
     internal::WhereSums where;
     std::vector<ErrorMetrics> train_m, test_m;
     for (const CycleFinding& f : train) {

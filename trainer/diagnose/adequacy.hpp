@@ -73,12 +73,12 @@ struct Adequacy {
   std::vector<SensorAdequacy> sensors;  // the measured ones
   // The simulation's metrics, per cycle and pooled, as evaluate_split gives them (the diagnosis's
   // "before" figures read them instead of simulating the cycles again).
-  SplitMetrics train, test;
+  calibrate::SplitMetrics train, test;
 };
 
 // Simulates every cycle of the split at `params` once (offsets as the metrics estimate them).
-Adequacy assess_adequacy(const Model<double>& model, const ParamVector<double>& params, DatasetRef dataset,
-                         const Split& split, int threads);
+Adequacy assess_adequacy(const Model<double>& model, const ParamVector<double>& params, calibrate::DatasetRef dataset,
+                         const calibrate::Split& split, int threads);
 
 // {"adequate": bool, "adequate_within": 1.5, "sensors": {"stator": {"rmse_k", "noise_k", "adequate",
 // "train_rmse_k", "test_rmse_k", "unexplained", "cycles", "follows": [{"input", "correlation"}],

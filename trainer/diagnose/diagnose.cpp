@@ -51,7 +51,7 @@ lm::LmProgress lm_progress(const Progress& progress, const std::string& stage) {
 }
 
 // The stator sensor's error over the cycles a split's metrics pooled: NaN without any.
-double stator_rmse(const SplitMetrics& m) { return m.cycles.empty() ? kNoTest : m.stator.rmse_k; }
+double stator_rmse(const calibrate::SplitMetrics& m) { return m.cycles.empty() ? kNoTest : m.stator.rmse_k; }
 
 // The held-out cycles' errors: the stator sensor's, and every measured sensor's (the RMS of the
 // stator's and the rotor's residuals, each sample once; the stator alone would not see a
@@ -59,7 +59,7 @@ double stator_rmse(const SplitMetrics& m) { return m.cycles.empty() ? kNoTest : 
 struct HeldOut {
   double stator_k = kNoTest, combined_k = kNoTest;
 };
-HeldOut held_out(const SplitMetrics& m) {
+HeldOut held_out(const calibrate::SplitMetrics& m) {
   if (m.cycles.empty()) return {};
   const double ns = static_cast<double>(m.stator.samples), nr = static_cast<double>(m.rotor.samples);
   HeldOut h;
@@ -101,7 +101,7 @@ struct Scored {
 // likelihood ratio on the coarse grid is against it (the two grids' optima differ by more than
 // a likelihood ratio's resolution: the baseline's fine-grid cost is not a coarse fit's footing).
 struct CoarseGrid {
-  SharedDataset dataset;
+  calibrate::SharedDataset dataset;
   std::optional<lm::LmReport> baseline;  // none where the coarse grid keeps no reading
 };
 
@@ -185,8 +185,8 @@ void at_baseline(Candidate& c, const Diagnosis& before, const ParamVector<double
   c.reason = std::move(reason);
 }
 
-Candidate examine(const MotorFile& motor, const Scored& scored, const Diagnosis& before, DatasetRef dataset,
-                  const CoarseGrid& coarse, const Split& split, const Settings& settings, const Progress& progress,
+Candidate examine(const MotorFile& motor, const Scored& scored, const Diagnosis& before, calibrate::DatasetRef dataset,
+                  const CoarseGrid& coarse, const calibrate::Split& split, const Settings& settings, const Progress& progress,
                   BaselineBlocks& baseline_blocks) {
   const int effect = scored.effect;
   const auto e = static_cast<std::size_t>(effect);
@@ -464,8 +464,8 @@ const Candidate* Diagnosis::best() const {
   return nullptr;
 }
 
-Diagnosis diagnose(const MotorFile& motor, const ParamVector<double>& calibrated, DatasetRef dataset,
-                   const Split& split, const Settings& settings, const Progress& progress) {
+Diagnosis diagnose(const MotorFile& motor, const ParamVector<double>& calibrated, calibrate::DatasetRef dataset,
+                   const calibrate::Split& split, const Settings& settings, const Progress& progress) {
   Diagnosis d;
   // Refit from the calibration (a few iterations at most): it gives the per-cycle initial
   // offsets and the residuals' correlation time, and an RSS on exactly the footing of the refits.
@@ -483,7 +483,7 @@ Diagnosis diagnose(const MotorFile& motor, const ParamVector<double>& calibrated
   if (progress) progress("drift between cycles");
   {
     // The adequacy's simulations are the drift's at factor 1: the same metrics, not simulated again.
-    std::vector<const CycleMetrics*> simulated(dataset.cycles.size(), nullptr);
+    std::vector<const calibrate::CycleMetrics*> simulated(dataset.cycles.size(), nullptr);
     for (std::size_t i = 0; i < split.train.size() && i < d.adequacy.train.cycles.size(); ++i)
       simulated[split.train[i]] = &d.adequacy.train.cycles[i];
     for (std::size_t i = 0; i < split.test.size() && i < d.adequacy.test.cycles.size(); ++i)
@@ -623,8 +623,8 @@ Diagnosis diagnose(const MotorFile& motor, const ParamVector<double>& calibrated
   return d;
 }
 
-Selection select_effects(const MotorFile& motor, const ParamVector<double>& calibrated, DatasetRef dataset,
-                         const Split& split, const Settings& settings, const Progress& progress,
+Selection select_effects(const MotorFile& motor, const ParamVector<double>& calibrated, calibrate::DatasetRef dataset,
+                         const calibrate::Split& split, const Settings& settings, const Progress& progress,
                          const RoundDone& round_done) {
   Selection s;
   s.motor = motor;

@@ -169,8 +169,8 @@ using Progress = std::function<void(const std::string&)>;
 
 // Diagnoses `motor` (effects and free parameters as calibrated) at `calibrated`, fitted on
 // split.train and tested on split.test.
-Diagnosis diagnose(const MotorFile& motor, const ParamVector<double>& calibrated, DatasetRef dataset,
-                   const Split& split, const Settings& settings, const Progress& progress = {});
+Diagnosis diagnose(const MotorFile& motor, const ParamVector<double>& calibrated, calibrate::DatasetRef dataset,
+                   const calibrate::Split& split, const Settings& settings, const Progress& progress = {});
 
 // Forward selection: diagnose, add the best significant and distinguishable effect (its refit
 // becomes the new calibration), diagnose again, until no candidate is significant.
@@ -180,15 +180,15 @@ struct Selection {
   MotorFile motor;                // with the added effects
 };
 using RoundDone = std::function<void(const Diagnosis&)>;
-Selection select_effects(const MotorFile& motor, const ParamVector<double>& calibrated, DatasetRef dataset,
-                         const Split& split, const Settings& settings, const Progress& progress = {},
+Selection select_effects(const MotorFile& motor, const ParamVector<double>& calibrated, calibrate::DatasetRef dataset,
+                         const calibrate::Split& split, const Settings& settings, const Progress& progress = {},
                          const RoundDone& round_done = {});
 
 // `calibration` updated to `motor` (effects, text) and the fit `fit` (values, standard errors,
 // correlated pairs) with metrics recomputed on its split; the method stays "lm". Its data record
 // (files, hashes, data maps, split, time, version) is that of `dataset` and `split`, the data fitted.
-CalibrationResult updated_calibration(const CalibrationResult& calibration, const MotorFile& motor, const lm::LmReport& fit,
-                                      DatasetRef dataset, const Split& split, const std::string& note);
+calibrate::CalibrationResult updated_calibration(const calibrate::CalibrationResult& calibration, const MotorFile& motor, const lm::LmReport& fit,
+                                       calibrate::DatasetRef dataset, const calibrate::Split& split, const std::string& note);
 
 // The diagnosis file's format (lptn diagnose --json, --json-out; docs/diagnosis.md): 2 added the
 // sensor check ("sensor_faults", candidates of kind "sensor"). A reader refuses a newer one.

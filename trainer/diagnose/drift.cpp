@@ -25,7 +25,7 @@ constexpr int kMaxEvaluations = 40;  // Brent's worst case on [-1, 1] to 1e-4 is
 // t statistics finite when cycles agree to the last digit.
 constexpr double kFactorResolution = 0.005;
 
-double squared_error(const CycleMetrics& m) {
+double squared_error(const calibrate::CycleMetrics& m) {
   double sse = 0;
   for (const ErrorMetrics* e : {&m.stator, &m.rotor})
     if (e->samples) sse += e->rmse_k * e->rmse_k * static_cast<double>(e->samples);
@@ -34,7 +34,7 @@ double squared_error(const CycleMetrics& m) {
 
 double squared_error(const Model<double>& model, const ParamVector<double>& p, const data::Cycle& cycle,
                      const PreparedCycle& prepared) {
-  return squared_error(evaluate_cycle(model, p, cycle, &prepared));
+  return squared_error(calibrate::evaluate_cycle(model, p, cycle, &prepared));
 }
 
 struct Evaluated {  // a log factor and the error there
@@ -288,7 +288,7 @@ Drift drift_of(DriftGroup group, const data::Dataset& dataset, const std::vector
 }  // namespace
 
 Drift find_drift(const Model<double>& model, const ParamVector<double>& params, const data::Dataset& dataset,
-                 int threads, const std::vector<const CycleMetrics*>& at_params) {
+                 int threads, const std::vector<const calibrate::CycleMetrics*>& at_params) {
   // Both groups' factors in one pass over the cycles: each cycle's losses prepared once, its
   // error at factor 1 simulated once (or read from `at_params`). The losses' factors are computed
   // even where the cooling's drift will be the finding, and then go unused (about four

@@ -62,7 +62,7 @@ struct Drift {
 // one per cycle of `dataset` where given, the cycle's evaluate_cycle metrics at `params` where the
 // caller has them already (null: simulated here).
 Drift find_drift(const Model<double>& model, const ParamVector<double>& params, const data::Dataset& dataset,
-                 int threads, const std::vector<const CycleMetrics*>& at_params = {});
+                 int threads, const std::vector<const calibrate::CycleMetrics*>& at_params = {});
 
 // `params` with the group's parameters times `factor`.
 ParamVector<double> scaled_group(const ParamVector<double>& params, DriftGroup group, double factor);

@@ -23,7 +23,7 @@ class CycleCooling final : public ceres::CostFunction {
  public:
   CycleCooling(const Model<double>& model, const ParamVector<double>& params, const data::Cycle& cycle)
       : model_(model), params_(params), cycle_(cycle) {
-    measured_ = count_grid_residuals(cycle);
+    measured_ = calibrate::count_grid_residuals(cycle);
     set_num_residuals(static_cast<int>(measured_));
     mutable_parameter_block_sizes()->push_back(1);
     mutable_parameter_block_sizes()->push_back(2);
@@ -35,7 +35,7 @@ class CycleCooling final : public ceres::CostFunction {
     const double* offset = blocks[1];
     std::size_t row = 0;
     if (jacobians == nullptr || (jacobians[0] == nullptr && jacobians[1] == nullptr)) {
-      return for_each_grid_residual(model_, with_cooling_factor(params_, std::exp(log_factor)),
+      return calibrate::for_each_grid_residual(model_, with_cooling_factor(params_, std::exp(log_factor)),
                                     cycle_, InitialOffsets<double>{offset[0], offset[1]},
                                     [&](const double& e) { residuals[row++] = e; });
     }
@@ -43,7 +43,7 @@ class CycleCooling final : public ceres::CostFunction {
     ParamVector<Jet> p;
     for (int i = 0; i < kNumParams; ++i) p[i] = Jet(params_[i]);
     const Jet factor = exp(Jet(log_factor, 0));
-    return for_each_grid_residual(model_, with_cooling_factor(p, factor), cycle_,
+    return calibrate::for_each_grid_residual(model_, with_cooling_factor(p, factor), cycle_,
                                   InitialOffsets<Jet>{Jet(offset[0], 1), Jet(offset[1], 2)}, [&](const Jet& e) {
                                     residuals[row] = e.a;
                                     if (jacobians[0] != nullptr) jacobians[0][row] = e.v[0];

@@ -20,13 +20,13 @@ void fit_motors(const Model<double>& model, const ParamVector<double>& shared, c
   std::vector<double> joined(2 * n, 0.0);
   for (std::size_t m = 0; m < n; ++m) {
     const std::vector<std::size_t>& cycles = fleet.motor_cycles[m];
-    if (!cycles.empty() && DatasetRef(fleet.dataset).remote(cycles.front())) continue;  // another process's motor
+    if (!cycles.empty() && calibrate::DatasetRef(fleet.dataset).remote(cycles.front())) continue;  // another process's motor
     motors[m].fit = fit_cooling_factor(model, shared, fleet.dataset.data, cycles, threads);
     joined[2 * m] = motors[m].fit.factor;
     joined[2 * m + 1] = motors[m].fit.log_std_error;
   }
   if (!fleet.dataset.shared()) return;
-  DatasetRef(fleet.dataset).group().sum(joined);
+  calibrate::DatasetRef(fleet.dataset).group().sum(joined);
   for (std::size_t m = 0; m < n; ++m) {
     motors[m].fit.factor = joined[2 * m];
     motors[m].fit.log_std_error = joined[2 * m + 1];
@@ -95,7 +95,7 @@ FleetFit fit_fleet(const MotorFile& motor, const FleetDump& fleet, const std::ve
     r.cooling_factor_std = r.cooling_factor * r.fit.log_std_error;
     r.fit.factor = r.cooling_factor;  // as normalized
     r.parameters = with_cooling_factor(out.shared.values, r.cooling_factor);
-    r.metrics = evaluate_split(model, r.parameters, fleet.dataset, fleet.motor_cycles[m], settings.lm.threads);
+    r.metrics = calibrate::evaluate_split(model, r.parameters, fleet.dataset, fleet.motor_cycles[m], settings.lm.threads);
     r.verdict = verdicts[m];
   }
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

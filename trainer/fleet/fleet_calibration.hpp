@@ -35,7 +35,7 @@ struct FleetMotorResult {
   double cooling_factor_std = 0;  // factor * the standard error of ln(factor)
   CoolingFactorFit fit;
   ParamVector<double> parameters{};  // the shared ones with this motor's cooling factor
-  SplitMetrics metrics;              // on all the motor's cycles
+  calibrate::SplitMetrics metrics;              // on all the motor's cycles
   OutlierVerdict verdict;
 };
 

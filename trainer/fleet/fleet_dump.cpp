@@ -39,17 +39,17 @@ FleetDump load_fleet(const std::filesystem::path& dir, const data::LoadOptions& 
 FleetDump load_shared_fleet(const std::filesystem::path& dir, const hostio::ProcessGroup& group,
                             const data::LoadOptions& options) {
   const std::vector<std::filesystem::path> motors = motor_directories(dir);
-  std::vector<LoadedUnit> mine;
+  std::vector<calibrate::LoadedUnit> mine;
   for (std::size_t m = 0; m < motors.size(); ++m)
-    if (owner_of_unit(m, group) == group.rank()) mine.push_back({m, load_motor(motors[m], options)});
+    if (calibrate::owner_of_unit(m, group) == group.rank()) mine.push_back({m, load_motor(motors[m], options)});
   FleetDump fleet;
   for (const auto& path : motors) fleet.motor_ids.push_back(path.filename().string());
   fleet.motor_cycles.resize(motors.size());
   std::vector<std::size_t> motor_of;
   if (group.shared()) {
-    fleet.dataset = join_units(motors.size(), std::move(mine), group, &motor_of);
+    fleet.dataset = calibrate::join_units(motors.size(), std::move(mine), group, &motor_of);
   } else {
-    for (LoadedUnit& u : mine) {
+    for (calibrate::LoadedUnit& u : mine) {
       for (data::Cycle& c : u.data.cycles) {
         fleet.dataset.data.cycles.push_back(std::move(c));
         motor_of.push_back(u.unit);

@@ -14,7 +14,7 @@ namespace lptn::fleet {
 struct FleetDump {
   // Every motor's cycles, named "<motor_id>/<cycle>", motor by motor; shared over the processes of
   // an MPI job by motor (load_shared_fleet).
-  SharedDataset dataset;
+  calibrate::SharedDataset dataset;
   std::vector<std::string> motor_ids;  // the subdirectories' names, sorted
   std::vector<std::vector<std::size_t>> motor_cycles;  // per motor: its cycles' indices in dataset
 };

@@ -7,10 +7,10 @@
 
 namespace lptn::fleet {
 
-nlohmann::ordered_json fleet_json(const CalibrationResult& pooled, const FleetFit& fit, const FleetSettings& settings) {
+nlohmann::ordered_json fleet_json(const calibrate::CalibrationResult& pooled, const FleetFit& fit, const FleetSettings& settings) {
   nlohmann::ordered_json j;
   j["format_version"] = kFleetFormatVersion;
-  j["pooled"] = nlohmann::ordered_json::parse(to_json(pooled).dump());  // keeps calibration.json's key order
+  j["pooled"] = nlohmann::ordered_json::parse(calibrate::to_json(pooled).dump());  // keeps calibration.json's key order
   nlohmann::ordered_json& f = j["fleet"];
   f["motors"] = fit.motors.size();
   f["method"] =
@@ -35,7 +35,7 @@ nlohmann::ordered_json fleet_json(const CalibrationResult& pooled, const FleetFi
     o["reason"] = m.verdict.reason;
     o["t"] = m.verdict.tested ? nlohmann::ordered_json(m.verdict.t) : nlohmann::ordered_json(nullptr);
     o["cycles"] = m.metrics.cycles.size();
-    o["metrics"] = split_metrics_json(m.metrics);
+    o["metrics"] = calibrate::split_metrics_json(m.metrics);
     o["parameters"] = nlohmann::ordered_json::array();
     for (int i = 0; i < kNumParams; ++i)
       o["parameters"].push_back({{"name", std::string(param_spec(i).name)},
@@ -46,24 +46,24 @@ nlohmann::ordered_json fleet_json(const CalibrationResult& pooled, const FleetFi
   return j;
 }
 
-void save_fleet(const std::filesystem::path& path, const CalibrationResult& pooled, const FleetFit& fit,
+void save_fleet(const std::filesystem::path& path, const calibrate::CalibrationResult& pooled, const FleetFit& fit,
                 const FleetSettings& settings) {
   hostio::write_file_atomically(path, fleet_json(pooled, fit, settings).dump(2) + "\n");
 }
 
 FleetFile load_fleet_file(const std::filesystem::path& path) {
   const std::string shown = path.string();
-  const nlohmann::json j = read_lptn_json(path);
+  const nlohmann::json j = calibrate::read_lptn_json(path);
   if (j.is_object() && j.contains("parameters") && j.contains("motor") && !j.contains("pooled"))
-    throw CalibrationFileError(shown + ": a single motor's calibration (calibration.json), not a fleet calibration: give "
+    throw calibrate::CalibrationFileError(shown + ": a single motor's calibration (calibration.json), not a fleet calibration: give "
                                        "it as --calibration");
   const hostio::JsonField root(j, "", shown);
-  if (!root.has("format_version")) throw CalibrationFileError(shown + ": not a fleet calibration (no format_version)");
+  if (!root.has("format_version")) throw calibrate::CalibrationFileError(shown + ": not a fleet calibration (no format_version)");
   const hostio::JsonField version = root["format_version"];
   if (version.integer() != kFleetFormatVersion)
     version.fail("version " + j["format_version"].dump() + ", this lptn reads " + std::to_string(kFleetFormatVersion));
   FleetFile out;
-  out.pooled = calibration_from_json(root["pooled"].json(), shown + " (pooled)");
+  out.pooled = calibrate::calibration_from_json(root["pooled"].json(), shown + " (pooled)");
   const hostio::JsonField fleet = root["fleet"];
   out.rounds = static_cast<int>(fleet["rounds"].count());
   const hostio::JsonField outlier_test = fleet["outlier_test"];
@@ -97,11 +97,11 @@ FleetFile load_fleet_file(const std::filesystem::path& path) {
   return out;
 }
 
-CalibrationResult motor_calibration(const FleetFile& fleet, const std::string& id) {
+calibrate::CalibrationResult motor_calibration(const FleetFile& fleet, const std::string& id) {
   for (const FleetFileMotor& m : fleet.motors) {
     if (m.id != id) continue;
-    CalibrationResult c = fleet.pooled;
-    for (ParameterResult& p : c.parameters) {
+    calibrate::CalibrationResult c = fleet.pooled;
+    for (calibrate::ParameterResult& p : c.parameters) {
       const int i = param_index(p.name);
       if (i >= 0) p.value = m.parameters[static_cast<std::size_t>(i)];
     }

@@ -20,9 +20,9 @@ namespace lptn::fleet {
 
 inline constexpr int kFleetFormatVersion = 1;
 
-nlohmann::ordered_json fleet_json(const CalibrationResult& pooled, const FleetFit& fit, const FleetSettings& settings);
+nlohmann::ordered_json fleet_json(const calibrate::CalibrationResult& pooled, const FleetFit& fit, const FleetSettings& settings);
 // Atomic, as save_calibration.
-void save_fleet(const std::filesystem::path& path, const CalibrationResult& pooled, const FleetFit& fit,
+void save_fleet(const std::filesystem::path& path, const calibrate::CalibrationResult& pooled, const FleetFit& fit,
                 const FleetSettings& settings);
 
 struct FleetFileMotor {
@@ -38,7 +38,7 @@ struct FleetFileMotor {
 };
 
 struct FleetFile {
-  CalibrationResult pooled;
+  calibrate::CalibrationResult pooled;
   std::vector<FleetFileMotor> motors;
   double threshold_t = std::numeric_limits<double>::quiet_NaN();  // NaN: too few motors to test
   double family_alpha = 0;
@@ -50,6 +50,6 @@ FleetFile load_fleet_file(const std::filesystem::path& path);
 
 // One motor as a calibration of its own (for lptn export): the pooled calibration with the
 // motor's parameters. Throws BadInput naming the known ids for an unknown one.
-CalibrationResult motor_calibration(const FleetFile& fleet, const std::string& id);
+calibrate::CalibrationResult motor_calibration(const FleetFile& fleet, const std::string& id);
 
 }  // namespace lptn::fleet

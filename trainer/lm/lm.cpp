@@ -58,11 +58,11 @@ class CycleBlock : public ceres::CostFunction {
 template <int N>
 class CycleResiduals final : public CycleBlock {
  public:
-  CycleResiduals(const Model<double>& model, const data::Cycle& cycle, const FreeParameters& free,
+  CycleResiduals(const Model<double>& model, const data::Cycle& cycle, const calibrate::FreeParameters& free,
                  const ParamVector<double>& fixed, std::size_t max_steps, double cooling)
       : model_(model), cycle_(cycle), free_(free), fixed_(fixed), max_steps_(std::min(max_steps, cycle.steps)),
         cooling_(cooling) {
-    measured_ = count_grid_residuals(cycle, max_steps_);
+    measured_ = calibrate::count_grid_residuals(cycle, max_steps_);
     set_num_residuals(static_cast<int>(columns()) + 1);
     for (Jets& c : cache_) {
       c.at.assign(columns(), 0.0);
@@ -222,12 +222,12 @@ class CycleResiduals final : public CycleBlock {
 
   template <class T, class Put>
   bool fill(const ParamVector<T>& p, const InitialOffsets<T>& start, Put&& put) const {
-    return for_each_grid_residual(model_, p, cycle_, start, put, max_steps_);
+    return calibrate::for_each_grid_residual(model_, p, cycle_, start, put, max_steps_);
   }
 
   const Model<double>& model_;
   const data::Cycle& cycle_;
-  const FreeParameters& free_;
+  const calibrate::FreeParameters& free_;
   const ParamVector<double>& fixed_;
   std::size_t max_steps_;
   double cooling_;  // the cycle's motor's cooling factor (1 outside a fleet)
@@ -245,7 +245,7 @@ class CycleResiduals final : public CycleBlock {
 };
 
 // The smallest Jet that carries `n` derivatives.
-CycleBlock* make_residuals(const Model<double>& model, const data::Cycle& cycle, const FreeParameters& free,
+CycleBlock* make_residuals(const Model<double>& model, const data::Cycle& cycle, const calibrate::FreeParameters& free,
                            const ParamVector<double>& fixed, std::size_t max_steps, double cooling = 1.0) {
   const std::size_t n = free.size() + kOffsets;
   if (n <= 4) return new CycleResiduals<4>(model, cycle, free, fixed, max_steps, cooling);
@@ -349,14 +349,14 @@ class SharedBlock final : public ceres::CostFunction {
 // Residual series (model - measured, demeaned per cycle) over the fitted cycles, per sensor:
 // [0] the stator winding, [1] the rotor. One simulation per cycle serves both.
 std::array<std::vector<std::vector<double>>, 2> residual_series(const Model<double>& model, const ParamVector<double>& p,
-                                                               DatasetRef dataset,
+                                                               calibrate::DatasetRef dataset,
                                                                const std::vector<std::size_t>& cycles,
                                                                const std::vector<InitialOffsets<double>>& offsets,
                                                                const std::vector<double>& cooling, int threads,
-                                                               std::array<NoiseSum, 2>* noise = nullptr) {
+                                                               std::array<calibrate::NoiseSum, 2>* noise = nullptr) {
   // Per cycle and sensor, simulated in parallel; then in the cycles' order, skipping the empty.
   std::vector<std::array<std::vector<double>, 2>> per_cycle(cycles.size());
-  std::vector<std::array<NoiseSum, 2>> per_cycle_noise(cycles.size());
+  std::vector<std::array<calibrate::NoiseSum, 2>> per_cycle_noise(cycles.size());
   hostio::parallel_for(cycles.size(), threads, [&](std::size_t i) {
     if (dataset.remote(cycles[i])) return;  // its process takes its series
     const data::Cycle& cycle = dataset.cycles[cycles[i]];
@@ -379,8 +379,8 @@ std::array<std::vector<std::vector<double>>, 2> residual_series(const Model<doub
       if (noise != nullptr) {
         // White noise read every p grid steps and interpolated between stays correlated over about
         // p steps: its sum of squares scaled by p is what the residual variance is compared with.
-        const std::size_t every = reading_period(dataset.data, cycle, sensors[s].first);
-        NoiseSum n = sensor_noise(on_grid, every);
+        const std::size_t every = calibrate::reading_period(dataset.data, cycle, sensors[s].first);
+        calibrate::NoiseSum n = calibrate::sensor_noise(on_grid, every);
         n.sum2 *= static_cast<double>(every);
         per_cycle_noise[i][static_cast<std::size_t>(s)] = n;
       }
@@ -397,7 +397,7 @@ std::array<std::vector<std::vector<double>>, 2> residual_series(const Model<doub
         sums[2 * s + 1] += static_cast<double>(per_cycle_noise[i][s].n);
       }
     dataset.group().sum(sums);
-    for (std::size_t s = 0; s < 2; ++s) (*noise)[s] = NoiseSum{sums[2 * s], static_cast<std::size_t>(sums[2 * s + 1])};
+    for (std::size_t s = 0; s < 2; ++s) (*noise)[s] = calibrate::NoiseSum{sums[2 * s], static_cast<std::size_t>(sums[2 * s + 1])};
   }
   std::array<std::vector<std::vector<double>>, 2> out;
   for (auto& c : per_cycle)
@@ -450,14 +450,14 @@ struct FitExtras {
   std::vector<double> conditional_log_std;
 };
 
-LmReport fit_once(const MotorFile& motor, const ParamVector<double>& start, DatasetRef dataset,
+LmReport fit_once(const MotorFile& motor, const ParamVector<double>& start, calibrate::DatasetRef dataset,
                   const std::vector<std::size_t>& cycles, const LmSettings& settings, const LmProgress& progress,
                   const std::vector<double>& cooling, FitExtras& extras) {
   const auto t0 = std::chrono::steady_clock::now();
   if (!cooling.empty() && cooling.size() != cycles.size())
     throw std::invalid_argument("fit_lm: one cooling factor per cycle, or none");
   const Model<double> model = motor.model();
-  const FreeParameters free = FreeParameters::from_motor(motor);
+  const calibrate::FreeParameters free = calibrate::FreeParameters::from_motor(motor);
   const std::size_t nf = free.size();
   LmReport report;
   report.values = start;
@@ -610,7 +610,7 @@ LmReport fit_once(const MotorFile& motor, const ParamVector<double>& start, Data
   problem.Evaluate(evaluate, &cost, nullptr, nullptr, &jacobian);
   const Eigen::MatrixXd jtj = gram(jacobian);
   const double dof = std::max(1.0, static_cast<double>(report.residuals) - static_cast<double>(nf));
-  std::array<NoiseSum, 2> noise{};  // scaled by each sensor's reading period (residual_series)
+  std::array<calibrate::NoiseSum, 2> noise{};  // scaled by each sensor's reading period (residual_series)
   const auto series = residual_series(model, report.values, dataset, cycles, report.offsets, cooling, settings.threads,
                                       extras.judge ? &noise : nullptr);
   std::array<double, 2> tau{};
@@ -678,7 +678,7 @@ LmReport fit_once(const MotorFile& motor, const ParamVector<double>& start, Data
 
 
 // Whether any of the listed cycles has a rotor reading (over every process of a shared dataset).
-bool any_rotor_reading(DatasetRef dataset, const std::vector<std::size_t>& cycles) {
+bool any_rotor_reading(calibrate::DatasetRef dataset, const std::vector<std::size_t>& cycles) {
   std::vector<double> found{0.0};
   for (std::size_t c : cycles)
     if (!dataset.remote(c) && dataset.cycles[c].has(data::Channel::rotor_c)) found[0] = 1.0;
@@ -693,7 +693,7 @@ std::string blind_reason(bool rotor_readings) {
                           "moves only nodes no sensor sees; fixed at the motor file's value";
 }
 
-std::string weak_reason(const FreeParameters& free, std::size_t j, double log_std, const LmReport& fit) {
+std::string weak_reason(const calibrate::FreeParameters& free, std::size_t j, double log_std, const LmReport& fit) {
   char buf[240];
   if (!std::isfinite(log_std) || (free.log_scale[j] && log_std > std::log(1000.0)))
     std::snprintf(buf, sizeof buf, "the training data hardly moves it (known only within a factor over 1000 at 1 sigma)");
@@ -722,7 +722,7 @@ std::string weak_reason(const FreeParameters& free, std::size_t j, double log_st
 }  // namespace
 
 std::vector<NotIdentifiable> unseen_parameters(const MotorFile& motor, const ParamVector<double>& start,
-                                               DatasetRef dataset, const std::vector<std::size_t>& cycles) {
+                                               calibrate::DatasetRef dataset, const std::vector<std::size_t>& cycles) {
   FitExtras extras;
   extras.judge = true;
   extras.check_only = true;
@@ -734,7 +734,7 @@ std::vector<NotIdentifiable> unseen_parameters(const MotorFile& motor, const Par
   return out;
 }
 
-LmReport fit_lm(const MotorFile& motor, const ParamVector<double>& start, DatasetRef dataset,
+LmReport fit_lm(const MotorFile& motor, const ParamVector<double>& start, calibrate::DatasetRef dataset,
                 const std::vector<std::size_t>& cycles, const LmSettings& settings, const LmProgress& progress,
                 const std::vector<double>& cooling) {
   if (!settings.judge_identifiability) {
@@ -751,7 +751,7 @@ LmReport fit_lm(const MotorFile& motor, const ParamVector<double>& start, Datase
   for (;;) {
     FitExtras extras;
     extras.judge = true;
-    const FreeParameters free = FreeParameters::from_motor(m);
+    const calibrate::FreeParameters free = calibrate::FreeParameters::from_motor(m);
     if (free.size() == 0 && !fixed.empty())
       throw std::runtime_error("no parameter this data can pin: " + fixed.front().reason);
     LmReport fit = fit_once(m, from, dataset, cycles, settings, progress, cooling, extras);
@@ -790,8 +790,8 @@ LmReport fit_lm(const MotorFile& motor, const ParamVector<double>& start, Datase
   }
 }
 
-NormalEquations normal_equations(const Model<double>& model, const FreeParameters& free, const ParamVector<double>& at,
-                                 DatasetRef dataset, const std::vector<std::size_t>& cycles,
+NormalEquations normal_equations(const Model<double>& model, const calibrate::FreeParameters& free, const ParamVector<double>& at,
+                                 calibrate::DatasetRef dataset, const std::vector<std::size_t>& cycles,
                                  const std::vector<InitialOffsets<double>>& offsets, int threads) {
   // Computed whole on every process: the cycles' samples must be here (share_work's, not load_shared_dump's).
   for (std::size_t c : cycles) {

@@ -53,7 +53,7 @@ class ModelNotSimulable : public std::runtime_error {
 struct LmReport {
   ParamVector<double> values{};  // the fitted set (fixed parameters as given)
   ParamVector<double> std_error{};  // NaN where not calibrated or not identifiable
-  std::vector<CorrelatedPair> correlated;
+  std::vector<calibrate::CorrelatedPair> correlated;
   std::vector<std::vector<double>> correlation;  // free x free, order of FreeParameters::index
   std::vector<InitialOffsets<double>> offsets;  // per fitted cycle, in the order given
   std::vector<bool> at_bound;    // per free parameter: ended on its bound (its std error is then local only)
@@ -91,7 +91,7 @@ using LmProgress = std::function<void(int, double, double)>;
 // `cooling` (empty, or one per listed cycle) is each cycle's known cooling factor
 // (cooling_factor.hpp): a fleet's motors share the fitted parameters, each cycle simulated with
 // its motor's conductances to air scaled (fleet_calibration.hpp).
-LmReport fit_lm(const MotorFile& motor, const ParamVector<double>& start, DatasetRef dataset,
+LmReport fit_lm(const MotorFile& motor, const ParamVector<double>& start, calibrate::DatasetRef dataset,
                 const std::vector<std::size_t>& cycles, const LmSettings& settings, const LmProgress& progress = {},
                 const std::vector<double>& cooling = {});
 
@@ -99,7 +99,7 @@ LmReport fit_lm(const MotorFile& motor, const ParamVector<double>& start, Datase
 // calibrator that does not judge identifiability itself, TD3 and the search baselines: it then
 // leaves them at the motor file's values). Throws ModelNotSimulable as fit_lm does.
 std::vector<NotIdentifiable> unseen_parameters(const MotorFile& motor, const ParamVector<double>& start,
-                                               DatasetRef dataset, const std::vector<std::size_t>& cycles);
+                                               calibrate::DatasetRef dataset, const std::vector<std::size_t>& cycles);
 
 // The Gauss-Newton normal equations of fit_lm's problem at a given point, for tests of directions
 // fit_lm did not search (lptn diagnose's score test). Columns: `free`'s parameters in its internal
@@ -112,8 +112,8 @@ struct NormalEquations {
   double rss = 0;           // sum of squared residuals, K^2
   std::size_t residuals = 0;
 };
-NormalEquations normal_equations(const Model<double>& model, const FreeParameters& free, const ParamVector<double>& at,
-                                 DatasetRef dataset, const std::vector<std::size_t>& cycles,
+NormalEquations normal_equations(const Model<double>& model, const calibrate::FreeParameters& free, const ParamVector<double>& at,
+                                 calibrate::DatasetRef dataset, const std::vector<std::size_t>& cycles,
                                  const std::vector<InitialOffsets<double>>& offsets, int threads = hostio::worker_threads());
 
 }  // namespace lptn::lm

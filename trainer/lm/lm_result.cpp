@@ -14,20 +14,20 @@ nlohmann::json to_json(const LmSettings& s) {
           {"max_log_std", s.max_log_std}, {"initial_offsets", "estimated per cycle (stator core, rotor core)"}};
 }
 
-void mark_not_identifiable(CalibrationResult& r, const std::vector<NotIdentifiable>& parameters) {
+void mark_not_identifiable(calibrate::CalibrationResult& r, const std::vector<NotIdentifiable>& parameters) {
   for (const NotIdentifiable& n : parameters) {
-    ParameterResult& p = r.parameters[static_cast<std::size_t>(n.index)];
+    calibrate::ParameterResult& p = r.parameters[static_cast<std::size_t>(n.index)];
     p.calibrated = false;
     p.identifiable = false;
     p.identifiability = n.reason;
   }
 }
 
-void record_lm_fit(CalibrationResult& r, const LmReport& fit, const FreeParameters& given,
+void record_lm_fit(calibrate::CalibrationResult& r, const LmReport& fit, const calibrate::FreeParameters& given,
                    const std::vector<std::string>& fitted, nlohmann::json settings) {
   // The parameters the last fit moved: the given ones but those it found it could not pin (the
   // order of its at_bound flags and correlation matrix).
-  FreeParameters free;
+  calibrate::FreeParameters free;
   for (std::size_t j = 0; j < given.size(); ++j) {
     bool dropped = false;
     for (const NotIdentifiable& n : fit.not_identifiable) dropped = dropped || n.index == given.index[j];
@@ -68,8 +68,8 @@ void record_lm_fit(CalibrationResult& r, const LmReport& fit, const FreeParamete
   r.seconds = fit.seconds;
 }
 
-void calibrate_lm(const CalibrationRequest& /*request*/, const MotorFile& motor, DatasetRef dataset,
-                  const Split& split, CalibrationResult& result, const CalibrationProgress& progress) {
+void calibrate_lm(const calibrate::CalibrationRequest& /*request*/, const MotorFile& motor, calibrate::DatasetRef dataset,
+                  const calibrate::Split& split, calibrate::CalibrationResult& result, const calibrate::CalibrationProgress& progress) {
   LmSettings settings;
   settings.judge_identifiability = true;  // what the data cannot pin stays the motor file's, said so
   const LmReport fit = fit_lm(motor, motor.initial_values(), dataset, split.train, settings,
@@ -80,7 +80,7 @@ void calibrate_lm(const CalibrationRequest& /*request*/, const MotorFile& motor,
                                               hostio::ProgressLine::clock(seconds).c_str());
                                 progress(buf, true);
                               });
-  record_lm_fit(result, fit, FreeParameters::from_motor(motor), result.train_cycles, to_json(settings));
+  record_lm_fit(result, fit, calibrate::FreeParameters::from_motor(motor), result.train_cycles, to_json(settings));
 }
 
 }  // namespace lptn::lm

@@ -25,13 +25,13 @@ SearchOutcome search_calibration(SearchMethod method, const MotorFile& motor, co
                                  const std::vector<std::size_t>& train, const SearchSettings& settings,
                                  const SearchProgress& progress) {
   const auto t0 = std::chrono::steady_clock::now();
-  const FreeParameters free = FreeParameters::from_motor(motor);
+  const calibrate::FreeParameters free = calibrate::FreeParameters::from_motor(motor);
   const std::size_t p = free.size();
   if (p == 0) throw std::runtime_error("no parameter is marked for calibration in " + motor.path.string());
   std::vector<data::Cycle> coarse;
   for (std::size_t c : train) coarse.push_back(data::coarse_grid(dataset.cycles[c], settings.coarse_factor));
   const Model<double> model = motor.model();
-  const SetScorer scorer(model, free, motor.initial_values(), std::move(coarse));
+  const calibrate::SetScorer scorer(model, free, motor.initial_values(), std::move(coarse));
   std::vector<double> guess;
   const ParamVector<double> start = motor.initial_values();
   for (std::size_t j = 0; j < p; ++j) guess.push_back(to_normalized(start[free.index[j]], free.min[j], free.max[j]));
@@ -41,7 +41,7 @@ SearchOutcome search_calibration(SearchMethod method, const MotorFile& motor, co
   auto score = [&](const std::vector<double>& u, std::size_t n) {
     std::vector<double> clamped(u);
     for (double& x : clamped) x = std::clamp(x, -1.0, 1.0);
-    std::vector<SetScore> s(n);
+    std::vector<calibrate::SetScore> s(n);
     scorer.score(clamped.data(), n, s.data(), settings.threads);
     std::vector<double> rmse(n);
     for (std::size_t i = 0; i < n; ++i) {
@@ -90,8 +90,8 @@ SearchOutcome search_calibration(SearchMethod method, const MotorFile& motor, co
   out.best_train_rmse_k = std::numeric_limits<double>::infinity();
   for (const auto& [rmse, u] : best) {
     const ParamVector<double> set = scorer.params_for(u.data());
-    const SplitMetrics m = evaluate_split(model, set, dataset, train, settings.threads);
-    for (std::size_t c : train) out.simulated_steps += evaluation_steps(dataset.cycles[c]);
+    const calibrate::SplitMetrics m = calibrate::evaluate_split(model, set, dataset, train, settings.threads);
+    for (std::size_t c : train) out.simulated_steps += calibrate::evaluation_steps(dataset.cycles[c]);
     const double fine = pool({m.stator, m.rotor}).rmse_k;
     if (fine < out.best_train_rmse_k) {
       out.best_train_rmse_k = fine;
@@ -102,8 +102,8 @@ SearchOutcome search_calibration(SearchMethod method, const MotorFile& motor, co
   return out;
 }
 
-void calibrate_by_search(const CalibrationRequest& request, const MotorFile& motor, DatasetRef dataset,
-                         const Split& split, CalibrationResult& result, const CalibrationProgress& progress) {
+void calibrate_by_search(const calibrate::CalibrationRequest& request, const MotorFile& motor, calibrate::DatasetRef dataset,
+                         const calibrate::Split& split, calibrate::CalibrationResult& result, const calibrate::CalibrationProgress& progress) {
   const SearchMethod method = request.method == "cma-es" ? SearchMethod::cma_es : SearchMethod::random;
   SearchSettings settings;
   settings.seed = request.seed;

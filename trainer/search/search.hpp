@@ -54,7 +54,7 @@ SearchOutcome search_calibration(SearchMethod method, const MotorFile& motor, co
 // `--method random-search` and `--method cma-es` (a CalibrationMethod): search_calibration with
 // the request's seed and budget, its best set and its details into `result`. Progress: the model
 // steps spent against the budget, the best RMSE so far.
-void calibrate_by_search(const CalibrationRequest& request, const MotorFile& motor, DatasetRef dataset,
-                         const Split& split, CalibrationResult& result, const CalibrationProgress& progress);
+void calibrate_by_search(const calibrate::CalibrationRequest& request, const MotorFile& motor, calibrate::DatasetRef dataset,
+                         const calibrate::Split& split, calibrate::CalibrationResult& result, const calibrate::CalibrationProgress& progress);
 
 }  // namespace lptn::search

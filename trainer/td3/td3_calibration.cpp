@@ -28,7 +28,7 @@ class Environment {
   Environment(const MotorFile& motor, const data::Dataset& dataset, const std::vector<std::size_t>& train,
               const TrainingSettings& settings)
       : model_(motor.model()), dataset_(dataset), train_(train), settings_(settings),
-        free_(FreeParameters::from_motor(motor)), fixed_(motor.initial_values()) {
+        free_(calibrate::FreeParameters::from_motor(motor)), fixed_(motor.initial_values()) {
     if (free_.size() == 0) throw std::runtime_error("no parameter is marked for calibration in " + motor.path.string());
     const MotorConstants<double>& m = motor.constants;
     const double base_rpm = m.base_speed_rpm();
@@ -43,7 +43,7 @@ class Environment {
   }
 
   std::size_t actions() const { return free_.size(); }
-  const FreeParameters& free() const { return free_; }
+  const calibrate::FreeParameters& free() const { return free_; }
   const Model<double>& model() const { return model_; }
   std::array<double, 2> obs_scale() const { return obs_scale_; }
   std::size_t cycles() const { return train_.size(); }
@@ -82,7 +82,7 @@ class Environment {
   const data::Dataset& dataset_;
   std::vector<std::size_t> train_;
   const TrainingSettings& settings_;
-  FreeParameters free_;
+  calibrate::FreeParameters free_;
   ParamVector<double> fixed_;
   std::array<double, 2> obs_scale_{};
 };
@@ -141,7 +141,7 @@ class Trainer {
     reference_offsets_.clear();
     for (std::size_t ci = 0; ci < env_.cycles(); ++ci) {
       reference_offsets_.push_back(env_.offsets_for(ci, p));
-      state_.simulated_steps += evaluation_steps(env_.cycle(ci)) - env_.cycle(ci).steps;  // the offsets' fit
+      state_.simulated_steps += calibrate::evaluation_steps(env_.cycle(ci)) - env_.cycle(ci).steps;  // the offsets' fit
     }
   }
 
@@ -177,8 +177,8 @@ class Trainer {
   // RMSE over the training cycles (stator and rotor residuals pooled) of a constant set, as the
   // metrics score it: the offsets re-fitted for the set (evaluate_split), on both cores.
   double train_rmse(const ParamVector<double>& p) {
-    const SplitMetrics m = evaluate_split(env_.model(), p, env_.dataset(), env_.train());
-    for (std::size_t ci = 0; ci < env_.cycles(); ++ci) state_.simulated_steps += evaluation_steps(env_.cycle(ci));
+    const calibrate::SplitMetrics m = calibrate::evaluate_split(env_.model(), p, env_.dataset(), env_.train());
+    for (std::size_t ci = 0; ci < env_.cycles(); ++ci) state_.simulated_steps += calibrate::evaluation_steps(env_.cycle(ci));
     return pool({m.stator, m.rotor}).rmse_k;
   }
 
@@ -312,7 +312,7 @@ class Trainer {
     // one random window alone varies between windows as much as 1.0x and 1.1x LM differ.
     double x[kMaxStates];
     initial_state_for(env_.model(), cycle, x, env_.offsets_for(ci, params));
-    state_.simulated_steps += evaluation_steps(cycle) - cycle.steps + start + length;
+    state_.simulated_steps += calibrate::evaluation_steps(cycle) - cycle.steps + start + length;
     const bool rotor = cycle.has(data::Channel::rotor_c);
     double stator_sum = 0, rotor_sum = 0;
     for (std::size_t k = 0; k < start + length; ++k) {
@@ -390,15 +390,15 @@ nlohmann::json to_json(const EpisodeRecord& r) {
           {"evaluation", std::isnan(r.evaluation) ? nlohmann::json(nullptr) : nlohmann::json(r.evaluation)}};
 }
 
-SplitMetrics evaluate_scheduled_actor(const Td3Outcome& o, const MotorFile& motor, const data::Dataset& dataset,
+calibrate::SplitMetrics evaluate_scheduled_actor(const Td3Outcome& o, const MotorFile& motor, const data::Dataset& dataset,
                                       const std::vector<std::size_t>& cycles) {
   const Model<double> model = motor.model();
-  const FreeParameters free = FreeParameters::from_motor(motor);
+  const calibrate::FreeParameters free = calibrate::FreeParameters::from_motor(motor);
   const ActorWeightsPlain& w = o.actor;
   const ActorView actor{w.inputs, w.hidden, w.outputs, w.w1.data(), w.b1.data(), w.w2.data(), w.b2.data(), w.w3.data(), w.b3.data()};
   if (w.inputs != kObs || static_cast<std::size_t>(w.outputs) != free.size())
     throw std::invalid_argument("evaluate_scheduled_actor: the outcome's actor does not map an operating point to these parameters");
-  SplitMetrics out;
+  calibrate::SplitMetrics out;
   out.cycles.resize(cycles.size());
   hostio::parallel_for(cycles.size(), hostio::worker_threads(), [&](std::size_t i) {
     const data::Cycle& cycle = dataset.cycles[cycles[i]];
@@ -430,7 +430,7 @@ SplitMetrics evaluate_scheduled_actor(const Td3Outcome& o, const MotorFile& moto
     out.cycles[i].stator = compare(sim.stator_sensor, cycle, data::Channel::stator_winding_c);
     out.cycles[i].rotor = compare(sim.rotor_sensor, cycle, data::Channel::rotor_c);
   });
-  pool_cycles(out);
+  calibrate::pool_cycles(out);
   return out;
 }
 

@@ -98,7 +98,7 @@ struct Td3Outcome {
 // the firmware does), the model run open loop over each listed cycle from start offsets fitted
 // for the constant set. What `--use-actor` would give against the constant set on those cycles.
 // Only for the formulations whose actor maps an operating point to a set (not the sequential one).
-SplitMetrics evaluate_scheduled_actor(const Td3Outcome& outcome, const MotorFile& motor, const data::Dataset& dataset,
+calibrate::SplitMetrics evaluate_scheduled_actor(const Td3Outcome& outcome, const MotorFile& motor, const data::Dataset& dataset,
                                       const std::vector<std::size_t>& cycles);
 
 // Trains on the listed cycles. Checkpoints go to `checkpoint_dir` every checkpoint_every episodes

@@ -20,7 +20,7 @@ namespace {
 
 // The agent a later --warm-start continues: beside the output as OUT.agent (written before the
 // output, atomically), named with its hash in method.details.
-void keep_agent(const CalibrationRequest& a, const Td3Outcome& o, CalibrationResult& r) {
+void keep_agent(const calibrate::CalibrationRequest& a, const Td3Outcome& o, calibrate::CalibrationResult& r) {
   if (o.agent_file.empty()) return;
   const std::filesystem::path kept = a.out + ".agent";
   std::ifstream in(o.agent_file, std::ios::binary);
@@ -32,7 +32,7 @@ void keep_agent(const CalibrationRequest& a, const Td3Outcome& o, CalibrationRes
 }
 
 // A string field of method.details, "" where absent or not a string.
-std::string detail(const CalibrationResult& r, const char* key) {
+std::string detail(const calibrate::CalibrationResult& r, const char* key) {
   const auto it = r.details.find(key);
   return it != r.details.end() && it->is_string() ? it->get<std::string>() : std::string();
 }
@@ -40,17 +40,17 @@ std::string detail(const CalibrationResult& r, const char* key) {
 // --warm-start FILE: an earlier td3 calibration of the same free parameters, its agent beside it.
 // Read as every command reads a calibration (load_calibration: a file that is not one is bad input
 // naming its field).
-WarmStart warm_start_from(const CalibrationRequest& a, const MotorFile& motor) {
+WarmStart warm_start_from(const calibrate::CalibrationRequest& a, const MotorFile& motor) {
   if (a.warm_start.empty()) return {};
   const std::filesystem::path file = a.warm_start;
-  const CalibrationResult earlier = load_calibration(file);
+  const calibrate::CalibrationResult earlier = calibrate::load_calibration(file);
   const std::string agent_file = detail(earlier, "agent_file");
   if (earlier.method != "td3" || agent_file.empty())
     throw hostio::BadInput(file.string() + ": method.details.agent_file: not a td3 calibration with an agent to start from");
   // The same free parameters and bounds: the agent's actions and states mean nothing otherwise.
-  const FreeParameters free = FreeParameters::from_motor(motor);
+  const calibrate::FreeParameters free = calibrate::FreeParameters::from_motor(motor);
   std::vector<std::string> before, now;
-  for (const ParameterResult& p : earlier.parameters)
+  for (const calibrate::ParameterResult& p : earlier.parameters)
     if (p.calibrated) before.push_back(p.name + " [" + std::to_string(p.min) + ", " + std::to_string(p.max) + "]");
   for (std::size_t k = 0; k < free.size(); ++k)
     now.push_back(std::string(param_spec(free.index[k]).name) + " [" + std::to_string(free.min[k]) + ", " + std::to_string(free.max[k]) + "]");
@@ -65,11 +65,11 @@ WarmStart warm_start_from(const CalibrationRequest& a, const MotorFile& motor) {
 }
 
 // The best set of every checkpoint scored on the test cycles, after training (never seen by it).
-nlohmann::json test_curve(const MotorFile& motor, const data::Dataset& dataset, const Split& split, const Td3Outcome& o) {
+nlohmann::json test_curve(const MotorFile& motor, const data::Dataset& dataset, const calibrate::Split& split, const Td3Outcome& o) {
   nlohmann::json curve = nlohmann::json::array();
   const Model<double> model = motor.model();
   for (std::size_t i = 0; i < o.best_at_checkpoints.size(); ++i) {
-    const SplitMetrics m = evaluate_split(model, o.best_at_checkpoints[i].second, dataset, split.test);
+    const calibrate::SplitMetrics m = calibrate::evaluate_split(model, o.best_at_checkpoints[i].second, dataset, split.test);
     curve.push_back({{"round", o.best_at_checkpoints[i].first}, {"seconds", o.checkpoint_seconds[i]},
                      {"test_rmse_k", pool({m.stator, m.rotor}).rmse_k}});
   }
@@ -78,8 +78,8 @@ nlohmann::json test_curve(const MotorFile& motor, const data::Dataset& dataset, 
 
 }  // namespace
 
-void calibrate_td3(const CalibrationRequest& a, const MotorFile& motor, DatasetRef shared, const Split& split,
-                   CalibrationResult& r, const CalibrationProgress& progress) {
+void calibrate_td3(const calibrate::CalibrationRequest& a, const MotorFile& motor, calibrate::DatasetRef shared, const calibrate::Split& split,
+                   calibrate::CalibrationResult& r, const calibrate::CalibrationProgress& progress) {
   const data::Dataset& dataset = shared.data;  // TD3 runs in one process (the workflow refuses MPI for it)
   const Formulation formulation = formulation_from_method(a.method);
   TrainingSettings settings = default_settings(formulation);
@@ -140,8 +140,8 @@ void calibrate_td3(const CalibrationRequest& a, const MotorFile& motor, DatasetR
   // Does scheduling with the operating point pay on data the training never saw? (docs/benchmarks.md:
   // where the actor wins.)
   if (!split.test.empty()) {
-    const SplitMetrics scheduled = evaluate_scheduled_actor(o, motor, dataset, split.test);
-    const SplitMetrics constant = evaluate_split(motor.model(), o.values, dataset, split.test);
+    const calibrate::SplitMetrics scheduled = evaluate_scheduled_actor(o, motor, dataset, split.test);
+    const calibrate::SplitMetrics constant = calibrate::evaluate_split(motor.model(), o.values, dataset, split.test);
     const double s = pool({scheduled.stator, scheduled.rotor}).rmse_k, c = pool({constant.stator, constant.rotor}).rmse_k;
     r.details["scheduled_actor"] = {{"test_rmse_k", s}, {"test_rmse_stator_k", scheduled.stator.rmse_k},
                                     {"test_rmse_rotor_k", scheduled.rotor.rmse_k}, {"constant_set_test_rmse_k", c},
@@ -149,7 +149,7 @@ void calibrate_td3(const CalibrationRequest& a, const MotorFile& motor, DatasetR
                                     {"how", "open loop over the test cycles, the parameters the actor's at every step (the constant set where "
                                             "torque is missing), start offsets fitted for the constant set; stator and rotor pooled"}};
   }
-  ActorExport& x = r.actor;
+  calibrate::ActorExport& x = r.actor;
   x.obs_offset = {0.0, 0.0};
   x.obs_scale = o.obs_scale;
   x.layers = {{o.actor.inputs, o.actor.hidden, o.actor.w1, o.actor.b1},

@@ -12,7 +12,7 @@ namespace lptn::td3 {
 // earlier td3 calibration of the same free parameters and bounds, its agent beside it, checked by
 // hash: BadInput naming the field otherwise) and test_curve. The agent is kept beside the output
 // as OUT.agent, written before the output is.
-void calibrate_td3(const CalibrationRequest& request, const MotorFile& motor, DatasetRef dataset,
-                   const Split& split, CalibrationResult& result, const CalibrationProgress& progress);
+void calibrate_td3(const calibrate::CalibrationRequest& request, const MotorFile& motor, calibrate::DatasetRef dataset,
+                   const calibrate::Split& split, calibrate::CalibrationResult& result, const calibrate::CalibrationProgress& progress);
 
 }  // namespace lptn::td3

@@ -24,7 +24,7 @@ namespace {
 bool is_search(const std::string& method) { return method == "random-search" || method == "cma-es"; }
 
 // The motor file with the request's effects switched on.
-MotorFile requested_motor(const CalibrationRequest& q) {
+MotorFile requested_motor(const calibrate::CalibrationRequest& q) {
   MotorFile motor = load_motor_file(q.motor);
   for (const std::string& name : q.effects) enable_effect(motor, effect_by_name(name, "--effect"));
   return motor;
@@ -52,7 +52,7 @@ hostio::BadInput not_simulable(const std::string& path, const MotorFile& motor, 
   return hostio::BadInput(path + ": " + e.what() + (why.empty() ? std::string() : "; the most implausible value: " + why));
 }
 
-CalibrationMethod method_for(const std::string& method, CalibrationMethod td3) {
+calibrate::CalibrationMethod method_for(const std::string& method, calibrate::CalibrationMethod td3) {
   if (method == "lm") return &lm::calibrate_lm;
   if (is_search(method)) return &search::calibrate_by_search;
   return td3;
@@ -71,7 +71,7 @@ const hostio::ProcessGroup& calibration_group(const std::string& method) {
   return method == "lm" ? hostio::ProcessGroup::world() : hostio::ProcessGroup::alone();
 }
 
-void check_request(const CalibrationRequest& q, CalibrationMethod td3) {
+void check_request(const calibrate::CalibrationRequest& q, calibrate::CalibrationMethod td3) {
   if (!is_method(q.method)) {
     std::string known;
     for (std::string_view m : kMethods) known += (known.empty() ? "" : ", ") + std::string(m);
@@ -93,20 +93,20 @@ void check_request(const CalibrationRequest& q, CalibrationMethod td3) {
   for (const std::string& name : q.effects) static_cast<void>(effect_by_name(name, "--effect"));
 }
 
-CalibrationResult calibrate(const CalibrationRequest& q, const CalibrationEvents& events, CalibrationMethod td3) {
+calibrate::CalibrationResult calibrate(const calibrate::CalibrationRequest& q, const CalibrationEvents& events, calibrate::CalibrationMethod td3) {
   check_request(q, td3);
   if (!q.fleet.empty()) throw hostio::BadInput("--fleet: a fleet is calibrated by calibrate_fleet");
   const hostio::ProcessGroup& group = calibration_group(q.method);
   MotorFile motor = requested_motor(q);
   std::vector<std::filesystem::path> paths(q.data.begin(), q.data.end());
-  SharedDataset dataset = load_shared_dump(paths, group, data::with_data_map(q.map));
+  calibrate::SharedDataset dataset = calibrate::load_shared_dump(paths, group, data::with_data_map(q.map));
   try {
     data::correct_readings(dataset.data, q.sensor_faults);
   } catch (const hostio::BadInput& e) {
     throw hostio::BadInput(std::string("--sensor-fault: ") + e.what());
   }
-  const Split split = split_cycles(dataset.data, q.test_cycles, q.test_fraction, q.seed);
-  balance_training(dataset, split.train, group);  // only LM runs shared
+  const calibrate::Split split = calibrate::split_cycles(dataset.data, q.test_cycles, q.test_fraction, q.seed);
+  calibrate::balance_training(dataset, split.train, group);  // only LM runs shared
   if (events.input_warnings) events.input_warnings(input_warnings(dataset.data, motor));
   const std::vector<std::string> inspected = doubtful_input(dataset.data, motor);
 
@@ -119,7 +119,7 @@ CalibrationResult calibrate(const CalibrationRequest& q, const CalibrationEvents
     throw not_simulable(q.motor, motor, e);
   }
   for (const lm::NotIdentifiable& n : unseen) motor.parameters[static_cast<std::size_t>(n.index)].calibrate = false;
-  CalibrationResult r = new_calibration(motor, q.motor, dataset, split);
+  calibrate::CalibrationResult r = calibrate::new_calibration(motor, q.motor, dataset, split);
   r.sensor_faults = q.sensor_faults;
   lm::mark_not_identifiable(r, unseen);
   if (events.started) events.started({motor.name, q.method, split.train.size(), split.test.size(), split.rule, 0});
@@ -128,20 +128,20 @@ CalibrationResult calibrate(const CalibrationRequest& q, const CalibrationEvents
   } catch (const lm::ModelNotSimulable& e) {
     throw not_simulable(q.motor, motor, e);
   }
-  const std::vector<CalibrationWarning> inadequate = score_and_judge_adequacy(r, motor, dataset, split);
-  judge_outcome(r, inspected, inadequate);
+  const std::vector<calibrate::CalibrationWarning> inadequate = score_and_judge_adequacy(r, motor, dataset, split);
+  calibrate::judge_outcome(r, inspected, inadequate);
   return r;
 }
 
-FleetCalibration calibrate_fleet(const CalibrationRequest& q, const CalibrationEvents& events) {
+FleetCalibration calibrate_fleet(const calibrate::CalibrationRequest& q, const CalibrationEvents& events) {
   check_request(q);
   if (q.fleet.empty()) throw hostio::BadInput("calibrate_fleet: give --fleet");
   const hostio::ProcessGroup& group = calibration_group(q.method);
   const MotorFile motor = requested_motor(q);
   const fleet::FleetDump fleet = fleet::load_shared_fleet(q.fleet, group, data::with_data_map(q.map));
-  const Split split = split_cycles(fleet.dataset.data, q.test_cycles, q.test_fraction, q.seed);
+  const calibrate::Split split = calibrate::split_cycles(fleet.dataset.data, q.test_cycles, q.test_fraction, q.seed);
   FleetCalibration out;
-  out.result = new_calibration(motor, q.motor, fleet.dataset, split);
+  out.result = calibrate::new_calibration(motor, q.motor, fleet.dataset, split);
   out.cycles = fleet.dataset.data.cycles.size();
   if (events.started)
     events.started({motor.name, q.method, split.train.size(), split.test.size(), split.rule, fleet.motor_ids.size()});
@@ -153,12 +153,12 @@ FleetCalibration calibrate_fleet(const CalibrationRequest& q, const CalibrationE
   } catch (const lm::ModelNotSimulable& e) {
     throw not_simulable(q.motor, motor, e);
   }
-  CalibrationResult& r = out.result;
-  lm::record_lm_fit(r, out.fit.shared, FreeParameters::from_motor(motor), r.train_cycles, lm::to_json(out.settings.lm));
+  calibrate::CalibrationResult& r = out.result;
+  lm::record_lm_fit(r, out.fit.shared, calibrate::FreeParameters::from_motor(motor), r.train_cycles, lm::to_json(out.settings.lm));
   r.seconds = out.fit.seconds;
-  score_calibration(r, motor, fleet.dataset, split);
+  calibrate::score_calibration(r, motor, fleet.dataset, split);
   if (events.input_warnings) events.input_warnings(input_warnings(fleet.dataset.data, motor));
-  judge_outcome(r, doubtful_input(fleet.dataset.data, motor), fleet_adequacy(motor, fleet, out.fit), TestVsTrain::not_judged);
+  calibrate::judge_outcome(r, doubtful_input(fleet.dataset.data, motor), fleet_adequacy(motor, fleet, out.fit), calibrate::TestVsTrain::not_judged);
   return out;
 }
 

@@ -31,7 +31,7 @@ struct CalibrationEvents {
   // (every process of an MPI job hears it; lptn prints the first's).
   std::function<void(const std::vector<std::string>& warnings)> input_warnings;
   std::function<void(const CalibrationPlan& plan)> started;
-  CalibrationProgress progress;
+  calibrate::CalibrationProgress progress;
 };
 
 // The methods by name (--method). TD3's formulations run where a program that links libtorch gives
@@ -48,24 +48,24 @@ const hostio::ProcessGroup& calibration_group(const std::string& method);
 // null refuses the TD3 formulations), MPI (only LM is shared), the effects' names, the options
 // that go together (--fleet with LM, a sensor fault without it, a warm start or test curve with
 // td3). BadInput naming the option.
-void check_request(const CalibrationRequest& request, CalibrationMethod td3 = nullptr);
+void check_request(const calibrate::CalibrationRequest& request, calibrate::CalibrationMethod td3 = nullptr);
 
 // Calibrates one motor's data (request.data). The result is scored on both sides of the split and
 // judged (status, warnings); the caller saves it (save_calibration) where its process group leads.
 // BadInput for input that cannot be calibrated (an unreadable file, a motor the model cannot
 // simulate, naming its most implausible value); other exceptions for failures of the machine.
-CalibrationResult calibrate(const CalibrationRequest& request, const CalibrationEvents& events = {},
-                            CalibrationMethod td3 = nullptr);
+calibrate::CalibrationResult calibrate(const calibrate::CalibrationRequest& request, const CalibrationEvents& events = {},
+                            calibrate::CalibrationMethod td3 = nullptr);
 
 // A fleet (request.fleet): the motor type over every motor, each motor's cooling factor, the
 // outliers. `result` is the pooled calibration (the type, scored as if one motor had driven every
 // cycle); fleet::save_fleet writes the three together.
 struct FleetCalibration {
-  CalibrationResult result;
+  calibrate::CalibrationResult result;
   fleet::FleetFit fit;
   fleet::FleetSettings settings;
   std::size_t cycles = 0;  // every motor's
 };
-FleetCalibration calibrate_fleet(const CalibrationRequest& request, const CalibrationEvents& events = {});
+FleetCalibration calibrate_fleet(const calibrate::CalibrationRequest& request, const CalibrationEvents& events = {});
 
 }  // namespace lptn::workflow

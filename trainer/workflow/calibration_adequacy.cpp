@@ -40,8 +40,8 @@ double worst_rmse(const diagnose::SensorAdequacy& s) {
   return std::isnan(s.test_rmse_k) ? s.train_rmse_k : std::max(s.train_rmse_k, s.test_rmse_k);
 }
 
-std::vector<CalibrationWarning> inadequate(const std::vector<diagnose::SensorAdequacy>& sensors, const std::string& method) {
-  std::vector<CalibrationWarning> out;
+std::vector<calibrate::CalibrationWarning> inadequate(const std::vector<diagnose::SensorAdequacy>& sensors, const std::string& method) {
+  std::vector<calibrate::CalibrationWarning> out;
   for (const diagnose::SensorAdequacy& s : sensors) {
     if (!(worst_rmse(s) > kCalibrationAdequateRatio * s.noise_k)) continue;  // NaN noise: not judged
     out.push_back({"not_adequate",
@@ -56,7 +56,7 @@ std::vector<CalibrationWarning> inadequate(const std::vector<diagnose::SensorAde
 // balancing moved to another process came without its file's report, and read as sampled every
 // step its noise would come out low (interpolation averages it away between readings: 0.26 K for
 // 0.40 K on the demo's loop under 2 processes).
-data::Dataset reading_rates(DatasetRef dataset) {
+data::Dataset reading_rates(calibrate::DatasetRef dataset) {
   nlohmann::json mine = nlohmann::json::array();
   for (const data::CycleReport& c : dataset.data.reports)
     mine.push_back({c.file.string(), c.channels[data::index_of(kSensors[0])].native_rate_hz,
@@ -75,20 +75,20 @@ data::Dataset reading_rates(DatasetRef dataset) {
 // Each sensor's noise over `cycles`, each simulated at params_of(cycle) by the process that holds
 // it, its sums joined over the processes (the same estimate as adequacy's, summed in another order).
 template <class ParamsOf>
-std::array<NoiseSum, 2> noise_over(const Model<double>& model, const ParamsOf& params_of, DatasetRef dataset,
+std::array<calibrate::NoiseSum, 2> noise_over(const Model<double>& model, const ParamsOf& params_of, calibrate::DatasetRef dataset,
                                    const std::vector<std::size_t>& cycles) {
   const data::Dataset rates = reading_rates(dataset);
-  std::vector<std::array<NoiseSum, 2>> noise(cycles.size());
+  std::vector<std::array<calibrate::NoiseSum, 2>> noise(cycles.size());
   hostio::parallel_for(cycles.size(), hostio::worker_threads(), [&](std::size_t i) {
     if (dataset.remote(cycles[i])) return;
     const data::Cycle& cycle = dataset.cycles[cycles[i]];
-    const CycleEvaluation e = simulate_and_evaluate(model, params_of(cycles[i]), cycle);
+    const calibrate::CycleEvaluation e = calibrate::simulate_and_evaluate(model, params_of(cycles[i]), cycle);
     for (int s = 0; s < 2; ++s) {
       if (!cycle.has(kSensors[s])) continue;
       const std::vector<float>& m = s == 0 ? e.simulation.stator_sensor : e.simulation.rotor_sensor;
       std::vector<float> residual(cycle.steps);
       for (std::size_t k = 0; k < cycle.steps; ++k) residual[k] = m[k] - cycle.at(kSensors[s], k);
-      noise[i][s] = sensor_noise(residual, reading_period(rates, cycle, kSensors[s]));
+      noise[i][s] = calibrate::sensor_noise(residual, calibrate::reading_period(rates, cycle, kSensors[s]));
     }
   });
   std::vector<double> sums(4, 0.0);
@@ -98,17 +98,17 @@ std::array<NoiseSum, 2> noise_over(const Model<double>& model, const ParamsOf& p
       sums[2 * s + 1] += static_cast<double>(cycle[s].n);
     }
   dataset.group().sum(sums);
-  std::array<NoiseSum, 2> out;
-  for (int s = 0; s < 2; ++s) out[s] = NoiseSum{sums[2 * s], static_cast<std::size_t>(sums[2 * s + 1])};
+  std::array<calibrate::NoiseSum, 2> out;
+  for (int s = 0; s < 2; ++s) out[s] = calibrate::NoiseSum{sums[2 * s], static_cast<std::size_t>(sums[2 * s + 1])};
   return out;
 }
 
-const ErrorMetrics& side(const SplitMetrics& m, int s) { return s == 0 ? m.stator : m.rotor; }
+const ErrorMetrics& side(const calibrate::SplitMetrics& m, int s) { return s == 0 ? m.stator : m.rotor; }
 
 }  // namespace
 
-std::vector<CalibrationWarning> score_and_judge_adequacy(CalibrationResult& r, const MotorFile& motor,
-                                                         DatasetRef dataset, const Split& split) {
+std::vector<calibrate::CalibrationWarning> score_and_judge_adequacy(calibrate::CalibrationResult& r, const MotorFile& motor,
+                                                         calibrate::DatasetRef dataset, const calibrate::Split& split) {
   const Model<double> model = motor.model();
   const ParamVector<double> values = r.values();
   if (!dataset.shared()) {
@@ -118,10 +118,10 @@ std::vector<CalibrationWarning> score_and_judge_adequacy(CalibrationResult& r, c
     r.test = std::move(a.test);
     return inadequate(a.sensors, r.method);
   }
-  score_calibration(r, motor, dataset, split);
+  calibrate::score_calibration(r, motor, dataset, split);
   std::vector<std::size_t> every = split.train;
   every.insert(every.end(), split.test.begin(), split.test.end());
-  const std::array<NoiseSum, 2> noise = noise_over(model, [&](std::size_t) { return values; }, dataset, every);
+  const std::array<calibrate::NoiseSum, 2> noise = noise_over(model, [&](std::size_t) { return values; }, dataset, every);
   std::vector<diagnose::SensorAdequacy> sensors;
   for (int s = 0; s < 2; ++s) {
     const ErrorMetrics &train = side(r.train, s), &test = side(r.test, s);
@@ -137,7 +137,7 @@ std::vector<CalibrationWarning> score_and_judge_adequacy(CalibrationResult& r, c
   return inadequate(sensors, r.method);
 }
 
-std::vector<CalibrationWarning> fleet_adequacy(const MotorFile& motor, const fleet::FleetDump& fleet,
+std::vector<calibrate::CalibrationWarning> fleet_adequacy(const MotorFile& motor, const fleet::FleetDump& fleet,
                                                const fleet::FleetFit& fit) {
   std::vector<const ParamVector<double>*> params_of(fleet.dataset.data.cycles.size(), nullptr);
   std::vector<std::size_t> every;
@@ -146,11 +146,11 @@ std::vector<CalibrationWarning> fleet_adequacy(const MotorFile& motor, const fle
       params_of[c] = &fit.motors[m].parameters;
       every.push_back(c);
     }
-  const std::array<NoiseSum, 2> noise =
+  const std::array<calibrate::NoiseSum, 2> noise =
       noise_over(motor.model(), [&](std::size_t c) { return *params_of[c]; }, fleet.dataset, every);
   // One warning per sensor, naming the motors beyond the ratio, worst first: a fleet of fifty
   // motors that all lack a loss is one finding, not a hundred lines.
-  std::vector<CalibrationWarning> out;
+  std::vector<calibrate::CalibrationWarning> out;
   for (int s = 0; s < 2; ++s) {
     const double sigma = noise[s].sigma();
     std::size_t measured = 0;

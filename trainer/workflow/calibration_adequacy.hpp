@@ -24,13 +24,13 @@ inline constexpr double kCalibrationAdequateRatio = 2.0;
 // where the residual is largest. Alone the check is the scoring's own simulation; shared over an MPI
 // job's processes, one more simulation of each process's cycles, and the warning says how far off,
 // not where (that needs every cycle on one process).
-std::vector<CalibrationWarning> score_and_judge_adequacy(CalibrationResult& result, const MotorFile& motor,
-                                                         DatasetRef dataset, const Split& split);
+std::vector<calibrate::CalibrationWarning> score_and_judge_adequacy(calibrate::CalibrationResult& result, const MotorFile& motor,
+                                                         calibrate::DatasetRef dataset, const calibrate::Split& split);
 
 // A fleet's: each motor's cycles run with its own cooling factor (fit.motors[m].parameters), its
 // RMSE over them (fit.motors[m].metrics) against the fleet's sensors' noise; one warning per motor
 // and sensor beyond the ratio. One more simulation of every cycle (each process its own).
-std::vector<CalibrationWarning> fleet_adequacy(const MotorFile& motor, const fleet::FleetDump& fleet,
+std::vector<calibrate::CalibrationWarning> fleet_adequacy(const MotorFile& motor, const fleet::FleetDump& fleet,
                                                const fleet::FleetFit& fit);
 
 }  // namespace lptn::workflow

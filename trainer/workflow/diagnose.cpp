@@ -14,8 +14,8 @@ namespace lptn::workflow {
 namespace {
 
 // "before" as the calibration file has it, whatever the data given: its own figures on its own data.
-std::string file_figures(const CalibrationResult& c) {
-  auto side = [](const char* name, const SplitMetrics& m) {
+std::string file_figures(const calibrate::CalibrationResult& c) {
+  auto side = [](const char* name, const calibrate::SplitMetrics& m) {
     std::string out = std::string(name) + " stator " + (m.stator.samples ? diagnose::kelvin(m.stator.rmse_k) : "-") + " K";
     if (m.rotor.samples) out += ", rotor " + diagnose::kelvin(m.rotor.rmse_k) + " K";
     return out;
@@ -23,7 +23,7 @@ std::string file_figures(const CalibrationResult& c) {
   return side("train", c.train) + "; " + side("test", c.test);
 }
 
-nlohmann::json file_figures_json(const CalibrationResult& c) {
+nlohmann::json file_figures_json(const calibrate::CalibrationResult& c) {
   auto number = [](const ErrorMetrics& m) { return m.samples ? nlohmann::json(m.rmse_k) : nlohmann::json(nullptr); };
   return {{"train", {{"rmse_stator_k", number(c.train.stator)}, {"rmse_rotor_k", number(c.train.rotor)}}},
           {"test", {{"rmse_stator_k", number(c.test.stator)}, {"rmse_rotor_k", number(c.test.rotor)}}}};
@@ -31,7 +31,7 @@ nlohmann::json file_figures_json(const CalibrationResult& c) {
 
 // The data's relation to the calibration and what diagnose did with it, for --json: the figures
 // the calibration file has, whether this is its data, and that the baseline is a refit.
-nlohmann::json provenance_json(const CalibrationResult& c, const check::Provenance& p, const diagnose::Diagnosis& d) {
+nlohmann::json provenance_json(const calibrate::CalibrationResult& c, const check::Provenance& p, const diagnose::Diagnosis& d) {
   return {{"calibration_figures", file_figures_json(c)},
           {"calibration_data", p.all_seen()},
           {"never_seen", p.unseen_names()},
@@ -62,23 +62,23 @@ DiagnosisOutcome diagnose(const DiagnosisRequest& q, const DiagnosisEvents& even
   // Under mpirun the LM refits are shared over the processes (each simulates its share of the
   // cycles); every rank holds the whole dump and does the rest too.
   const hostio::ProcessGroup& group = hostio::ProcessGroup::world();
-  const CalibrationResult calibration = load_calibration(q.calibration);
-  const MotorFile motor = motor_of(calibration);
+  const calibrate::CalibrationResult calibration = calibrate::load_calibration(q.calibration);
+  const MotorFile motor = calibrate::motor_of(calibration);
   std::vector<std::filesystem::path> paths(q.data.begin(), q.data.end());
   data::Dataset loaded = data::load_fleet_dump(paths, data::with_data_map(q.map));
   DiagnosisPlan plan;
   plan.corrections = check::correct_as_calibrated(loaded, calibration);
   if (events.input_warnings) {
     std::vector<std::string> warnings = input_warnings(loaded, motor);
-    if (const std::string caution = status_caution(calibration, q.calibration, false); !caution.empty())
+    if (const std::string caution = calibrate::status_caution(calibration, q.calibration, false); !caution.empty())
       warnings.insert(warnings.begin(), caution);
     events.input_warnings(warnings);
   }
-  const SharedDataset shared = share_work(std::move(loaded), group);
+  const calibrate::SharedDataset shared = calibrate::share_work(std::move(loaded), group);
   const data::Dataset& dataset = shared.data;
   // By name and file hash: a dump that only shares the calibration's cycle names is not its data.
   plan.provenance = check::provenance(calibration, dataset, check::motor_beside(q.data));
-  const Split split = q.test_cycles.empty() ? split_of(calibration, dataset) : split_cycles(dataset, q.test_cycles, 0.0, 0);
+  const calibrate::Split split = q.test_cycles.empty() ? calibrate::split_of(calibration, dataset) : calibrate::split_cycles(dataset, q.test_cycles, 0.0, 0);
   plan.motor_name = motor.name;
   plan.effects = motor.effects;
   plan.train_cycles = split.train.size();
@@ -106,7 +106,7 @@ DiagnosisOutcome diagnose(const DiagnosisRequest& q, const DiagnosisEvents& even
   out.json["rounds"] = nlohmann::json::array();
   for (const diagnose::Diagnosis& d : out.rounds) out.json["rounds"].push_back(diagnose::to_json(d));
   if (!q.updated_calibration) return out;
-  CalibrationResult r = diagnose::updated_calibration(calibration, s.motor, out.last().baseline, shared, split,
+  calibrate::CalibrationResult r = diagnose::updated_calibration(calibration, s.motor, out.last().baseline, shared, split,
                                                       "lptn diagnose --auto from " + q.calibration);
   r.created_utc = hostio::utc_now();
   out.updated = std::move(r);

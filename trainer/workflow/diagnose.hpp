@@ -57,7 +57,7 @@ struct DiagnosisOutcome {
   nlohmann::json json;
   // --auto with updated_calibration: the calibration after forward selection (the motor with what it
   // added, refitted and scored).
-  std::optional<CalibrationResult> updated;
+  std::optional<calibrate::CalibrationResult> updated;
   const diagnose::Diagnosis& last() const { return rounds.back(); }
 };
 

@@ -18,7 +18,7 @@ struct Dump {
   TempDir dir;
   data::Dataset dataset;
   MotorFile motor;
-  Split split;
+  calibrate::Split split;
 };
 
 // `options`' dump written into d.dir and loaded (d.split left for the caller).
@@ -37,7 +37,7 @@ inline void generate_dump(Dump& d, int cycles, std::uint64_t seed, double min_s,
   o.min_duration_s = min_s;
   o.max_duration_s = max_s;
   write_and_load(d, o);
-  d.split = split_cycles(d.dataset, {}, test_fraction, 1);
+  d.split = calibrate::split_cycles(d.dataset, {}, test_fraction, 1);
 }
 
 }  // namespace lptn::testing

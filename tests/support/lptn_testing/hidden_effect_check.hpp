@@ -22,7 +22,7 @@ struct TestErrors {
 };
 
 inline TestErrors test_errors(const MotorFile& motor, const ParamVector<double>& values, const testing::Generated& g) {
-  const SplitMetrics m = evaluate_split(motor.model(), values, g.dataset, g.split.test);
+  const calibrate::SplitMetrics m = calibrate::evaluate_split(motor.model(), values, g.dataset, g.split.test);
   return {m.stator.rmse_k, m.rotor.rmse_k};
 }
 

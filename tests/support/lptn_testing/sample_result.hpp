@@ -13,8 +13,8 @@ namespace lptn::testing {
 // docs/motor.example.toml, the motor file the documentation shows.
 inline MotorFile example_motor() { return load_motor_file(LPTN_MOTOR_EXAMPLE); }
 
-inline CalibrationResult sample_result(const MotorFile& motor = example_motor()) {
-  CalibrationResult r;
+inline calibrate::CalibrationResult sample_result(const MotorFile& motor = example_motor()) {
+  calibrate::CalibrationResult r;
   r.created_utc = "2026-11-21T10:00:00Z";
   r.lptn_version = "lptn 0.1.0";
   r.motor = motor;
@@ -23,7 +23,7 @@ inline CalibrationResult sample_result(const MotorFile& motor = example_motor())
   r.effects = effect_bit(effect_index("airgap")) | effect_bit(effect_index("sensor_lag"));
   for (int i = 0; i < kNumParams; ++i) {
     const ParamSpec& s = param_spec(i);
-    ParameterResult p;
+    calibrate::ParameterResult p;
     p.name = s.name;
     p.unit = s.unit;
     p.initial = s.initial;
@@ -65,7 +65,7 @@ inline CalibrationResult sample_result(const MotorFile& motor = example_motor())
   r.actor.obs_scale = {1000.0, 2000.0};
   const int sizes[4] = {2, 3, 3, 2};
   for (int l = 0; l < 3; ++l) {
-    ActorLayer layer;
+    calibrate::ActorLayer layer;
     layer.in = sizes[l];
     layer.out = sizes[l + 1];
     for (int k = 0; k < layer.in * layer.out; ++k) layer.weight.push_back(0.1f * static_cast<float>(k - l) + 1e-7f / 3);

@@ -26,7 +26,7 @@ inline std::unique_ptr<Generated> generate(const gen::GenerateOptions& options) 
   auto g = std::make_unique<Generated>();
   write_and_load(*g, options);
   const std::size_t n = g->dataset.cycles.size();
-  g->split = split_cycles(g->dataset, {g->dataset.cycles[n - 2].name, g->dataset.cycles[n - 1].name}, 0, 0);
+  g->split = calibrate::split_cycles(g->dataset, {g->dataset.cycles[n - 2].name, g->dataset.cycles[n - 1].name}, 0, 0);
   g->calibrated = lm::fit_lm(g->motor, g->motor.initial_values(), g->dataset, g->split.train, lm::LmSettings{});
   return g;
 }

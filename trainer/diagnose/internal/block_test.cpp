@@ -13,7 +13,7 @@ namespace lptn::diagnose::internal {
 namespace {
 
 // The block errors of one cycle: its last block takes the remainder.
-std::vector<double> cycle_blocks(const CycleEvaluation& e, const data::Cycle& cycle, std::size_t steps_per_block) {
+std::vector<double> cycle_blocks(const calibrate::CycleEvaluation& e, const data::Cycle& cycle, std::size_t steps_per_block) {
   const std::size_t blocks = std::max<std::size_t>(1, cycle.steps / steps_per_block);
   std::vector<double> out(blocks, 0.0);
   for (const SensorTrace& s : kSensorTraces) {
@@ -35,28 +35,28 @@ std::size_t block_steps(double correlation_time, double dt_s) {
 }
 
 std::vector<double> block_errors(const Model<double>& model, const ParamVector<double>& params,
-                                 DatasetRef dataset, const std::vector<std::size_t>& cycles,
+                                 calibrate::DatasetRef dataset, const std::vector<std::size_t>& cycles,
                                  std::size_t steps_per_block, int threads) {
   std::vector<std::vector<double>> per_cycle(cycles.size());
   hostio::parallel_for(cycles.size(), threads, [&](std::size_t i) {
     const data::Cycle& cycle = dataset.cycles[cycles[i]];
-    per_cycle[i] = cycle_blocks(simulate_and_evaluate(model, params, cycle), cycle, steps_per_block);
+    per_cycle[i] = cycle_blocks(calibrate::simulate_and_evaluate(model, params, cycle), cycle, steps_per_block);
   });
   std::vector<double> out;
   for (const auto& c : per_cycle) out.insert(out.end(), c.begin(), c.end());
   return out;
 }
 
-SplitRun run_split(const Model<double>& model, const ParamVector<double>& params, DatasetRef dataset,
-                   const Split& split, std::size_t steps_per_block, int threads) {
+SplitRun run_split(const Model<double>& model, const ParamVector<double>& params, calibrate::DatasetRef dataset,
+                   const calibrate::Split& split, std::size_t steps_per_block, int threads) {
   std::vector<std::size_t> every = split.train;
   every.insert(every.end(), split.test.begin(), split.test.end());
   std::vector<std::vector<double>> per_cycle(split.train.size());
-  std::vector<CycleMetrics> metrics(every.size());
+  std::vector<calibrate::CycleMetrics> metrics(every.size());
   // Train and test in one loop over the cores (a few cycles keep both busy only together).
   hostio::parallel_for(every.size(), threads, [&](std::size_t i) {
     const data::Cycle& cycle = dataset.cycles[every[i]];
-    const CycleEvaluation e = simulate_and_evaluate(model, params, cycle);
+    const calibrate::CycleEvaluation e = calibrate::simulate_and_evaluate(model, params, cycle);
     if (i < per_cycle.size()) per_cycle[i] = cycle_blocks(e, cycle, steps_per_block);
     metrics[i] = e.metrics;
   });
@@ -65,8 +65,8 @@ SplitRun run_split(const Model<double>& model, const ParamVector<double>& params
   const auto train_end = metrics.begin() + static_cast<std::ptrdiff_t>(split.train.size());
   out.train.cycles.assign(metrics.begin(), train_end);
   out.test.cycles.assign(train_end, metrics.end());
-  pool_cycles(out.train);
-  pool_cycles(out.test);
+  calibrate::pool_cycles(out.train);
+  calibrate::pool_cycles(out.test);
   return out;
 }
 

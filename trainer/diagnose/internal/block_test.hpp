@@ -25,17 +25,17 @@ inline constexpr int kMinBlocks = 4;
 
 // Each block's squared error (both sensors), over `cycles` in order.
 std::vector<double> block_errors(const Model<double>& model, const ParamVector<double>& params,
-                                 DatasetRef dataset, const std::vector<std::size_t>& cycles,
+                                 calibrate::DatasetRef dataset, const std::vector<std::size_t>& cycles,
                                  std::size_t block_steps, int threads);
 
 // One simulation of each cycle of the split at `params`: the training cycles' block errors (as
 // block_errors gives them) and every cycle's metrics, pooled per side as evaluate_split pools them.
 struct SplitRun {
   std::vector<double> train_blocks;
-  SplitMetrics train, test;
+  calibrate::SplitMetrics train, test;
 };
-SplitRun run_split(const Model<double>& model, const ParamVector<double>& params, DatasetRef dataset,
-                   const Split& split, std::size_t block_steps, int threads);
+SplitRun run_split(const Model<double>& model, const ParamVector<double>& params, calibrate::DatasetRef dataset,
+                   const calibrate::Split& split, std::size_t block_steps, int threads);
 
 // Grid steps per block for residuals of this correlation time (in grid steps) on grid step dt.
 std::size_t block_steps(double correlation_time, double dt_s);

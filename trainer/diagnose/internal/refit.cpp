@@ -22,7 +22,7 @@ namespace {
 // unlinked) cannot stand in for it, whatever the fit's ill-conditioning makes of the pair.
 std::string confounded(const lm::LmReport& fit, int i, int effect, EffectSet effects) {
   const std::string name(param_spec(i).name);
-  for (const CorrelatedPair& c : fit.correlated) {
+  for (const calibrate::CorrelatedPair& c : fit.correlated) {
     if (c.a != name && c.b != name) continue;
     const int other = param_index(c.a == name ? c.b : c.a);
     if (effect_of_param(other) == effect) continue;
@@ -49,23 +49,23 @@ std::string imprecise(const lm::LmReport& fit, int i) {
 
 }  // namespace
 
-SharedDataset coarse_dataset(DatasetRef fine, int factor) {
-  SharedDataset out;
+calibrate::SharedDataset coarse_dataset(calibrate::DatasetRef fine, int factor) {
+  calibrate::SharedDataset out;
   out.data.cycles.reserve(fine.cycles.size());
   for (std::size_t i = 0; i < fine.cycles.size(); ++i) {
     // diagnose's shared dataset keeps every cycle's samples on every rank (share_work): each
     // rank can make the coarse cycle, and count a remote one's residuals itself.
     out.data.cycles.push_back(data::coarse_grid(fine.cycles[i], factor));
     if (!fine.shared()) continue;
-    CycleShare share;
+    calibrate::CycleShare share;
     share.remote = fine.remote(i);
-    share.residuals = count_grid_residuals(out.data.cycles.back());
+    share.residuals = calibrate::count_grid_residuals(out.data.cycles.back());
     out.shares.push_back(std::move(share));
   }
   return out;
 }
 
-void correct_for_grid(SharedDataset& coarse, DatasetRef fine, const Model<double>& model,
+void correct_for_grid(calibrate::SharedDataset& coarse, calibrate::DatasetRef fine, const Model<double>& model,
                       const ParamVector<double>& at, const std::vector<std::size_t>& train,
                       const std::vector<InitialOffsets<double>>& offsets, int threads) {
   // diagnose's shared dataset keeps every cycle's samples on every rank: each corrects them all.
@@ -88,7 +88,7 @@ void correct_for_grid(SharedDataset& coarse, DatasetRef fine, const Model<double
 }
 
 std::optional<lm::LmReport> coarse_stage(const MotorFile& with_effect, const ParamVector<double>& start,
-                                     DatasetRef coarse, const std::vector<std::size_t>& train,
+                                     calibrate::DatasetRef coarse, const std::vector<std::size_t>& train,
                                      const lm::LmSettings& settings, const lm::LmProgress& progress) {
   // The counts include remote cycles', so every process decides alike.
   std::size_t coarse_readings = 0;
@@ -117,7 +117,7 @@ Refit judged(lm::LmReport fit, const MotorFile& with_effect, int effect) {
   // Whether the effect is there at all is its first parameter's question (a term's size; its
   // exponent may well be near zero and imprecise while the term is plainly present).
   const int first = kNumPaperParams + EffectLibrary::kParamOffsets[static_cast<std::size_t>(effect)];
-  for (int i : FreeParameters::from_motor(with_effect).index) {
+  for (int i : calibrate::FreeParameters::from_motor(with_effect).index) {
     if (effect_of_param(i) != effect) continue;
     if (out.confounded.empty()) out.confounded = confounded(out.fit, i, effect, with_effect.effects);
     if (out.imprecise.empty() && i == first) out.imprecise = imprecise(out.fit, i);
@@ -128,7 +128,7 @@ Refit judged(lm::LmReport fit, const MotorFile& with_effect, int effect) {
 lm::LmReport moved_to_fine(const MotorFile& with_effect, const lm::LmReport& on_coarse, const lm::LmReport& fine_baseline,
                        const lm::LmReport& coarse_baseline) {
   lm::LmReport out = on_coarse;
-  const FreeParameters free = FreeParameters::from_motor(with_effect);
+  const calibrate::FreeParameters free = calibrate::FreeParameters::from_motor(with_effect);
   for (std::size_t j = 0; j < free.size(); ++j) {
     const int i = free.index[j];
     // The effect's own parameters are fixed in both baselines (at equal values): they stay.
@@ -149,13 +149,13 @@ namespace {
 // Half the sum of squared residuals of `dataset`'s training cycles on its grid at `fit`'s values and
 // initial offsets (infinite where the model does not stay finite). Every process sums every cycle
 // (diagnose's shared dataset keeps each cycle's samples on each rank), so all decide alike.
-double cost_on(const MotorFile& motor, const lm::LmReport& fit, DatasetRef dataset, const std::vector<std::size_t>& train,
+double cost_on(const MotorFile& motor, const lm::LmReport& fit, calibrate::DatasetRef dataset, const std::vector<std::size_t>& train,
                int threads) {
   const Model<double> model = motor.model();
   std::vector<double> per_cycle(train.size(), 0.0);
   hostio::parallel_for(train.size(), threads, [&](std::size_t i) {
     double sum = 0;
-    const bool finite = for_each_grid_residual(model, fit.values, dataset.cycles[train[i]], fit.offsets[i],
+    const bool finite = calibrate::for_each_grid_residual(model, fit.values, dataset.cycles[train[i]], fit.offsets[i],
                                                [&](double r) { sum += r * r; });
     per_cycle[i] = finite ? 0.5 * sum : std::numeric_limits<double>::infinity();
   });
@@ -167,7 +167,7 @@ double cost_on(const MotorFile& motor, const lm::LmReport& fit, DatasetRef datas
 }  // namespace
 
 lm::LmReport polish_start(const MotorFile& with_effect, const lm::LmReport& on_coarse, const lm::LmReport& fine_baseline,
-                      const lm::LmReport& coarse_baseline, DatasetRef dataset, const std::vector<std::size_t>& train,
+                      const lm::LmReport& coarse_baseline, calibrate::DatasetRef dataset, const std::vector<std::size_t>& train,
                       int threads) {
   lm::LmReport moved = moved_to_fine(with_effect, on_coarse, fine_baseline, coarse_baseline);
   if (on_coarse.offsets.size() != train.size()) return moved;
@@ -176,7 +176,7 @@ lm::LmReport polish_start(const MotorFile& with_effect, const lm::LmReport& on_c
              : on_coarse;
 }
 
-Refit polish(const MotorFile& with_effect, int effect, const lm::LmReport& on_coarse, DatasetRef dataset,
+Refit polish(const MotorFile& with_effect, int effect, const lm::LmReport& on_coarse, calibrate::DatasetRef dataset,
              const std::vector<std::size_t>& train, const lm::LmSettings& settings, const lm::LmProgress& progress) {
   lm::LmSettings fine = settings;
   fine.start_offsets = on_coarse.offsets;
@@ -190,9 +190,9 @@ Refit polish(const MotorFile& with_effect, int effect, const lm::LmReport& on_co
   return judged(lm::fit_lm(with_effect, on_coarse.values, dataset, train, fine, progress), with_effect, effect);
 }
 
-Refit refit_with(const MotorFile& with_effect, int effect, const ParamVector<double>& start, DatasetRef dataset,
+Refit refit_with(const MotorFile& with_effect, int effect, const ParamVector<double>& start, calibrate::DatasetRef dataset,
                  const std::vector<std::size_t>& train, const lm::LmSettings& settings, const lm::LmProgress& progress,
-                 const SharedDataset* coarse) {
+                 const calibrate::SharedDataset* coarse) {
   if (coarse != nullptr)
     if (const std::optional<lm::LmReport> on_coarse = coarse_stage(with_effect, start, *coarse, train, settings, progress))
       return polish(with_effect, effect, *on_coarse, dataset, train, settings, progress);

@@ -19,7 +19,7 @@ struct Refit {
 
 // `fine`'s cycles on a grid `factor` times coarser (data::coarse_grid: the 1 s grid TD3 scores on
 // at 10), shared over the processes as `fine` is (each remote cycle's residual count its own).
-SharedDataset coarse_dataset(DatasetRef fine, int factor);
+calibrate::SharedDataset coarse_dataset(calibrate::DatasetRef fine, int factor);
 
 // `coarse` (coarse_dataset of `fine`) with its own error taken out at `at`: each training cycle's
 // readings shifted by what the coarse grid's simulation differs from the data's at the same
@@ -29,7 +29,7 @@ SharedDataset coarse_dataset(DatasetRef fine, int factor);
 // losses of currents that change within a second, a step of 1 s instead of 0.1 s), which a heat
 // term absorbs and which grows with the data (on a clean 48 h dump, dictionary scores of 10 where
 // the data grid's are 3), a score or a likelihood ratio on the corrected grid is the data's.
-void correct_for_grid(SharedDataset& coarse, DatasetRef fine, const Model<double>& model,
+void correct_for_grid(calibrate::SharedDataset& coarse, calibrate::DatasetRef fine, const Model<double>& model,
                       const ParamVector<double>& at, const std::vector<std::size_t>& train,
                       const std::vector<InitialOffsets<double>>& offsets, int threads);
 
@@ -39,16 +39,16 @@ void correct_for_grid(SharedDataset& coarse, DatasetRef fine, const Model<double
 // of a few iterations can end worse than the baseline; diagnose.cpp keeps the better of the two).
 // With `coarse` (coarse_dataset of `dataset`): coarse_stage, then polish (below). Without a
 // reading on the coarse grid, the fine fit alone.
-Refit refit_with(const MotorFile& with_effect, int effect, const ParamVector<double>& start, DatasetRef dataset,
+Refit refit_with(const MotorFile& with_effect, int effect, const ParamVector<double>& start, calibrate::DatasetRef dataset,
                  const std::vector<std::size_t>& train, const lm::LmSettings& settings, const lm::LmProgress& progress,
-                 const SharedDataset* coarse = nullptr);
+                 const calibrate::SharedDataset* coarse = nullptr);
 
 // The fit on `coarse` alone, a tenth of the work per iteration: where a start leads. Empty where
 // the coarse grid keeps no reading of the training cycles (a sensor sampled off its 1 s instants:
 // the fit must run on the data's own grid). diagnose compares its starts here and polishes the
 // better one only: the polish costs ten times a coarse iteration.
 std::optional<lm::LmReport> coarse_stage(const MotorFile& with_effect, const ParamVector<double>& start,
-                                     DatasetRef coarse, const std::vector<std::size_t>& train,
+                                     calibrate::DatasetRef coarse, const std::vector<std::size_t>& train,
                                      const lm::LmSettings& settings, const lm::LmProgress& progress);
 
 // `on_coarse` (a refit of `with_effect` on the coarse grid) moved onto the data's grid by what the
@@ -69,7 +69,7 @@ lm::LmReport moved_to_fine(const MotorFile& with_effect, const lm::LmReport& on_
 // offsets most of all: the parameters moved alone started a likelihood ratio of -5500 below it),
 // but on short cycles with a windage that the data pin, the coarse fit's own offsets were closer.
 lm::LmReport polish_start(const MotorFile& with_effect, const lm::LmReport& on_coarse, const lm::LmReport& fine_baseline,
-                      const lm::LmReport& coarse_baseline, DatasetRef dataset, const std::vector<std::size_t>& train,
+                      const lm::LmReport& coarse_baseline, calibrate::DatasetRef dataset, const std::vector<std::size_t>& train,
                       int threads);
 
 // The fit on `dataset` from where `on_coarse` ended (its parameters and the cycles' initial
@@ -80,7 +80,7 @@ lm::LmReport polish_start(const MotorFile& with_effect, const lm::LmReport& on_c
 // kCrawlPolishIterations: none, which from moved_to_fine's start is the fit there (on the clean
 // 200 h dump three iterations from it moved the crawls' likelihood ratios by 0.0 to 0.16, at 2.6 s
 // each). diagnose polishes moved_to_fine of the coarse fit; refit_with the coarse fit itself.
-Refit polish(const MotorFile& with_effect, int effect, const lm::LmReport& on_coarse, DatasetRef dataset,
+Refit polish(const MotorFile& with_effect, int effect, const lm::LmReport& on_coarse, calibrate::DatasetRef dataset,
              const std::vector<std::size_t>& train, const lm::LmSettings& settings, const lm::LmProgress& progress);
 
 constexpr int kCrawlPolishIterations = 0;

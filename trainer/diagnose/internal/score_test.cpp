@@ -12,8 +12,8 @@ namespace {
 
 // The effect's parameters searched linearly: their neutral value is often 0 (or outside the
 // bounds), where a log coordinate does not exist. The statistic does not depend on the scale.
-FreeParameters linear_in_effect(const MotorFile& motor, int effect) {
-  FreeParameters free = FreeParameters::from_motor(motor);
+calibrate::FreeParameters linear_in_effect(const MotorFile& motor, int effect) {
+  calibrate::FreeParameters free = calibrate::FreeParameters::from_motor(motor);
   for (std::size_t j = 0; j < free.size(); ++j)
     if (effect_of_param(free.index[j]) == effect) free.log_scale[j] = false;
   return free;
@@ -25,7 +25,7 @@ FreeParameters linear_in_effect(const MotorFile& motor, int effect) {
 // parameter the step leaves where it is does not make it feasible: a term's exponent, which does
 // nothing while the term's size is zero (its column of the Jacobian is zero, and so its step),
 // made every term with an exponent "feasible" whichever way the data pulled its size.
-bool step_feasible(const FreeParameters& free, const ParamVector<double>& at, const Eigen::VectorXd& step, int effect) {
+bool step_feasible(const calibrate::FreeParameters& free, const ParamVector<double>& at, const Eigen::VectorXd& step, int effect) {
   for (std::size_t j = 0; j < free.size(); ++j) {
     if (effect_of_param(free.index[j]) != effect) continue;
     const double v = at[free.index[j]], s = step(static_cast<Eigen::Index>(j));
@@ -52,7 +52,7 @@ namespace {
 
 // The score from the normal equations of `free` (the baseline's free parameters and the effect's,
 // then the cycles' offsets) at `at`, `jtj` and `g` in that column order.
-Score score_from(const FreeParameters& free, const ParamVector<double>& at, int effect, const lm::LmReport& baseline,
+Score score_from(const calibrate::FreeParameters& free, const ParamVector<double>& at, int effect, const lm::LmReport& baseline,
                  const Eigen::MatrixXd& jtj, const Eigen::VectorXd& g, double rss, std::size_t residuals) {
   // Columns in W/K, s, log units and kelvin differ by decades: equilibrate before solving, so
   // that the rank decision sees the data's information and not the units.
@@ -92,9 +92,9 @@ bool scored_jointly(int effect) {
 
 }  // namespace
 
-Score score_test(const MotorFile& with_effect, int effect, const lm::LmReport& baseline, DatasetRef dataset,
+Score score_test(const MotorFile& with_effect, int effect, const lm::LmReport& baseline, calibrate::DatasetRef dataset,
                  const std::vector<std::size_t>& train, int threads) {
-  const FreeParameters free = linear_in_effect(with_effect, effect);
+  const calibrate::FreeParameters free = linear_in_effect(with_effect, effect);
   const ParamVector<double> at = neutral_point(baseline.values, effect);
   const lm::NormalEquations ne =
       lm::normal_equations(with_effect.model(), free, at, dataset, train, baseline.offsets, threads);
@@ -105,7 +105,7 @@ Score score_test(const MotorFile& with_effect, int effect, const lm::LmReport& b
 }
 
 std::vector<Score> score_tests(const MotorFile& motor, const std::vector<int>& effects, const lm::LmReport& baseline,
-                               DatasetRef dataset, const std::vector<std::size_t>& train, int threads,
+                               calibrate::DatasetRef dataset, const std::vector<std::size_t>& train, int threads,
                                const std::function<void(int)>& scoring) {
   std::vector<Score> out(effects.size());
   // Every effect that can be switched on at its neutral value beside the others: one simulation
@@ -129,7 +129,7 @@ std::vector<Score> score_tests(const MotorFile& motor, const std::vector<int>& e
   }
   if (joint.empty()) return out;
 
-  FreeParameters free_all = FreeParameters::from_motor(all);
+  calibrate::FreeParameters free_all = calibrate::FreeParameters::from_motor(all);
   ParamVector<double> at = baseline.values;
   for (std::size_t k : joint) {
     const int e = effects[k];
@@ -149,7 +149,7 @@ std::vector<Score> score_tests(const MotorFile& motor, const std::vector<int>& e
     const int e = effects[k];
     MotorFile with = motor;
     enable_effect(with, e);
-    const FreeParameters free = linear_in_effect(with, e);
+    const calibrate::FreeParameters free = linear_in_effect(with, e);
     // The joint columns of this score test's parameters, in its own order, then the offsets.
     std::vector<Eigen::Index> columns;
     for (int i : free.index) {

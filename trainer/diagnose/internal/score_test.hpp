@@ -28,7 +28,7 @@ ParamVector<double> neutral_point(const ParamVector<double>& calibrated, int eff
 
 // `with_effect` is the calibrated motor with `effect` switched on; `baseline` the fit of the
 // model without it (values, per-cycle offsets, RSS, correlation time) on `train`.
-Score score_test(const MotorFile& with_effect, int effect, const lm::LmReport& baseline, DatasetRef dataset,
+Score score_test(const MotorFile& with_effect, int effect, const lm::LmReport& baseline, calibrate::DatasetRef dataset,
                  const std::vector<std::size_t>& train, int threads);
 
 // The score tests of `effects` (none of them in `motor`), in their order: those that leave the
@@ -36,7 +36,7 @@ Score score_test(const MotorFile& with_effect, int effect, const lm::LmReport& b
 // by one; each score as score_test gives it (to the rounding of a wider sum). `scoring` hears of
 // each effect scored alone, and of the joint evaluation as -1.
 std::vector<Score> score_tests(const MotorFile& motor, const std::vector<int>& effects, const lm::LmReport& baseline,
-                               DatasetRef dataset, const std::vector<std::size_t>& train, int threads,
+                               calibrate::DatasetRef dataset, const std::vector<std::size_t>& train, int threads,
                                const std::function<void(int)>& scoring = {});
 
 }  // namespace lptn::diagnose::internal

@@ -49,9 +49,9 @@ class SequentialTrainer {
   SequentialTrainer(const MotorFile& motor, const data::Dataset& dataset, const std::vector<std::size_t>& train,
                     const TrainingSettings& settings, const WarmStart& warm)
       : settings_(settings), warm_(!warm.agent_file.empty()), q_(settings.sequential), dataset_(dataset), train_(train), model_(motor.model()),
-        free_(FreeParameters::from_motor(motor)),
+        free_(calibrate::FreeParameters::from_motor(motor)),
         scorer_(model_, free_, motor.initial_values(), coarse_cycles(dataset, train, q_.coarse_factor)),
-        p_(free_.size()), obs_dim_(p_ + SetScorer::features() + 1),
+        p_(free_.size()), obs_dim_(p_ + calibrate::SetScorer::features() + 1),
         agent_(static_cast<int>(obs_dim_), static_cast<int>(p_), settings.agent) {
     if (p_ == 0) throw std::runtime_error("no parameter is marked for calibration in " + motor.path.string());
     if (warm_) agent_.load_networks(warm.agent_file);
@@ -69,7 +69,7 @@ class SequentialTrainer {
 
   Agent& agent() { return agent_; }
   SequentialRunState& state() { return state_; }
-  const FreeParameters& free() const { return free_; }
+  const calibrate::FreeParameters& free() const { return free_; }
   std::size_t obs_dim() const { return obs_dim_; }
 
   // One round: `environments` episodes side by side. Returns its record.
@@ -86,7 +86,7 @@ class SequentialTrainer {
       const std::vector<double> s = start(state_.rng);
       u.insert(u.end(), s.begin(), s.end());
     }
-    std::vector<SetScore> now = score(u, n);
+    std::vector<calibrate::SetScore> now = score(u, n);
     const std::vector<double> first_rmse = rmse_of(now);
     std::vector<float> obs(n * obs_dim_), next_obs(n * obs_dim_), a(n * p_), r(n);
     std::vector<std::uint8_t> done(n);
@@ -101,7 +101,7 @@ class SequentialTrainer {
         for (float& x : a) x = std::clamp(x + noise(state_.rng), -1.0f, 1.0f);
       }
       const std::vector<double> next = stepped(u, a, t, n);
-      const std::vector<SetScore> after = score(next, n);
+      const std::vector<calibrate::SetScore> after = score(next, n);
       for (std::size_t e = 0; e < n; ++e) {
         r[e] = static_cast<float>(std::log(now[e].rmse_k) - std::log(after[e].rmse_k));
         observe(&next[e * p_], after[e], t + 1, &next_obs[e * obs_dim_]);
@@ -130,7 +130,7 @@ class SequentialTrainer {
   double evaluate_and_offer() {
     const std::size_t n = rollout_starts_.size() / p_;
     std::vector<double> u = rollout_starts_;
-    std::vector<SetScore> now = score(u, n);
+    std::vector<calibrate::SetScore> now = score(u, n);
     const std::vector<double> first = rmse_of(now);
     std::vector<std::pair<double, std::vector<double>>> visited;
     auto visit = [&] {
@@ -164,8 +164,8 @@ class SequentialTrainer {
 
   // On the data's own grid with the offsets re-fitted, stator and rotor pooled: the metrics' figure.
   double train_rmse(const ParamVector<double>& p) {
-    const SplitMetrics m = evaluate_split(model_, p, dataset_, train_);
-    for (std::size_t c : train_) state_.simulated_steps += evaluation_steps(dataset_.cycles[c]);
+    const calibrate::SplitMetrics m = calibrate::evaluate_split(model_, p, dataset_, train_);
+    for (std::size_t c : train_) state_.simulated_steps += calibrate::evaluation_steps(dataset_.cycles[c]);
     return pool({m.stator, m.rotor}).rmse_k;
   }
 
@@ -185,20 +185,20 @@ class SequentialTrainer {
     return next;
   }
 
-  std::vector<SetScore> score(const std::vector<double>& u, std::size_t n) {
-    std::vector<SetScore> out(n);
+  std::vector<calibrate::SetScore> score(const std::vector<double>& u, std::size_t n) {
+    std::vector<calibrate::SetScore> out(n);
     scorer_.score(u.data(), n, out.data(), hostio::worker_threads());
-    for (const SetScore& s : out) state_.simulated_steps += s.simulated_steps;
+    for (const calibrate::SetScore& s : out) state_.simulated_steps += s.simulated_steps;
     return out;
   }
 
-  static std::vector<double> rmse_of(const std::vector<SetScore>& s) {
+  static std::vector<double> rmse_of(const std::vector<calibrate::SetScore>& s) {
     std::vector<double> out;
-    for (const SetScore& x : s) out.push_back(x.rmse_k);
+    for (const calibrate::SetScore& x : s) out.push_back(x.rmse_k);
     return out;
   }
 
-  void observe(const double* u, const SetScore& s, int t, float* obs) const {
+  void observe(const double* u, const calibrate::SetScore& s, int t, float* obs) const {
     for (std::size_t j = 0; j < p_; ++j) obs[j] = static_cast<float>(u[j]);
     std::copy(s.features.begin(), s.features.end(), obs + p_);
     obs[obs_dim_ - 1] = static_cast<float>(t) / static_cast<float>(q_.steps_per_episode);
@@ -210,8 +210,8 @@ class SequentialTrainer {
   const data::Dataset& dataset_;
   std::vector<std::size_t> train_;
   Model<double> model_;
-  FreeParameters free_;
-  SetScorer scorer_;
+  calibrate::FreeParameters free_;
+  calibrate::SetScorer scorer_;
   std::size_t p_, obs_dim_;
   Agent agent_;
   SequentialRunState state_;
@@ -219,7 +219,7 @@ class SequentialTrainer {
 };
 
 nlohmann::json identity(const TrainingSettings& settings, const data::Dataset& dataset, const std::vector<std::size_t>& train,
-                        const FreeParameters& free, const WarmStart& warm) {
+                        const calibrate::FreeParameters& free, const WarmStart& warm) {
   nlohmann::json cycles = nlohmann::json::array();
   for (std::size_t c : train) cycles.push_back({dataset.cycles[c].name, dataset.cycles[c].steps});
   nlohmann::json params = nlohmann::json::array();
