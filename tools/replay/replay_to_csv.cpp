@@ -58,7 +58,8 @@ std::vector<std::string> input_warnings(const std::string& log, const ReplaySumm
   if (rows == 0) return out;
   auto share = [&](std::size_t n) {
     char text[64];
-    std::snprintf(text, sizeof text, "%zu of %zu rows (%.1f %%)", n, rows, 100.0 * static_cast<double>(n) / static_cast<double>(rows));
+    std::snprintf(text, sizeof text, "%zu of %zu rows (%.1f %%)", n, rows,
+                  100.0 * static_cast<double>(n) / static_cast<double>(rows));
     return std::string(text);
   };
   for (int i = 0; i < fw::kNumInputs; ++i) {
@@ -83,7 +84,9 @@ std::vector<std::string> input_warnings(const std::string& log, const ReplaySumm
       char value[64];
       std::snprintf(value, sizeof value, "%g %s", limits.conservative, unit);
       const bool optional = input == fw::Input::torque || input == fw::Input::voltage;
-      line += sep + (optional ? "left out (the model ran without it) at " : "replaced by its conservative value " + std::string(value) + " at ") +
+      line += sep +
+              (optional ? "left out (the model ran without it) at "
+                        : "replaced by its conservative value " + std::string(value) + " at ") +
               share(h.substituted);
     }
     const bool sensor = input == fw::Input::stator_sensor || input == fw::Input::rotor_sensor;

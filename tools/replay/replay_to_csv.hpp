@@ -52,19 +52,20 @@ struct ReplaySummary {
   canfile::LogFormat format = canfile::LogFormat::candump;  // what the log was read as
 };
 
-// `select`: the log's format (none: detected) and channel ("": all; frames of several channels are
-// read as one bus, with a warning). `inputs_check`, where given, gets at every row the values the log
-// last sent for speed, current, frequency and voltage, plausible or not (NaN: none yet): the check
-// of the log against the motor's nameplate, which the model's own inputs cannot serve (conditioning
-// keeps values outside the nameplate's plausible ranges from them). Throws std::invalid_argument (bad input: a log that cannot be
-// read, is in no format lptn reads, holds no frame, or none on the channel asked for) or
-// std::runtime_error (the output could not be written); nothing is left at `csv` then.
 // One line per input the model did not get as the log sent it (stale, implausible or substituted
 // at any row), naming the log, the share of rows, the input's plausible range and what the model
 // ran on instead: estimates at those rows are not the motor's as the log has it.
 std::vector<std::string> input_warnings(const std::string& log, const ReplaySummary& summary,
                                         const fw::EstimatorConfig<double>& config);
 
+// `select`: the log's format (none: detected) and channel ("": all; frames of several channels are
+// read as one bus, with a warning). `inputs_check`, where given, gets at every row the values the
+// log last sent for speed, current, frequency and voltage, plausible or not (NaN: none yet): the
+// check of the log against the motor's nameplate, which the model's own inputs cannot serve
+// (conditioning keeps values outside the nameplate's plausible ranges from them). Throws
+// std::invalid_argument (bad input: a log that cannot be read, is in no format lptn reads, holds
+// no frame, or none on the channel asked for) or std::runtime_error (the output could not be
+// written); nothing is left at `csv` then.
 ReplaySummary replay_to_csv(const std::string& log, const fw::EstimatorConfig<double>& config, const std::string& csv,
                               bool quiet, const canfile::LogSelection& select = {},
                               data::NameplateCheck* inputs_check = nullptr);
