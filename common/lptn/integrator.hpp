@@ -35,7 +35,8 @@ struct Sdirk2 {
   template <class R>
   static bool step(const HeatBalance<T>& sys, T* x, const R& h, internal::SmallLu<T>& lu) {
     if (!factor_stage_matrix(sys, h, lu)) return false;
-    advance(sys, lu, x, h, true);
+    T* const columns[1] = {x};
+    advance<1>(sys, lu, columns, 1, 1, h);
     return true;
   }
 
@@ -46,38 +47,33 @@ struct Sdirk2 {
   template <class R>
   static bool transition(const HeatBalance<T>& sys, const R& h, T (&phi)[kMaxStates][kMaxStates]) {
     internal::SmallLu<T> lu;
-    return transition(sys, h, phi, lu);
-  }
-  // The same, leaving the stage matrix's factorisation in lu for step_factored(): a filter that
-  // moves its state and its covariance through one step factors it once.
-  template <class R>
-  static bool transition(const HeatBalance<T>& sys, const R& h, T (&phi)[kMaxStates][kMaxStates],
-                         internal::SmallLu<T>& lu) {
     if (!factor_stage_matrix(sys, h, lu)) return false;
-    const int n = sys.n;
-    for (int j = 0; j < n; ++j) {
-      T column[kMaxStates];
-      for (int i = 0; i < n; ++i) column[i] = T(i == j ? 1 : 0);
-      advance(sys, lu, column, h, false);
-      for (int i = 0; i < n; ++i) phi[i][j] = column[i];
-    }
+    step_and_columns(sys, lu, nullptr, h, phi);
     return true;
   }
-  // step() of x, and of `count` more states without the input term, through one factorisation:
-  // how x's response to a change of its start moves (x is affine in its start with A and c held),
-  // for a caller that wants both, at the cost of one assembly and one factorisation a step.
+  // step() of x and transition() of the same step, through one factorisation and one pass over
+  // the stages: what a Kalman filter needs of a step (its state moved, its covariance's matrix).
+  // x and phi get the bits step() and transition() give them. Returns false (x and phi
+  // untouched) if the stage matrix is singular.
+  template <class R>
+  static bool step_and_transition(const HeatBalance<T>& sys, T* x, const R& h, T (&phi)[kMaxStates][kMaxStates]) {
+    internal::SmallLu<T> lu;
+    if (!factor_stage_matrix(sys, h, lu)) return false;
+    step_and_columns(sys, lu, x, h, phi);
+    return true;
+  }
+  // step() of x, and of `count` (at most kMaxStates) more states without the input term, through
+  // one factorisation: how x's response to a change of its start moves (x is affine in its start
+  // with A and c held), for a caller that wants both, at the cost of one assembly and one
+  // factorisation a step. Each gets the bits a step() of it alone gives.
   template <class R>
   static bool step_with_responses(const HeatBalance<T>& sys, T* x, T* const* responses, int count, const R& h,
                                   internal::SmallLu<T>& lu) {
     if (!factor_stage_matrix(sys, h, lu)) return false;
-    advance(sys, lu, x, h, true);
-    for (int r = 0; r < count; ++r) advance(sys, lu, responses[r], h, false);
+    T* columns[kMaxStates + 1] = {x};
+    for (int r = 0; r < count; ++r) columns[1 + r] = responses[r];
+    advance<kMaxStates + 1>(sys, lu, columns, 1 + count, 1, h);
     return true;
-  }
-  // step() with the factorisation transition() left for the same sys and h.
-  template <class R>
-  static void step_factored(const HeatBalance<T>& sys, const internal::SmallLu<T>& lu, T* x, const R& h) {
-    advance(sys, lu, x, h, true);
   }
 
  private:
@@ -93,29 +89,62 @@ struct Sdirk2 {
     return lu.factor_in_place(n);
   }
 
-  // The two stages; with_input = false drops c (the homogeneous part, for transition()).
+  // x (if given) stepped, and phi's columns: the unit vectors stepped without the input term.
   template <class R>
-  static void advance(const HeatBalance<T>& sys, const internal::SmallLu<T>& lu, T* x, const R& h, bool with_input) {
+  static void step_and_columns(const HeatBalance<T>& sys, const internal::SmallLu<T>& lu, T* x, const R& h,
+                               T (&phi)[kMaxStates][kMaxStates]) {
     const int n = sys.n;
-    auto rate = [&](int i, const T* at) {  // sys.derivative(), with or without c
-      T p = with_input ? sys.c[i] : T(0);
+    T unit[kMaxStates][kMaxStates];
+    T* columns[kMaxStates + 1];
+    int count = 0;
+    if (x) columns[count++] = x;
+    for (int j = 0; j < n; ++j) {
+      for (int i = 0; i < n; ++i) unit[j][i] = T(i == j ? 1 : 0);
+      columns[count++] = unit[j];
+    }
+    advance<kMaxStates + 1>(sys, lu, columns, count, x ? 1 : 0, h);
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) phi[i][j] = unit[j][i];
+  }
+
+  // The two stages, for `count` (at most Capacity) states at once: columns[0 .. with_input) with
+  // the input term c, the rest without it (the homogeneous part, for transition() and the
+  // responses). Each column's arithmetic is one column's alone in the same order, so it gets the
+  // same bits however many are stepped beside it; they are interleaved stage by stage so that
+  // the solves of independent columns overlap (SmallLu::solve_columns).
+  template <int Capacity, class R>
+  static void advance(const HeatBalance<T>& sys, const internal::SmallLu<T>& lu, T* const* columns, int count,
+                      int with_input, const R& h) {
+    const int n = sys.n;
+    auto rate = [&](int i, const T* at, bool input) {  // sys.derivative(), with or without c
+      T p = input ? sys.c[i] : T(0);
       for (int j = 0; j < n; ++j) p += sys.a[i][j] * at[j];
       return p;
     };
     // Stage 1: k1 = A (x + gamma h k1) + c.
-    T k1[kMaxStates];
-    for (int i = 0; i < n; ++i) k1[i] = rate(i, x);
-    lu.solve(k1);
+    T k1[Capacity][kMaxStates];
+    T* k1_columns[Capacity] = {};
+    for (int c = 0; c < count; ++c) {
+      k1_columns[c] = k1[c];
+      for (int i = 0; i < n; ++i) k1[c][i] = rate(i, columns[c], c < with_input);
+    }
+    lu.solve_columns(k1_columns, count);
     // Stage 2: k2 = A (x + (1 - gamma) h k1 + gamma h k2) + c.
-    T x1[kMaxStates];
+    T x1[Capacity][kMaxStates];
     const T w1 = T((1.0 - kGamma) * h);
-    for (int i = 0; i < n; ++i) x1[i] = x[i] + w1 * k1[i];
-    T k2[kMaxStates];
-    for (int i = 0; i < n; ++i) k2[i] = rate(i, x1);
-    lu.solve(k2);
+    for (int c = 0; c < count; ++c)
+      for (int i = 0; i < n; ++i) x1[c][i] = columns[c][i] + w1 * k1[c][i];
+    T k2[Capacity][kMaxStates];
+    T* k2_columns[Capacity] = {};
+    for (int c = 0; c < count; ++c) {
+      k2_columns[c] = k2[c];
+      for (int i = 0; i < n; ++i) k2[c][i] = rate(i, x1[c], c < with_input);
+    }
+    lu.solve_columns(k2_columns, count);
     // Stiffly accurate: the new state is the second stage's.
     const T w2 = T(kGamma * h);
-    for (int i = 0; i < n; ++i) x[i] = x1[i] + w2 * k2[i];
+    for (int c = 0; c < count; ++c)
+      for (int i = 0; i < n; ++i) columns[c][i] = x1[c][i] + w2 * k2[c][i];
   }
 };
 

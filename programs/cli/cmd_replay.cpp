@@ -32,28 +32,16 @@
 namespace lptn::cli {
 namespace {
 
-// The log's inputs, as the estimator ran on them (the CSV just written loads as a cycle), against
-// the nameplate of the motor the calibration was made for: another pole count (the frequency
-// against the speed), currents or voltages no motor of that nameplate sees. A calibration of
-// another motor type gives estimates that look like any others; this is what says so. Each
-// finding names the log.
-// `inputs_csv`: the CSV's fleet-dump columns as written (ReplaySummary::inputs_csv), loaded as the
-// CSV `out` would be.
-std::vector<std::string> log_against_motor(const std::string& log, const std::string& out, const replay::ReplaySummary& r,
+// What the log sent (`check` was given to replay_to_csv: the last values received at every row,
+// plausible or not) against the nameplate of the motor the calibration was made for: another pole
+// count (the frequency against the speed), currents or voltages no motor of that nameplate sees.
+// A calibration of another motor type gives estimates that look like any others; this is what
+// says so. Each finding names the log.
+std::vector<std::string> log_against_motor(const std::string& log, const data::NameplateCheck& check,
                                            const calibrate::CalibrationResult& cal, const std::string& source) {
-  if (r.stats.rows == 0) return {};  // the estimator never started: no inputs to check
-  data::Dataset replayed;
-  try {
-    replayed = data::parse_cycle_csv(r.inputs_csv, out);
-  } catch (const data::DataError& e) {
-    return {log + ": its inputs were not checked against the motor of " + source + " (" + e.what() + ")"};
-  }
-  for (data::Cycle& c : replayed.cycles) {
-    c.name = std::filesystem::path(log).filename().string();
-    c.file = log;
-  }
+  const std::string who = "cycle " + std::filesystem::path(log).filename().string() + " (" + log + ")";
   std::vector<std::string> out_lines;
-  for (const data::Finding& f : data::check_against_nameplate(replayed, cal.motor.constants))
+  for (const data::Finding& f : check.findings(who))
     out_lines.push_back(f.message + " (the motor of " + source + ": " + cal.motor.name + ")");
   return out_lines;
 }
@@ -102,9 +90,10 @@ void replay_directory(const fs::path& dir, const std::string& out_dir, bool forc
       DirectoryItem& item = items[i];
       const fs::path csv = out.path() / (logs[i].stem().string() + ".csv");
       try {
-        item.summary = replay::replay_to_csv(logs[i].string(), config, csv.string(), true, select);
-        item.warnings = log_against_motor(logs[i].string(), csv.string(), item.summary, calibrated, source);
-        item.summary.inputs_csv = std::string();  // done with: not nine logs' worth held at once
+        data::NameplateCheck check(calibrated.motor.constants);
+        item.summary = replay::replay_to_csv(logs[i].string(), config, csv.string(), true, select, &check);
+        item.warnings = replay::input_warnings(logs[i].string(), item.summary, config);
+        for (std::string& w : log_against_motor(logs[i].string(), check, calibrated, source)) item.warnings.push_back(std::move(w));
       } catch (...) {
         item.failure = std::current_exception();
       }
@@ -221,7 +210,8 @@ void add_replay(CLI::App& app) {
                        args->threads ? args->threads : hostio::worker_threads());
       return;
     }
-    const replay::ReplaySummary r = replay::replay_to_csv(args->log, cal->config, args->out, args->quiet, select);
+    data::NameplateCheck check(calibrated.motor.constants);
+    const replay::ReplaySummary r = replay::replay_to_csv(args->log, cal->config, args->out, args->quiet, select, &check);
     const fw::ReplayStats& s = r.stats;
     std::printf("replayed %s (%s): %zu frames, %s of log, %zu estimates%s -> %s\n", args->log.c_str(),
                 canfile::format_name(r.format), s.frames,
@@ -250,7 +240,9 @@ void add_replay(CLI::App& app) {
                   r.cooling_factor_std, r.cooling_state == fw::CoolingState::tracking ? "tracking" : "frozen: open loop",
                   r.cooling_alarm_from_s < 0 ? "never raised"
                                              : ("raised from " + hostio::ProgressLine::clock(r.cooling_alarm_from_s)).c_str());
-    for (const std::string& w : log_against_motor(args->log, args->out, r, calibrated, source))
+    for (const std::string& w : replay::input_warnings(args->log, r, cal->config))
+      std::fprintf(stderr, "lptn: warning: %s\n", w.c_str());
+    for (const std::string& w : log_against_motor(args->log, check, calibrated, source))
       std::fprintf(stderr, "lptn: warning: %s\n", w.c_str());
   });
 }

@@ -13,6 +13,7 @@
 #include <functional>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -360,6 +361,114 @@ TEST_F(SemanticInput, ReplayOfAnotherMotorsLogWithThisCalibrationSaysSo) {
               << line;
         }
     }
+  }
+}
+
+// replay checks what the log sent against the calibration's nameplate as the ticks go by
+// (data::NameplateCheck fed by replay_to_csv with the last values received); inspect --log checks
+// the same log, decoded as convert would and resampled to the model's grid, against a motor file of
+// the same nameplate. A nameplate this log breaks every way (three pole pairs, 10 A and 100 V
+// rated): both find the same three things at the same share of the drive. The model itself never
+// sees the currents and voltages beyond that nameplate's plausible ranges (conditioning replaces
+// them), so replay also says which inputs did not reach the model as sent.
+TEST_F(SemanticInput, ReplayChecksTheLogAgainstTheNameplateAsInspectDoes) {
+  const fs::path log = scratch("np.log"), cal = scratch("np.json"), m = scratch("np.toml");
+  ASSERT_EQ(run("convert --in " + first_cycle().string() + " --out " + log.string()).code, 0);
+  const Result c = run("calibrate --method lm --data " + dump().string() + " --motor " + motor().string() + " --out " +
+                       cal.string() + " --force");
+  ASSERT_TRUE(c.code == 0 || c.code == 3 || c.code == 4) << c.err;
+  const std::vector<std::pair<std::string, std::string>> nameplate = {
+      {"pole_pairs", "3"}, {"rated_current_a", "10.0"}, {"magnetizing_current_a", "5.0"}, {"rated_voltage_v", "100.0"}};
+  {
+    std::ifstream in(cal);
+    nlohmann::json j = nlohmann::json::parse(in);
+    nlohmann::json& constants = j["motor"]["constants"];
+    for (const auto& [key, value] : nameplate)
+      (key == "magnetizing_current_a" ? constants["electrical"] : constants["nameplate"])[key] = nlohmann::json::parse(value);
+    std::ofstream(cal) << j.dump(2);
+    fs::path from = motor();
+    for (std::size_t i = 0; i < nameplate.size(); ++i) {
+      const fs::path to = scratch("np-" + std::to_string(i) + ".toml");
+      ASSERT_GT(edit_motor(from, to, nameplate[i].first, nameplate[i].second), 0) << nameplate[i].first;
+      from = to;
+    }
+    fs::copy_file(from, m, fs::copy_options::overwrite_existing);
+  }
+  const Result r = run("replay --quiet --log " + log.string() + " --calibration " + cal.string() + " --out " +
+                       scratch("np.csv").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const Result i = run("inspect --log " + log.string() + " --motor " + m.string());
+  // Each check's finding: its share of the drive in per cent, from "at N of M steps".
+  const auto share = [](const std::string& text, const std::string& check) {
+    const std::size_t at = text.find(check);
+    if (at == std::string::npos) return -1.0;
+    unsigned long n = 0, of = 0;
+    const std::size_t counts = text.find(" at ", at);
+    if (counts == std::string::npos || std::sscanf(text.c_str() + counts, " at %lu of %lu", &n, &of) != 2 || of == 0)
+      return -2.0;
+    return 100.0 * static_cast<double>(n) / static_cast<double>(of);
+  };
+  const std::string inspected = i.out + i.err;
+  for (const char* check : {"current_a above 4x rated (10 A)", "voltage_v above 1.3x rated (100 V)",
+                            "frequency_hz differs from speed_rpm * 3 / 60"}) {
+    const double replayed = share(r.err, check), expected = share(inspected, check);
+    EXPECT_GT(expected, 1.0) << check << "\n" << inspected;
+    EXPECT_NEAR(replayed, expected, 0.5) << check << "\n" << r.err << "\n" << inspected;
+  }
+  EXPECT_NE(r.err.find("(the motor of " + cal.string()), std::string::npos) << r.err;
+  for (const char* input : {"current", "voltage"})
+    EXPECT_NE(r.err.find(log.string() + ": input " + input + " did not reach the model as sent: implausible (outside 0 .. "),
+              std::string::npos)
+        << input << "\n" << r.err;
+}
+
+// A stator winding sensor that falls silent halfway through the drive: the estimates of the
+// second half are the model's alone, and replay says so (the CSV's masks say it row by row), with
+// the share of the rows, while the first half of the same log alone gives no such line.
+TEST_F(SemanticInput, ReplaySaysWhenASensorFallsSilent) {
+  const Result c = run("calibrate --method lm --data " + dump().string() + " --motor " + motor().string() + " --out " +
+                       scratch("silent.json").string() + " --force");
+  ASSERT_TRUE(c.code == 0 || c.code == 3 || c.code == 4) << c.err;
+  std::vector<std::string> lines;
+  {
+    std::ifstream in(first_cycle());
+    for (std::string line; std::getline(in, line);) lines.push_back(line);
+  }
+  ASSERT_GT(lines.size(), 1000u);
+  const std::vector<std::string> header = split(lines[0]);
+  const auto column = static_cast<std::size_t>(std::find(header.begin(), header.end(), "stator_winding_c") - header.begin());
+  ASSERT_LT(column, header.size());
+  const std::size_t half = lines.size() / 2;
+  const fs::path silent = scratch("silent.csv"), first_half = scratch("first_half.csv");
+  {
+    std::ofstream all(silent), head(first_half);
+    for (std::size_t k = 0; k < lines.size(); ++k) {
+      std::vector<std::string> cells = split(lines[k]);
+      if (k >= half && column < cells.size()) cells[column].clear();
+      std::string row;
+      for (std::size_t i = 0; i < cells.size(); ++i) row += (i ? "," : "") + cells[i];
+      all << row << '\n';
+      if (k < half) head << row << '\n';
+    }
+  }
+  for (const fs::path& csv : {silent, first_half}) {
+    const fs::path log = scratch(csv.stem().string() + ".log");
+    ASSERT_EQ(run("convert --in " + csv.string() + " --out " + log.string()).code, 0);
+    const Result r = run("replay --quiet --log " + log.string() + " --calibration " + scratch("silent.json").string() +
+                         " --out " + scratch(csv.stem().string() + "-estimates.csv").string());
+    ASSERT_EQ(r.code, 0) << r.err;
+    const std::string said = log.string() + ": input stator_sensor did not reach the model as sent: stale (no good value "
+                                            "within its timeout) at ";
+    const std::size_t at = r.err.find(said);
+    if (csv == first_half) {
+      EXPECT_EQ(r.err.find("did not reach the model"), std::string::npos) << r.err;
+      continue;
+    }
+    ASSERT_NE(at, std::string::npos) << r.err;
+    unsigned long n = 0, rows = 0;
+    ASSERT_EQ(std::sscanf(r.err.c_str() + at + said.size(), "%lu of %lu rows", &n, &rows), 2) << r.err;
+    EXPECT_NEAR(static_cast<double>(n) / static_cast<double>(rows), 0.5, 0.02) << r.err;
+    EXPECT_NE(r.err.find("those rows went without its readings", at), std::string::npos) << r.err;
   }
 }
 

@@ -25,13 +25,6 @@ struct Track {
   }
 };
 
-// The length of a row's (or the header's) first ten columns: up to its tenth comma.
-std::size_t inputs_length(const char* row) {
-  const char* p = row;
-  for (int commas = 0;; ++p)
-    if (*p == ',' && ++commas == 10) return static_cast<std::size_t>(p - row);
-}
-
 constexpr std::size_t kNoiseLagTicks = 20;  // 2 s at the 0.1 s step (BandCoverage says why)
 
 BandCoverage coverage_of(const Track& t) {
@@ -58,8 +51,56 @@ BandCoverage coverage_of(const Track& t) {
 
 }  // namespace
 
+std::vector<std::string> input_warnings(const std::string& log, const ReplaySummary& summary,
+                                        const fw::EstimatorConfig<double>& config) {
+  std::vector<std::string> out;
+  const std::size_t rows = summary.stats.rows;
+  if (rows == 0) return out;
+  auto share = [&](std::size_t n) {
+    char text[64];
+    std::snprintf(text, sizeof text, "%zu of %zu rows (%.1f %%)", n, rows,
+                  100.0 * static_cast<double>(n) / static_cast<double>(rows));
+    return std::string(text);
+  };
+  for (int i = 0; i < fw::kNumInputs; ++i) {
+    const InputHealth& h = summary.inputs[i];
+    if (h.stale == 0 && h.implausible == 0 && h.substituted == 0) continue;
+    const fw::Input input = static_cast<fw::Input>(i);
+    const fw::InputLimits<double>& limits = config.inputs[i];
+    const char* unit = fw::kInputUnits[i];
+    char range[96];
+    std::snprintf(range, sizeof range, "%g .. %g %s", limits.min, limits.max, unit);
+    std::string line = log + ": input " + fw::kInputNames[i] + " did not reach the model as sent:";
+    std::string sep = " ";
+    if (h.implausible) {
+      line += sep + "implausible (outside " + range + ", its range for the calibration's motor) at " + share(h.implausible);
+      sep = "; ";
+    }
+    if (h.stale) {
+      line += sep + "stale (no good value within its timeout) at " + share(h.stale);
+      sep = "; ";
+    }
+    if (h.substituted) {
+      char value[64];
+      std::snprintf(value, sizeof value, "%g %s", limits.conservative, unit);
+      const bool optional = input == fw::Input::torque || input == fw::Input::voltage;
+      line += sep +
+              (optional ? "left out (the model ran without it) at "
+                        : "replaced by its conservative value " + std::string(value) + " at ") +
+              share(h.substituted);
+    }
+    const bool sensor = input == fw::Input::stator_sensor || input == fw::Input::rotor_sensor;
+    line += sensor          ? ": those rows went without its readings"
+            : h.substituted ? ": the estimates at those rows are not the motor's as the log has it"
+                            : ": the model held the last good value there";
+    out.push_back(line);
+  }
+  return out;
+}
+
 ReplaySummary replay_to_csv(const std::string& log_path, const fw::EstimatorConfig<double>& config,
-                              const std::string& csv_path, bool quiet, const canfile::LogSelection& select) {
+                              const std::string& csv_path, bool quiet, const canfile::LogSelection& select,
+                              data::NameplateCheck* inputs_check) {
   ReplaySummary summary;
   std::unique_ptr<canfile::ChannelFilter> log;
   try {
@@ -73,8 +114,6 @@ ReplaySummary replay_to_csv(const std::string& log_path, const fw::EstimatorConf
   if (!csv.open(csv_path)) throw std::invalid_argument(csv_path + ": cannot be written");
   auto estimator = std::make_unique<fw::Estimator<double>>(config);
   fw::write_estimate_header(csv.get());
-  summary.inputs_csv.append(fw::kEstimateHeader, inputs_length(fw::kEstimateHeader));
-  summary.inputs_csv += '\n';
   // Rows are formatted into a buffer of 1 MiB and written a buffer at a time.
   std::vector<char> out(std::size_t{1} << 20);
   std::size_t used = 0;
@@ -88,10 +127,20 @@ ReplaySummary replay_to_csv(const std::string& log_path, const fw::EstimatorConf
   Track stator, rotor;
   sinks.row = [&](const fw::EstimatorOutput<double>& o, fw::TimeUs start) {
     if (out.size() - used < fw::kMaxEstimateRow) flush();
-    const char* row = out.data() + used;
     used += fw::format_estimate_row(out.data() + used, o, start);
-    summary.inputs_csv.append(row, inputs_length(row));
-    summary.inputs_csv += '\n';
+    if (inputs_check) {
+      const fw::InputConditioner<double>& bus = estimator->input_conditioner();
+      inputs_check->add(static_cast<float>(bus.last_received(fw::Input::speed)),
+                        static_cast<float>(bus.last_received(fw::Input::current)),
+                        static_cast<float>(bus.last_received(fw::Input::frequency)),
+                        static_cast<float>(bus.last_received(fw::Input::voltage)));
+    }
+    for (int i = 0; i < fw::kNumInputs; ++i) {
+      const fw::InputMask b = fw::bit(static_cast<fw::Input>(i));
+      summary.inputs[i].stale += (o.stale & b) != 0;
+      summary.inputs[i].implausible += (o.implausible & b) != 0;
+      summary.inputs[i].substituted += (o.substituted & b) != 0;
+    }
     summary.cooling_factor = o.cooling_factor;
     summary.cooling_factor_std = o.cooling_factor_std;
     summary.cooling_state = o.cooling_state;

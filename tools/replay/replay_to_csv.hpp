@@ -3,6 +3,7 @@
 // what `lptn replay` and `lptn vcan-bench` run.
 #pragma once
 
+#include <array>
 #include <optional>
 #include <string>
 #include <vector>
@@ -10,6 +11,7 @@
 #include "lptn/firmware/estimator_config.hpp"
 #include "firmware/linux/replay.hpp"
 #include "can/canfile/can_log.hpp"
+#include "trainer/data/inspection.hpp"
 
 namespace lptn::replay {
 
@@ -26,8 +28,16 @@ struct BandCoverage {
   double share() const { return ticks ? static_cast<double>(within) / static_cast<double>(ticks) : 0.0; }
 };
 
+// How one input reached the model over a replay: ticks (rows) at which it was stale, implausible
+// (its last value outside its plausible range) or substituted (the model ran on its conservative
+// value, or without it for torque and voltage), from the status masks each row carries.
+struct InputHealth {
+  std::size_t stale = 0, implausible = 0, substituted = 0;
+};
+
 struct ReplaySummary {
   fw::ReplayStats stats;
+  std::array<InputHealth, fw::kNumInputs> inputs{};
   // The estimates against the readings on the bus: the stator winding's (which the filter fuses,
   // so this is near its noise) and the rotor telemetry's (never fused: a check of an unmeasured node).
   double rmse_stator_k = 0, rmse_rotor_k = 0;
@@ -39,19 +49,25 @@ struct ReplaySummary {
   fw::CoolingState cooling_state = fw::CoolingState::off;
   double cooling_alarm_from_s = -1;
   double seconds = 0;  // wall time of the replay (reading, estimating, writing)
-  // The CSV's first ten columns, header and rows: time_s and the fleet-dump inputs and readings,
-  // the very text written. What the check of the log against the motor's nameplate loads (the
-  // loader ignores the other columns, so loading these alone gives the same cycle, without
-  // parsing four times the text).
-  std::string inputs_csv;
   canfile::LogFormat format = canfile::LogFormat::candump;  // what the log was read as
 };
 
+// One line per input the model did not get as the log sent it (stale, implausible or substituted
+// at any row), naming the log, the share of rows, the input's plausible range and what the model
+// ran on instead: estimates at those rows are not the motor's as the log has it.
+std::vector<std::string> input_warnings(const std::string& log, const ReplaySummary& summary,
+                                        const fw::EstimatorConfig<double>& config);
+
 // `select`: the log's format (none: detected) and channel ("": all; frames of several channels are
-// read as one bus, with a warning). Throws std::invalid_argument (bad input: a log that cannot be
-// read, is in no format lptn reads, holds no frame, or none on the channel asked for) or
-// std::runtime_error (the output could not be written); nothing is left at `csv` then.
+// read as one bus, with a warning). `inputs_check`, where given, gets at every row the values the
+// log last sent for speed, current, frequency and voltage, plausible or not (NaN: none yet): the
+// check of the log against the motor's nameplate, which the model's own inputs cannot serve
+// (conditioning keeps values outside the nameplate's plausible ranges from them). Throws
+// std::invalid_argument (bad input: a log that cannot be read, is in no format lptn reads, holds
+// no frame, or none on the channel asked for) or std::runtime_error (the output could not be
+// written); nothing is left at `csv` then.
 ReplaySummary replay_to_csv(const std::string& log, const fw::EstimatorConfig<double>& config, const std::string& csv,
-                              bool quiet, const canfile::LogSelection& select = {});
+                              bool quiet, const canfile::LogSelection& select = {},
+                              data::NameplateCheck* inputs_check = nullptr);
 
 }  // namespace lptn::replay

@@ -131,55 +131,68 @@ nlohmann::json report_json(const Dataset& dataset) {
           {"warnings", dataset.warning_count()}};
 }
 
-std::vector<Finding> check_against_nameplate(const Dataset& dataset, const Nameplate& np) {
+namespace {
+constexpr double kCurrentFactor = 4.0;
+constexpr double kVoltageFactor = 1.3;
+// Slip of a traction induction motor is a few Hz at most; more means wrong pole pairs or scaling.
+constexpr double kFrequencyTolerance = 10.0;
+constexpr double kFrequencyShare = 0.01;
+}  // namespace
+
+NameplateCheck::NameplateCheck(const Nameplate& np) : nameplate_(np) {
   if (np.pole_pairs <= 0 || !(np.rated_current_a > 0) || !(np.rated_voltage_v > 0)) {
     throw std::invalid_argument("check_against_nameplate: pole_pairs, rated current and rated voltage must be positive");
   }
-  constexpr double kCurrentFactor = 4.0;
-  constexpr double kVoltageFactor = 1.3;
-  // Slip of a traction induction motor is a few Hz at most; more means wrong pole pairs or scaling.
-  constexpr double kFrequencyTolerance = 10.0;
-  constexpr double kFrequencyShare = 0.01;
+}
 
+void NameplateCheck::Over::add(float v, double limit) {
+  if (std::isnan(v)) return;
+  ++valid;
+  if (v > limit) ++over;
+  peak = std::max(peak, static_cast<double>(v));
+}
+
+void NameplateCheck::add(float speed_rpm, float current_a, float frequency_hz, float voltage_v) {
+  current_.add(current_a, kCurrentFactor * nameplate_.rated_current_a);
+  voltage_.add(voltage_v, kVoltageFactor * nameplate_.rated_voltage_v);
+  if (std::isnan(speed_rpm) || std::isnan(frequency_hz)) return;
+  ++both_;
+  // Magnitudes: some drives log the frequency unsigned while the speed carries the direction.
+  const double expected = std::fabs(static_cast<double>(speed_rpm)) * nameplate_.pole_pairs / 60.0;
+  if (std::fabs(std::fabs(static_cast<double>(frequency_hz)) - expected) > kFrequencyTolerance) ++off_;
+}
+
+std::vector<Finding> NameplateCheck::findings(const std::string& who) const {
+  std::vector<Finding> out;
+  const auto over = [&](const Over& o, Channel ch, const char* what, double rated, const char* unit) {
+    if (o.over == 0) return;
+    out.push_back({Finding::Severity::warning,
+                   strf("%s: %s above %s rated (%s %s) at %zu of %zu steps (%.2f%%), peak %s %s", who.c_str(),
+                        std::string(channel_name(ch)).c_str(), what, num(rated).c_str(), unit, o.over, o.valid,
+                        100.0 * static_cast<double>(o.over) / static_cast<double>(o.valid), num(o.peak).c_str(), unit)});
+  };
+  over(current_, Channel::current_a, "4x", nameplate_.rated_current_a, "A");
+  over(voltage_, Channel::voltage_v, "1.3x", nameplate_.rated_voltage_v, "V");
+  if (both_ > 0 && static_cast<double>(off_) > kFrequencyShare * static_cast<double>(both_)) {
+    out.push_back({Finding::Severity::warning,
+                   strf("%s: frequency_hz differs from speed_rpm * %d / 60 by more than %s Hz at %zu of %zu steps "
+                        "(%.1f%%); check pole_pairs and the channels' scaling",
+                        who.c_str(), nameplate_.pole_pairs, num(kFrequencyTolerance).c_str(), off_, both_,
+                        100.0 * static_cast<double>(off_) / static_cast<double>(both_))});
+  }
+  return out;
+}
+
+std::vector<Finding> check_against_nameplate(const Dataset& dataset, const Nameplate& np) {
+  const NameplateCheck empty(np);  // checks the nameplate before any cycle
   std::vector<Finding> out;
   for (const Cycle& c : dataset.cycles) {
-    const std::string who = strf("cycle %s (%s)", c.name.c_str(), c.file.string().c_str());
-    const auto over = [&](Channel ch, double limit, const char* what, double rated, const char* unit) {
-      std::size_t n = 0, valid = 0;
-      double peak = -HUGE_VAL;
-      for (std::size_t k = 0; k < c.steps; ++k) {
-        const float v = c.at(ch, k);
-        if (std::isnan(v)) continue;
-        ++valid;
-        if (v > limit) ++n;
-        peak = std::max(peak, static_cast<double>(v));
-      }
-      if (n == 0) return;
-      out.push_back({Finding::Severity::warning,
-                     strf("%s: %s above %s rated (%s %s) at %zu of %zu steps (%.2f%%), peak %s %s", who.c_str(),
-                          std::string(channel_name(ch)).c_str(), what, num(rated).c_str(), unit, n, valid,
-                          100.0 * static_cast<double>(n) / static_cast<double>(valid), num(peak).c_str(), unit)});
-    };
-    over(Channel::current_a, kCurrentFactor * np.rated_current_a, "4x", np.rated_current_a, "A");
-    over(Channel::voltage_v, kVoltageFactor * np.rated_voltage_v, "1.3x", np.rated_voltage_v, "V");
-
-    std::size_t both = 0, off = 0;
-    for (std::size_t k = 0; k < c.steps; ++k) {
-      const float n = c.at(Channel::speed_rpm, k);
-      const float f = c.at(Channel::frequency_hz, k);
-      if (std::isnan(n) || std::isnan(f)) continue;
-      ++both;
-      // Magnitudes: some drives log the frequency unsigned while the speed carries the direction.
-      const double expected = std::fabs(static_cast<double>(n)) * np.pole_pairs / 60.0;
-      if (std::fabs(std::fabs(static_cast<double>(f)) - expected) > kFrequencyTolerance) ++off;
-    }
-    if (both > 0 && static_cast<double>(off) > kFrequencyShare * static_cast<double>(both)) {
-      out.push_back({Finding::Severity::warning,
-                     strf("%s: frequency_hz differs from speed_rpm * %d / 60 by more than %s Hz at %zu of %zu steps "
-                          "(%.1f%%); check pole_pairs and the channels' scaling",
-                          who.c_str(), np.pole_pairs, num(kFrequencyTolerance).c_str(), off, both,
-                          100.0 * static_cast<double>(off) / static_cast<double>(both))});
-    }
+    NameplateCheck check = empty;
+    for (std::size_t k = 0; k < c.steps; ++k)
+      check.add(c.at(Channel::speed_rpm, k), c.at(Channel::current_a, k), c.at(Channel::frequency_hz, k),
+                c.at(Channel::voltage_v, k));
+    for (Finding& f : check.findings(strf("cycle %s (%s)", c.name.c_str(), c.file.string().c_str())))
+      out.push_back(std::move(f));
   }
   return out;
 }

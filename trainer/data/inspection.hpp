@@ -1,6 +1,7 @@
 #pragma once
 // What `lptn inspect` prints about a loaded fleet dump, and plausibility checks against the motor.
 
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -30,6 +31,27 @@ using Nameplate = lptn::Nameplate<double>;
 // speed * pole_pairs / 60 for more than 1% of the time both are present.
 // Throws std::invalid_argument when pole_pairs, rated current or rated voltage is not positive.
 std::vector<Finding> check_against_nameplate(const Dataset& dataset, const Nameplate& nameplate);
+
+// check_against_nameplate() of one cycle, sample by sample: for a caller whose samples come one at
+// a time (lptn replay, tick by tick) rather than as a loaded cycle. A sample is what the cycle
+// would hold at a step (float; NaN: absent).
+class NameplateCheck {
+ public:
+  explicit NameplateCheck(const Nameplate& nameplate);  // throws as check_against_nameplate()
+  void add(float speed_rpm, float current_a, float frequency_hz, float voltage_v);
+  // `who` opens each finding's message: "cycle NAME (FILE)".
+  std::vector<Finding> findings(const std::string& who) const;
+
+ private:
+  struct Over {  // samples of one channel above its limit
+    std::size_t valid = 0, over = 0;
+    double peak = -HUGE_VAL;
+    void add(float v, double limit);
+  };
+  Nameplate nameplate_;
+  Over current_, voltage_;
+  std::size_t both_ = 0, off_ = 0;  // steps with speed and frequency; of those, the frequency off
+};
 
 // Every warning `lptn inspect` finds in this dump, one line each (each names its file), for the
 // commands that read a dump to repeat before their results: what the loader tolerated (unknown or

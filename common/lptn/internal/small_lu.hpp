@@ -59,18 +59,29 @@ struct SmallLu {
   // getrs), then both substitutions on b itself. No temporary: with Jets, a temporary of
   // kMaxStates entries would be constructed (zeroed) on every call.
   void solve(T* b) const {
+    T* const columns[1] = {b};
+    solve_columns(columns, 1);
+  }
+  // solve() of `count` right-hand sides, each with exactly solve()'s arithmetic in solve()'s order
+  // (so each gives solve()'s bits), interleaved row by row: the back substitution's divisions of
+  // different columns are independent and overlap in the pipeline, where one column's wait for
+  // each other in turn.
+  void solve_columns(T* const* b, int count) const {
     for (int k = 0; k < n; ++k)
-      if (swap[k] != k) {
-        T t = b[k];
-        b[k] = b[swap[k]];
-        b[swap[k]] = t;
-      }
+      if (swap[k] != k)
+        for (int c = 0; c < count; ++c) {
+          T t = b[c][k];
+          b[c][k] = b[c][swap[k]];
+          b[c][swap[k]] = t;
+        }
     for (int i = 0; i < n; ++i)
-      for (int j = 0; j < i; ++j) b[i] -= lu[i][j] * b[j];
-    for (int i = n - 1; i >= 0; --i) {
-      for (int j = i + 1; j < n; ++j) b[i] -= lu[i][j] * b[j];
-      b[i] /= lu[i][i];
-    }
+      for (int c = 0; c < count; ++c)
+        for (int j = 0; j < i; ++j) b[c][i] -= lu[i][j] * b[c][j];
+    for (int i = n - 1; i >= 0; --i)
+      for (int c = 0; c < count; ++c) {
+        for (int j = i + 1; j < n; ++j) b[c][i] -= lu[i][j] * b[c][j];
+        b[c][i] /= lu[i][i];
+      }
   }
 };
 

@@ -79,6 +79,7 @@ class Estimator {
   const EstimatorConfig<T>& config() const { return config_; }
   const Observer<T>& observer() const { return observer_; }
   const EstimatorOutput<T>& output() const { return out_; }
+  const InputConditioner<T>& input_conditioner() const { return inputs_; }
 
   void receive(const CanFrame& f, TimeUs t) {
     if (have_rx_ && t < last_rx_) events_ |= bus_event::kTimeBackwards;

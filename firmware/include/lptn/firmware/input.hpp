@@ -26,6 +26,8 @@ constexpr InputMask bit(Input i) { return static_cast<InputMask>(1u << index_of(
 
 inline constexpr const char* kInputNames[kNumInputs] = {"speed",  "current", "frequency",     "airflow",     "ambient",
                                                         "torque", "voltage", "stator_sensor", "rotor_sensor"};
+// Each input's unit, as its plausible range is given (estimator_config.hpp).
+inline constexpr const char* kInputUnits[kNumInputs] = {"1/min", "A", "Hz", "m3/s", "C", "Nm", "V", "C", "C"};
 
 // What every converter sends (docs/onboard.md, "Signal conditioning"): the model cannot run without these. Torque and voltage
 // refine the loss model where the bus carries them; the temperature sensors correct and start it.

@@ -48,6 +48,7 @@ class InputConditioner {
   bool receive(Input i, T value, TimeUs t) {
     Channel& c = state_[index_of(i)];
     c.counter_fault = false;
+    c.received = value;
     using std::isfinite;
     if (!isfinite(value) || value < c.limits.min || value > c.limits.max) {
       c.implausible = true;
@@ -81,6 +82,9 @@ class InputConditioner {
     return c.counter_fault || (now > c.t_good && now - c.t_good > c.limits.timeout_us);
   }
   bool implausible(Input i) const { return state_[index_of(i)].implausible; }
+  // The last value received, plausible or not (NaN: none yet): what the bus said, for a check of
+  // the bus against the motor (lptn replay's against the nameplate), not for the model.
+  T last_received(Input i) const { return state_[index_of(i)].received; }
 
   // Counts good values, so that a consumer can tell a new reading from the one it already used.
   unsigned sequence(Input i) const { return state_[index_of(i)].sequence; }
@@ -102,6 +106,7 @@ class InputConditioner {
   struct Channel {
     InputLimits<T> limits;
     T value = T(0);
+    T received = T(NAN);
     TimeUs t_good = 0;
     bool has_good = false;
     bool implausible = false;

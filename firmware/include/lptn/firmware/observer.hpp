@@ -140,11 +140,6 @@ class Observer {
     model_.assemble(step, p.data(), sys);
     losses_ = step.losses;
     T phi[kMaxFilterStates][kMaxFilterStates]{};
-    T model_phi[kMaxStates][kMaxStates];
-    internal::SmallLu<T> lu;
-    if (!Sdirk2<T>::transition(sys, settings_.dt_s, model_phi, lu)) return false;
-    for (int i = 0; i < n; ++i)
-      for (int j = 0; j < n; ++j) phi[i][j] = model_phi[i][j];
     // The rates at x_, and one network for every stepped set below (assemble() sets all it reads).
     T rate[kMaxStates];
     for (int i = 0; i < n; ++i) rate[i] = sys.derivative(i, x_);
@@ -173,7 +168,12 @@ class Observer {
       const T scale = settings_.dt_s / T(kParamStep - 1.0);
       for (int i = 0; i < n; ++i) psi[i][c] = (stepped.derivative(i, x_) - rate[i]) * scale;
     }
-    Sdirk2<T>::step_factored(sys, lu, x_, settings_.dt_s);
+    // The step of the state and its transition matrix last: the columns above are rates at the
+    // step's start.
+    T model_phi[kMaxStates][kMaxStates];
+    if (!Sdirk2<T>::step_and_transition(sys, x_, settings_.dt_s, model_phi)) return false;
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j) phi[i][j] = model_phi[i][j];
     propagate_covariance(phi, psi, freeze_cooling);
     return true;
   }
