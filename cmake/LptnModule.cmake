@@ -29,7 +29,12 @@ function(lptn_module_headers target)
     endforeach()
   endforeach()
   file(MAKE_DIRECTORY "${root}/public" "${root}/internal")
-  target_include_directories(${target} PUBLIC "${root}/public" PRIVATE "${root}/internal")
+  get_target_property(type ${target} TYPE)
+  if(type STREQUAL "INTERFACE_LIBRARY")  # header-only: nothing of its own is compiled
+    target_include_directories(${target} INTERFACE "${root}/public")
+  else()
+    target_include_directories(${target} PUBLIC "${root}/public" PRIVATE "${root}/internal")
+  endif()
 endfunction()
 
 # lptn_module_internals(TEST_TARGET LIBRARY): a module's own tests may reach its internal headers.

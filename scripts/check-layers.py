@@ -27,7 +27,7 @@ MODULES = [
     "trainer/data", "trainer/model", "trainer/calibrate", "trainer/lm", "trainer/td3", "trainer/search", "trainer/diagnose",
     "trainer/fleet", "trainer/check", "trainer/workflow",
     "simulator/plant", "simulator/generate",
-    "can/dbc", "can/bus", "can/codegen", "can/canfile", "can/canlog",
+    "can/frames", "can/dbc", "can/bus", "can/codegen", "can/canfile", "can/canlog",
     "tools/export", "tools/replay", "tools/report",
     "programs/cli", "programs/vcan-bench",
     "tests",
@@ -42,7 +42,9 @@ DEPENDS = {
     "hostio": [],
     "firmware/include": ["common", "can/codecs"],
     "firmware/calibration": ["common"],
-    "firmware/linux": ["firmware/include", "hostio"],
+    # The log readers' interface and candump's reader: the daemon's replay and the host's log formats.
+    "can/frames": ["firmware/include", "hostio"],
+    "firmware/linux": ["firmware/include", "can/frames", "hostio"],
     "firmware/baremetal": ["firmware/include", "firmware/calibration"],
     # Benchmarks are tests beside the code: they may use the test-support library's simulated converter.
     "firmware/bench": ["firmware/linux", "firmware/calibration", "tests"],
@@ -68,10 +70,10 @@ DEPENDS = {
     # The build's generators of the codecs and the bus glue (can/codecs' headers), programs for the
     # build host built from the two readers: the readers are the one description of the CAN bus.
     "can/codegen": ["can/dbc", "can/bus", "hostio"],
-    "can/canfile": ["firmware/linux"],
+    "can/canfile": ["can/frames"],
     "can/canlog": ["trainer/data", "can/canfile", "can/bus"],
     "tools/export": ["trainer/calibrate"],
-    "tools/replay": ["trainer/calibrate", "can/canfile", "firmware/calibration"],
+    "tools/replay": ["trainer/calibrate", "can/canfile", "firmware/linux", "firmware/calibration"],
     "tools/report": ["trainer/diagnose", "trainer/fleet", "trainer/check"],
     "programs/cli": ["simulator/generate", "tools/export", "can/bus", "can/canfile", "can/canlog", "tools/replay",
                   "tools/report", "trainer/td3", "trainer/workflow"],

@@ -24,7 +24,7 @@ namespace lptn::canfile {
 namespace {
 
 using fw::CanFrame;
-using fw::FrameSource;
+using frames::FrameSource;
 using fw::TimeUs;
 
 // Whitespace-separated fields of one line; more than kMax are not looked at.
@@ -305,7 +305,7 @@ bool is_asc_header_line(std::string_view line) {
          (iequals(first, "no") && iequals(fields[1], "internal"));
 }
 
-std::unique_ptr<fw::FrameSource> make_asc_source(File file) { return std::make_unique<AscSource>(std::move(file)); }
+std::unique_ptr<frames::FrameSource> make_asc_source(File file) { return std::make_unique<AscSource>(std::move(file)); }
 std::unique_ptr<LogWriter> make_asc_writer() { return std::make_unique<AscWriter>(); }
 
 }  // namespace lptn::canfile

@@ -26,7 +26,7 @@ namespace lptn::canfile {
 namespace {
 
 using fw::CanFrame;
-using fw::FrameSource;
+using frames::FrameSource;
 using fw::TimeUs;
 
 constexpr std::size_t kFileHeaderSize = 144;
@@ -446,7 +446,7 @@ class BlfWriter final : public LogWriter {
 
 }  // namespace
 
-std::unique_ptr<fw::FrameSource> make_blf_source(File file, const std::filesystem::path& path) {
+std::unique_ptr<frames::FrameSource> make_blf_source(File file, const std::filesystem::path& path) {
   return std::make_unique<BlfSource>(std::move(file), path);
 }
 std::unique_ptr<LogWriter> make_blf_writer() { return std::make_unique<BlfWriter>(); }

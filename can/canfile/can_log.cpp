@@ -46,7 +46,7 @@ std::optional<LogFormat> format_from_extension(const fs::path& file) {
   return std::nullopt;
 }
 
-std::string record_message(const fs::path& file, const fw::FrameSource& source, std::size_t record,
+std::string record_message(const fs::path& file, const frames::FrameSource& source, std::size_t record,
                            std::string_view reason) {
   const std::string_view name = source.record_name();
   if (name == "record") return file.string() + ": " + std::string(reason);  // MDF4: the reason names the byte offset
@@ -101,7 +101,7 @@ LogFormat detect_format(const fs::path& file) {
                  ": not a CAN log lptn reads (candump -L, Vector ASC, Vector BLF or MDF4; --format names one)");
 }
 
-std::unique_ptr<fw::FrameSource> open_log(const fs::path& file, LogFormat format) {
+std::unique_ptr<frames::FrameSource> open_log(const fs::path& file, LogFormat format) {
   switch (format) {
     case LogFormat::candump: return make_candump_source(open_file(file));
     case LogFormat::asc: return make_asc_source(open_file(file));
@@ -111,7 +111,7 @@ std::unique_ptr<fw::FrameSource> open_log(const fs::path& file, LogFormat format
   throw LogError(file.string() + ": unknown log format");
 }
 
-std::unique_ptr<fw::FrameSource> open_log(std::FILE* stream, LogFormat format, const std::string& name) {
+std::unique_ptr<frames::FrameSource> open_log(std::FILE* stream, LogFormat format, const std::string& name) {
   File file(stream, &std::fclose);
   switch (format) {
     case LogFormat::candump: return make_candump_source(std::move(file));
@@ -122,7 +122,7 @@ std::unique_ptr<fw::FrameSource> open_log(std::FILE* stream, LogFormat format, c
   throw LogError(name + ": unknown log format");
 }
 
-fw::FrameSource::Status ChannelFilter::next(fw::TimeUs& time_us, fw::CanFrame& frame, const char*& why) {
+frames::FrameSource::Status ChannelFilter::next(fw::TimeUs& time_us, fw::CanFrame& frame, const char*& why) {
   for (;;) {
     const Status s = source_->next(time_us, frame, why);
     if (s != Status::frame) return s;

@@ -1,6 +1,6 @@
 // CAN log files as engineers bring them: candump -L (can-utils), Vector ASC, Vector BLF and ASAM MDF4
 // bus logging files, read frame by frame and written whole. Readers are replay's frame sources
-// (firmware/linux), so `lptn replay` and `lptn convert` take any of them through the same code.
+// (can/frames), so `lptn replay` and `lptn convert` take any of them through the same code.
 #pragma once
 
 #include <cstdio>
@@ -12,7 +12,7 @@
 #include <string_view>
 #include <vector>
 
-#include "firmware/linux/frame_source.hpp"
+#include "can/frames/frame_source.hpp"
 #include "hostio/bad_input.hpp"
 #include "lptn/firmware/can_frame.hpp"
 #include "lptn/firmware/input.hpp"
@@ -34,7 +34,7 @@ inline constexpr std::size_t kRecordMessagesShown = 10;
 
 // "FILE:LINE: reason" for a text log's line, "FILE: object N: reason" for a BLF's object, "FILE: reason"
 // for an MDF4 file (whose reasons name the block's byte offset).
-std::string record_message(const std::filesystem::path& file, const fw::FrameSource& source, std::size_t record,
+std::string record_message(const std::filesystem::path& file, const frames::FrameSource& source, std::size_t record,
                            std::string_view reason);
 
 // A log that cannot be opened or is in no format lptn reads: one line naming the file.
@@ -50,16 +50,16 @@ LogFormat detect_format(const std::filesystem::path& file);
 
 // A reader of `file` in `format`. Throws LogError if it cannot be opened, or a BLF's file header
 // or an MDF4's identification and header blocks are not one.
-std::unique_ptr<fw::FrameSource> open_log(const std::filesystem::path& file, LogFormat format);
+std::unique_ptr<frames::FrameSource> open_log(const std::filesystem::path& file, LogFormat format);
 // The same for an open stream (which the reader closes; BLF's and MDF4's must be seekable), `name` for messages.
-std::unique_ptr<fw::FrameSource> open_log(std::FILE* stream, LogFormat format, const std::string& name);
+std::unique_ptr<frames::FrameSource> open_log(std::FILE* stream, LogFormat format, const std::string& name);
 
 // The frames of one channel of a log ("" for all of them), and which channels the log holds: a
 // recorder's log may hold several buses, and two that both carry the converter's ids must not be
 // read as one.
-class ChannelFilter final : public fw::FrameSource {
+class ChannelFilter final : public frames::FrameSource {
  public:
-  ChannelFilter(std::unique_ptr<fw::FrameSource> source, std::string wanted)
+  ChannelFilter(std::unique_ptr<frames::FrameSource> source, std::string wanted)
       : source_(std::move(source)), wanted_(std::move(wanted)) {}
   Status next(fw::TimeUs& time_us, fw::CanFrame& frame, const char*& why) override;
   std::size_t record() const override { return source_->record(); }
@@ -72,7 +72,7 @@ class ChannelFilter final : public fw::FrameSource {
   std::string channel_list() const;
 
  private:
-  std::unique_ptr<fw::FrameSource> source_;
+  std::unique_ptr<frames::FrameSource> source_;
   std::string wanted_;
   std::vector<std::string> channels_;
 };

@@ -1,4 +1,4 @@
-// candump -L logs: the firmware's candump source (firmware/linux/frame_source.hpp) on a reader of
+// candump -L logs: the CAN wing's candump source (can/frames/frame_source.hpp) on a reader of
 // blocks; the writer formats lines as candump_line.hpp does.
 #include "lptn/firmware/candump_line.hpp"
 #include "can/canfile/internal/block_line_reader.hpp"
@@ -12,9 +12,9 @@ namespace {
 struct HeldFile {
   File file;
 };
-class OwningCandumpSource final : private HeldFile, public fw::CandumpLines<BlockLineReader> {
+class OwningCandumpSource final : private HeldFile, public frames::CandumpLines<BlockLineReader> {
  public:
-  explicit OwningCandumpSource(File f) : HeldFile{std::move(f)}, fw::CandumpLines<BlockLineReader>(file.get()) {}
+  explicit OwningCandumpSource(File f) : HeldFile{std::move(f)}, frames::CandumpLines<BlockLineReader>(file.get()) {}
 };
 
 class CandumpWriter final : public LogWriter {
@@ -74,7 +74,7 @@ class CandumpWriter final : public LogWriter {
 
 }  // namespace
 
-std::unique_ptr<fw::FrameSource> make_candump_source(File file) {
+std::unique_ptr<frames::FrameSource> make_candump_source(File file) {
   return std::make_unique<OwningCandumpSource>(std::move(file));
 }
 std::unique_ptr<LogWriter> make_candump_writer(const std::string& interface) {

@@ -31,7 +31,7 @@ namespace {
 
 using namespace mdf4;
 using fw::CanFrame;
-using fw::FrameSource;
+using frames::FrameSource;
 using fw::TimeUs;
 
 constexpr std::uint64_t kMaxMetaBlock = 1u << 20;
@@ -865,7 +865,7 @@ class Mdf4Source final : public FrameSource {
 
 }  // namespace
 
-std::unique_ptr<fw::FrameSource> make_mdf4_source(File file, const std::filesystem::path& path) {
+std::unique_ptr<frames::FrameSource> make_mdf4_source(File file, const std::filesystem::path& path) {
   return std::make_unique<Mdf4Source>(std::move(file), path);
 }
 

@@ -151,7 +151,7 @@ struct Row {
 // Collects rows and what was left out, then writes the CSV with the columns that occurred.
 class CsvBuilder {
  public:
-  CsvBuilder(const fs::path& log, const fw::FrameSource& source, const lptn::bus::BusMap* map)
+  CsvBuilder(const fs::path& log, const frames::FrameSource& source, const lptn::bus::BusMap* map)
       : log_(log), source_(source) {
     if (map) mapped_.emplace(*map);
   }
@@ -283,7 +283,7 @@ class CsvBuilder {
   }
 
   const fs::path& log_;
-  const fw::FrameSource& source_;
+  const frames::FrameSource& source_;
   std::optional<MappedColumns> mapped_;
   std::vector<Row> rows_;
   std::array<bool, kNumChannels> present_{};
@@ -302,8 +302,8 @@ Converted csv_from_log(const fs::path& log, const canfile::LogSelection& select,
   TimeUs t = 0;
   fw::CanFrame frame;
   const char* why = nullptr;
-  for (fw::FrameSource::Status s; (s = source.next(t, frame, why)) != fw::FrameSource::Status::end;) {
-    if (s == fw::FrameSource::Status::bad) builder.bad(source.record(), why);
+  for (frames::FrameSource::Status s; (s = source.next(t, frame, why)) != frames::FrameSource::Status::end;) {
+    if (s == frames::FrameSource::Status::bad) builder.bad(source.record(), why);
     else builder.frame(t, frame, source.record());
   }
   bool fatal = false;

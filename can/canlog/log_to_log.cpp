@@ -21,8 +21,8 @@ Converted log_from_log(const std::filesystem::path& log, const canfile::LogSelec
   const char* why = nullptr;
   std::size_t bad = 0, backwards = 0, first_bad = 0, first_backwards = 0;
   std::string first_why;
-  for (fw::FrameSource::Status s; (s = source.next(t, frame, why)) != fw::FrameSource::Status::end;) {
-    if (s == fw::FrameSource::Status::bad) {
+  for (frames::FrameSource::Status s; (s = source.next(t, frame, why)) != frames::FrameSource::Status::end;) {
+    if (s == frames::FrameSource::Status::bad) {
       if (bad++ == 0) {
         first_bad = source.record();
         first_why = why ? why : "";

@@ -2,7 +2,7 @@
 
 namespace lptn::fw {
 
-ReplayStats replay_frames(FrameSource& log, Estimator<double>& estimator, const ReplaySinks& sinks) {
+ReplayStats replay_frames(frames::FrameSource& log, Estimator<double>& estimator, const ReplaySinks& sinks) {
   ReplayStats stats;
   ReplayClock<double> clock(estimator);
   auto row = [&](const EstimatorOutput<double>& out, TimeUs first_us) {
@@ -12,9 +12,9 @@ ReplayStats replay_frames(FrameSource& log, Estimator<double>& estimator, const 
   TimeUs time_us = 0;
   CanFrame frame;
   const char* why = nullptr;
-  for (FrameSource::Status status; (status = log.next(time_us, frame, why)) != FrameSource::Status::end;) {
+  for (frames::FrameSource::Status status; (status = log.next(time_us, frame, why)) != frames::FrameSource::Status::end;) {
     stats.records = log.record();
-    if (status == FrameSource::Status::bad) {
+    if (status == frames::FrameSource::Status::bad) {
       ++stats.bad_records;
       if (sinks.bad_record) sinks.bad_record(stats.records, why);
       continue;

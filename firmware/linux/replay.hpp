@@ -9,7 +9,7 @@
 #include <string>
 
 #include "lptn/firmware/candump_line.hpp"
-#include "frame_source.hpp"
+#include "can/frames/frame_source.hpp"
 #include "lptn/firmware/estimator.hpp"
 #include "lptn/firmware/replay_clock.hpp"
 
@@ -31,10 +31,10 @@ struct ReplaySinks {
   std::size_t progress_every = 1000000;
 };
 
-ReplayStats replay_frames(FrameSource& log, Estimator<double>& estimator, const ReplaySinks& sinks);
+ReplayStats replay_frames(frames::FrameSource& log, Estimator<double>& estimator, const ReplaySinks& sinks);
 
 inline ReplayStats replay_candump(std::FILE* log, Estimator<double>& estimator, const ReplaySinks& sinks) {
-  CandumpSource source(log);
+  frames::CandumpSource source(log);
   return replay_frames(source, estimator, sinks);
 }
 

@@ -21,7 +21,7 @@
 
 #include "lptn_testing/temp_dir.hpp"
 
-namespace lptn {
+namespace lptn::cli {
 namespace {
 
 namespace fs = std::filesystem;
@@ -172,4 +172,4 @@ TEST(BadInputHugeLine, ACanLogWithATwoGigabyteLineLosesThatLineOnly) {
 }
 
 }  // namespace
-}  // namespace lptn
+}  // namespace lptn::cli

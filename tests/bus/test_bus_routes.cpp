@@ -25,7 +25,7 @@
 #include "tools/replay/replay_to_csv.hpp"
 #include "trainer/calibrate/calibration_file.hpp"
 
-namespace lptn {
+namespace lptn::bus {
 namespace {
 
 namespace fs = std::filesystem;
@@ -69,11 +69,10 @@ class BusRoutes : public ::testing::Test {
   static void SetUpTestSuite() {
     dir_ = new TempDir;
     const fs::path d = dir_->path();
-    const auto g = run("generate --out " + (d / "data").string() + " --cycles 1 --seed 11 --minutes-min 20 --minutes-max 20", d);
-    ASSERT_EQ(g.code, 0) << g.err;
-    for (const auto& e : fs::directory_iterator(d / "data"))
-      if (e.path().extension() == ".csv") csv_ = e.path();
-    ASSERT_FALSE(csv_.empty());
+    const auto g = testing::generate_cycle(d, 11, 20, 20);
+    ASSERT_EQ(g.generate.code, 0) << g.generate.err;
+    ASSERT_FALSE(g.csv.empty());
+    csv_ = g.csv;
     auto c = run("convert --in " + csv_.string() + " --out " + path("own.log").string(), d);
     ASSERT_EQ(c.code, 0) << c.err;
     c = run("convert --bus " + kForeignBus + " --in " + csv_.string() + " --out " + path("foreign.log").string(), d);
@@ -300,4 +299,4 @@ TEST_F(BusRoutes, ProtectedInputFramesAreDroppedAndReported) {
 }
 
 }  // namespace
-}  // namespace lptn
+}  // namespace lptn::bus

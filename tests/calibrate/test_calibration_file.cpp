@@ -12,7 +12,7 @@
 #include "trainer/calibrate/calibration_file.hpp"
 #include "trainer/model/motor_file.hpp"
 
-namespace lptn {
+namespace lptn::calibrate {
 namespace {
 
 // The motor file's text as kept (provenance only from format 3 on): escaped and read back whole.
@@ -359,7 +359,7 @@ TEST(CalibrationFile, UnknownNamesAreRefused) {
 // A file written before an effect was appended to the library lacks that effect's parameters; it
 // stays readable as long as it does not enable the effect (docs/effects.md, "Writing a new effect").
 TEST(CalibrationFile, ParametersOfEffectsItDoesNotEnableMayBeAbsent) {
-  const calibrate::CalibrationResult sample = lptn::sample();
+  const calibrate::CalibrationResult sample = calibrate::sample();
   int absent_effect = kNumEffects - 1;  // the last effect the sample leaves off
   while (absent_effect >= 0 && (sample.effects & effect_bit(absent_effect))) --absent_effect;
   ASSERT_GE(absent_effect, 0);
@@ -406,4 +406,4 @@ TEST(CalibrationFile, InconsistentActorIsRefused) {
 }
 
 }  // namespace
-}  // namespace lptn
+}  // namespace lptn::calibrate

@@ -7,7 +7,7 @@
 
 #include "trainer/calibrate/calibration_outcome.hpp"
 
-namespace lptn {
+namespace lptn::calibrate {
 namespace {
 
 // A calibration that is fine in every respect: two calibrated conductances well inside their
@@ -171,4 +171,4 @@ TEST(OutcomeRules, DataFindingsAreWarnings) {
 }
 
 }  // namespace
-}  // namespace lptn
+}  // namespace lptn::calibrate

@@ -11,6 +11,7 @@
 
 #include "lptn_testing/temp_dir.hpp"
 #include "can/canfile/can_log.hpp"
+#include "make_frame.hpp"
 
 namespace lptn::canfile {
 namespace {
@@ -25,24 +26,14 @@ struct Stamped {
   CanFrame f;
 };
 
-CanFrame frame(std::uint32_t id, bool extended, std::vector<std::uint8_t> data, bool fd = false) {
-  CanFrame f;
-  f.id = id;
-  f.extended = extended;
-  f.fd = fd;
-  f.len = static_cast<std::uint8_t>(data.size());
-  for (std::size_t i = 0; i < data.size(); ++i) f.data[i] = data[i];
-  return f;
-}
-
 // Every kind of frame a converter's log holds, then enough classic frames (6000, 48 bytes each in
 // a BLF) to fill more than two 128 KiB containers, so that objects straddle them.
 std::vector<Stamped> sample_frames() {
   const TimeUs t0 = 1700000000LL * fw::kUsPerS + 123456;
   std::vector<Stamped> v;
-  v.push_back({t0, frame(0x101, false, {0x0A, 0x1B, 0x2C, 0x3D, 0x00, 0x00, 0x00, 0x05})});
-  v.push_back({t0 + 250, frame(0x18FEF100, true, {1, 2, 3})});
-  CanFrame remote = frame(0x200, false, {});
+  v.push_back({t0, make_frame(0x101, false, {0x0A, 0x1B, 0x2C, 0x3D, 0x00, 0x00, 0x00, 0x05})});
+  v.push_back({t0 + 250, make_frame(0x18FEF100, true, {1, 2, 3})});
+  CanFrame remote = make_frame(0x200, false, {});
   remote.remote = true;
   remote.len = 4;
   v.push_back({t0 + 1000, remote});
@@ -52,12 +43,12 @@ std::vector<Stamped> sample_frames() {
   v.push_back({t0 + 2000, error});
   std::vector<std::uint8_t> b64(64);
   for (std::size_t i = 0; i < b64.size(); ++i) b64[i] = static_cast<std::uint8_t>(i * 7);
-  v.push_back({t0 + 3123, frame(0x123, false, b64, true)});
-  v.push_back({t0 + 4000, frame(0x1ABCDE0, true, {9, 8, 7, 6, 5, 4, 3, 2, 1, 0, 0xFF, 0xEE}, true)});
-  v.push_back({t0 + 5000, frame(0x7FF, false, {})});
+  v.push_back({t0 + 3123, make_frame(0x123, false, b64, true)});
+  v.push_back({t0 + 4000, make_frame(0x1ABCDE0, true, {9, 8, 7, 6, 5, 4, 3, 2, 1, 0, 0xFF, 0xEE}, true)});
+  v.push_back({t0 + 5000, make_frame(0x7FF, false, {})});
   for (int k = 0; k < 6000; ++k) {
     const auto b = static_cast<std::uint8_t>(k);
-    v.push_back({t0 + 10000 + k * 997, frame(0x100 + static_cast<std::uint32_t>(k % 5), false,
+    v.push_back({t0 + 10000 + k * 997, make_frame(0x100 + static_cast<std::uint32_t>(k % 5), false,
                                              {b, static_cast<std::uint8_t>(k >> 8), 0x55, b, 0, 0, 0, 1})});
   }
   return v;
@@ -110,8 +101,8 @@ Read read_log(const fs::path& p, LogFormat format) {
   TimeUs t = 0;
   CanFrame f;
   const char* why = nullptr;
-  for (fw::FrameSource::Status s; (s = source->next(t, f, why)) != fw::FrameSource::Status::end;) {
-    if (s == fw::FrameSource::Status::bad) r.bad.push_back(std::to_string(source->record()) + ": " + why);
+  for (frames::FrameSource::Status s; (s = source->next(t, f, why)) != frames::FrameSource::Status::end;) {
+    if (s == frames::FrameSource::Status::bad) r.bad.push_back(std::to_string(source->record()) + ": " + why);
     else r.frames.push_back({t, f});
   }
   return r;

@@ -12,7 +12,7 @@
 #include "lptn_testing/run_lptn.hpp"
 #include "lptn_testing/temp_dir.hpp"
 
-namespace lptn {
+namespace lptn::canfile {
 namespace {
 
 namespace fs = std::filesystem;
@@ -28,11 +28,10 @@ class FormatsCli : public ::testing::Test {
   static void SetUpTestSuite() {
     dir_ = new TempDir;
     const fs::path d = dir_->path();
-    const auto g = run("generate --out " + (d / "data").string() + " --cycles 1 --seed 7 --minutes-min 6 --minutes-max 6", d);
-    ASSERT_EQ(g.code, 0) << g.err;
-    for (const auto& e : fs::directory_iterator(d / "data"))
-      if (e.path().extension() == ".csv") csv_ = e.path();
-    ASSERT_FALSE(csv_.empty());
+    const auto g = testing::generate_cycle(d, 7, 6, 6);
+    ASSERT_EQ(g.generate.code, 0) << g.generate.err;
+    ASSERT_FALSE(g.csv.empty());
+    csv_ = g.csv;
     for (const char* name : {"lptn.log", "lptn.asc", "lptn.blf", "lptn.mf4"}) {
       const auto c = run("convert --in " + csv_.string() + " --out " + (d / name).string() + " --start-time 1700000000", d);
       ASSERT_EQ(c.code, 0) << c.err;
@@ -199,4 +198,4 @@ TEST_F(FormatsCli, ADamagedMdf4BlockIsOneMessageWithItsOffsetAndJunkNamedMf4IsRe
 }
 
 }  // namespace
-}  // namespace lptn
+}  // namespace lptn::canfile

@@ -17,6 +17,7 @@
 
 #include "lptn_testing/temp_dir.hpp"
 #include "can/canfile/can_log.hpp"
+#include "make_frame.hpp"
 
 namespace lptn::canfile {
 namespace {
@@ -47,8 +48,8 @@ Read read_log(const fs::path& p, LogFormat format = LogFormat::mdf4) {
   TimeUs t = 0;
   CanFrame f;
   const char* why = nullptr;
-  for (fw::FrameSource::Status s; (s = source->next(t, f, why)) != fw::FrameSource::Status::end;) {
-    if (s == fw::FrameSource::Status::bad) r.bad.push_back(record_message(p, *source, source->record(), why));
+  for (frames::FrameSource::Status s; (s = source->next(t, f, why)) != frames::FrameSource::Status::end;) {
+    if (s == frames::FrameSource::Status::bad) r.bad.push_back(record_message(p, *source, source->record(), why));
     else r.frames.push_back({t, f, std::string(source->channel())});
   }
   return r;
@@ -97,23 +98,13 @@ std::string written(LogFormat format, const std::vector<Stamped>& frames) {
   return w->finish();
 }
 
-CanFrame frame(std::uint32_t id, bool extended, std::vector<std::uint8_t> data, bool fd = false) {
-  CanFrame f;
-  f.id = id;
-  f.extended = extended;
-  f.fd = fd;
-  f.len = static_cast<std::uint8_t>(data.size());
-  for (std::size_t i = 0; i < data.size(); ++i) f.data[i] = data[i];
-  return f;
-}
-
 // Every kind of frame, then `n` classic frames: 30000 fill eight of the writer's DZ blocks.
 std::vector<Stamped> sample_frames(int n = 30000) {
   const TimeUs t0 = 1700000000LL * fw::kUsPerS + 123456;
   std::vector<Stamped> v;
-  v.push_back({t0, frame(0x101, false, {0x0A, 0x1B, 0x2C, 0x3D, 0x00, 0x00, 0x00, 0x05}), "1"});
-  v.push_back({t0 + 250, frame(0x18FEF100, true, {1, 2, 3}), "1"});
-  CanFrame remote = frame(0x200, false, {});
+  v.push_back({t0, make_frame(0x101, false, {0x0A, 0x1B, 0x2C, 0x3D, 0x00, 0x00, 0x00, 0x05}), "1"});
+  v.push_back({t0 + 250, make_frame(0x18FEF100, true, {1, 2, 3}), "1"});
+  CanFrame remote = make_frame(0x200, false, {});
   remote.remote = true;
   remote.len = 4;
   v.push_back({t0 + 1000, remote, "1"});
@@ -123,12 +114,12 @@ std::vector<Stamped> sample_frames(int n = 30000) {
   v.push_back({t0 + 2000, error, "1"});
   std::vector<std::uint8_t> b64(64);
   for (std::size_t i = 0; i < b64.size(); ++i) b64[i] = static_cast<std::uint8_t>(i * 7);
-  v.push_back({t0 + 3123, frame(0x123, false, b64, true), "1"});
-  v.push_back({t0 + 4000, frame(0x1ABCDE0, true, {9, 8, 7, 6, 5, 4, 3, 2, 1, 0, 0xFF, 0xEE}, true), "1"});
-  v.push_back({t0 + 5000, frame(0x7FF, false, {}), "1"});
+  v.push_back({t0 + 3123, make_frame(0x123, false, b64, true), "1"});
+  v.push_back({t0 + 4000, make_frame(0x1ABCDE0, true, {9, 8, 7, 6, 5, 4, 3, 2, 1, 0, 0xFF, 0xEE}, true), "1"});
+  v.push_back({t0 + 5000, make_frame(0x7FF, false, {}), "1"});
   for (int k = 0; k < n; ++k) {
     const auto b = static_cast<std::uint8_t>(k);
-    v.push_back({t0 + 10000 + k * 997LL, frame(0x100 + static_cast<std::uint32_t>(k % 5), false,
+    v.push_back({t0 + 10000 + k * 997LL, make_frame(0x100 + static_cast<std::uint32_t>(k % 5), false,
                                                {b, static_cast<std::uint8_t>(k >> 8), 0x55, b, 0, 0, 0, 1}), "1"});
   }
   return v;
@@ -441,7 +432,7 @@ Built build(int sorted_records, int dt_blocks, bool second_group = true) {
   std::string records, sd;
   for (int k = 0; k < sorted_records; ++k) {
     const TimeUs t = static_cast<TimeUs>(Builder::kStartNs / 1000) + 20000LL * k;
-    CanFrame f = frame(k % 2 ? 0x1234567u + static_cast<std::uint32_t>(k) : 0x300u + static_cast<std::uint32_t>(k), k % 2,
+    CanFrame f = make_frame(k % 2 ? 0x1234567u + static_cast<std::uint32_t>(k) : 0x300u + static_cast<std::uint32_t>(k), k % 2,
                        {});
     f.len = static_cast<std::uint8_t>(k % 9);
     for (int i = 0; i < f.len; ++i) f.data[i] = static_cast<std::uint8_t>(k * 3 + i);
@@ -503,7 +494,7 @@ Built build(int sorted_records, int dt_blocks, bool second_group = true) {
   std::string unsorted;
   for (int k = 0; k < 50; ++k) {
     const TimeUs t = static_cast<TimeUs>(Builder::kStartNs / 1000) + 10000 + 40000LL * k;
-    CanFrame f = frame(0x7F0u + static_cast<std::uint32_t>(k % 8), false, {1, 2, 3, 4, 5, 6, 7, static_cast<std::uint8_t>(k)});
+    CanFrame f = make_frame(0x7F0u + static_cast<std::uint32_t>(k % 8), false, {1, 2, 3, 4, 5, 6, 7, static_cast<std::uint8_t>(k)});
     out.frames.push_back({t, f, "3"});
     put<std::uint16_t>(unsorted, 0x1234);
     put_f64(unsorted, static_cast<double>(t - static_cast<TimeUs>(Builder::kStartNs / 1000)) / 1e6);

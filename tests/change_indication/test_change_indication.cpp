@@ -29,7 +29,7 @@
 
 #include "lptn_testing/temp_dir.hpp"
 
-namespace lptn {
+namespace lptn::cli {
 namespace {
 
 namespace fs = std::filesystem;
@@ -362,4 +362,4 @@ TEST(ChangeIndicationData, TheCommittedOutputsExerciseTheCorrectionAndTheFit) {
 }
 
 }  // namespace
-}  // namespace lptn
+}  // namespace lptn::cli

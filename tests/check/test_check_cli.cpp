@@ -16,7 +16,7 @@
 #include "lptn_testing/report_page.hpp"
 #include "dumps.hpp"
 
-namespace lptn {
+namespace lptn::check {
 namespace {
 
 namespace fs = std::filesystem;
@@ -193,4 +193,4 @@ TEST_F(CheckTest, BadInputIsOneLineAndExitTwo) {
 }
 
 }  // namespace
-}  // namespace lptn
+}  // namespace lptn::check

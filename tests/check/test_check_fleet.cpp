@@ -9,7 +9,7 @@
 #include "lptn_testing/run_lptn.hpp"
 #include "lptn_testing/temp_dir.hpp"
 
-namespace lptn {
+namespace lptn::check {
 namespace {
 
 using testing::Result;
@@ -56,4 +56,4 @@ TEST(CheckFleet, NamesTheMotorWhoseCoolingWeakenedSinceCalibration) {
 }
 
 }  // namespace
-}  // namespace lptn
+}  // namespace lptn::check

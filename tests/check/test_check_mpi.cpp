@@ -11,7 +11,7 @@
 #include "lptn_testing/run_lptn.hpp"
 #include "lptn_testing/temp_dir.hpp"
 
-namespace lptn {
+namespace lptn::check {
 namespace {
 
 testing::Result under_mpirun(int ranks, const std::string& args, const std::filesystem::path& scratch) {
@@ -55,4 +55,4 @@ TEST(CheckMpi, SharedMotorsGiveOneProcesssVerdicts) {
 }
 
 }  // namespace
-}  // namespace lptn
+}  // namespace lptn::check

@@ -11,7 +11,7 @@
 #include "lptn_testing/run_lptn.hpp"
 #include "lptn_testing/temp_dir.hpp"
 
-namespace lptn {
+namespace lptn::cli {
 namespace {
 
 using testing::Result;
@@ -137,4 +137,4 @@ TEST_F(CalibrateCli, Td3WithoutLibtorchIsBadInput) {
 #endif
 
 }  // namespace
-}  // namespace lptn
+}  // namespace lptn::cli

@@ -11,7 +11,7 @@
 #include "lptn_testing/run_lptn.hpp"
 #include "lptn_testing/temp_dir.hpp"
 
-namespace lptn {
+namespace lptn::cli {
 namespace {
 
 using testing::Result;
@@ -103,4 +103,4 @@ TEST(Cli, BadInputGivesOneLineAndANonZeroExitAndNoOutput) {
 }
 
 }  // namespace
-}  // namespace lptn
+}  // namespace lptn::cli

@@ -11,7 +11,7 @@
 #include "simulator/generate/generate.hpp"
 #include "trainer/data/dataset.hpp"
 
-namespace lptn {
+namespace lptn::cli {
 namespace {
 
 std::string read(const std::filesystem::path& p) {
@@ -152,4 +152,4 @@ INSTANTIATE_TEST_SUITE_P(Library, HiddenEffect, ::testing::Range(0, kNumEffects)
                          [](const auto& param_info) { return std::string(EffectLibrary::kNames[param_info.param]); });
 
 }  // namespace
-}  // namespace lptn
+}  // namespace lptn::cli

@@ -18,7 +18,7 @@
 #include "lptn_testing/temp_dir.hpp"
 #include "trainer/data/dataset.hpp"
 
-namespace lptn {
+namespace lptn::canlog {
 namespace {
 
 namespace fs = std::filesystem;
@@ -348,4 +348,4 @@ TEST(Convert, HelpNamesBothDirectionsAndTheMessages) {
 }
 
 }  // namespace
-}  // namespace lptn
+}  // namespace lptn::canlog

@@ -32,7 +32,7 @@
 #include "lptn/firmware/parameter_uncertainty.hpp"
 #include "trainer/model/motor_file.hpp"
 
-namespace lptn {
+namespace lptn::cli {
 namespace {
 
 namespace fs = std::filesystem;
@@ -199,4 +199,4 @@ TEST(SigmaCoverage, WithoutRotorDataOverPlantsWhoseRotorIsDrawnFromThePrior) {
 }
 
 }  // namespace
-}  // namespace lptn
+}  // namespace lptn::cli

@@ -21,7 +21,7 @@
 #include "trainer/data/dataset.hpp"
 #include "trainer/data/suggest_map.hpp"
 
-namespace lptn {
+namespace lptn::data {
 namespace {
 
 namespace fs = std::filesystem;
@@ -536,9 +536,9 @@ TEST(DataMapFile, ATripColumnCutsTheFileIntoShellSafeDrives) {
 }
 
 }  // namespace
-}  // namespace lptn
+}  // namespace lptn::data
 
-namespace lptn {
+namespace lptn::data {
 namespace {
 
 // `text`, as Markdown code. Appended piecewise: GCC 12 warns falsely (-Wrestrict) on "`" + std::string(...) at -O3.
@@ -566,9 +566,9 @@ TEST(DataMapFile, TheDocumentedUnitsAreTheReadersUnits) {
 }
 
 }  // namespace
-}  // namespace lptn
+}  // namespace lptn::data
 
-namespace lptn {
+namespace lptn::data {
 namespace {
 
 // A spreadsheet export on Windows writes its header in Windows-1252 ("°" the single byte 0xB0).
@@ -596,9 +596,9 @@ TEST(DataMapFile, AWindows1252HeaderIsNamedInUtf8) {
 }
 
 }  // namespace
-}  // namespace lptn
+}  // namespace lptn::data
 
-namespace lptn {
+namespace lptn::data {
 namespace {
 
 // pandas' DataFrame.to_csv: an unnamed index column first, date-times with a space and six decimals.
@@ -626,9 +626,9 @@ TEST(DataMapFile, APandasExportWithItsIndexColumnIsReadWithoutAWarning) {
 }
 
 }  // namespace
-}  // namespace lptn
+}  // namespace lptn::data
 
-namespace lptn {
+namespace lptn::data {
 namespace {
 
 // The index pandas writes (0, 1, 2...) increases as a time column does: with no column named like a
@@ -647,4 +647,4 @@ TEST(SuggestMap, APandasIndexIsNeverTakenForTheTime) {
 }
 
 }  // namespace
-}  // namespace lptn
+}  // namespace lptn::data

@@ -12,7 +12,7 @@
 #include "trainer/diagnose/adequacy.hpp"
 #include "trainer/model/motor_effects.hpp"
 
-namespace lptn {
+namespace lptn::diagnose {
 namespace {
 
 const diagnose::SensorAdequacy* sensor(const diagnose::Adequacy& a, const std::string& name) {
@@ -84,4 +84,4 @@ TEST(Adequacy, NamesTheSensorThatMissesPhysicsAndTurnsOnceTheModelHasIt) {
 }
 
 }  // namespace
-}  // namespace lptn
+}  // namespace lptn::diagnose

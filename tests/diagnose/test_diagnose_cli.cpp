@@ -13,7 +13,7 @@
 #include "lptn_testing/sound_candidates.hpp"
 #include "trainer/diagnose/diagnose.hpp"
 
-namespace lptn {
+namespace lptn::diagnose {
 namespace {
 
 using testing::Result;
@@ -149,4 +149,4 @@ TEST(DiagnoseCli, BadInputIsOneLineAndExitTwo) {
 }
 
 }  // namespace
-}  // namespace lptn
+}  // namespace lptn::diagnose

@@ -11,7 +11,7 @@
 #include "trainer/calibrate/problem.hpp"
 #include "trainer/diagnose/drift.hpp"
 
-namespace lptn {
+namespace lptn::diagnose {
 namespace {
 
 // Both sensors' squared error of `cycle` at `p` (the drift's own measure of a factor).
@@ -64,4 +64,4 @@ TEST(Drift, EachCyclesFactorIsTheMinimumOfItsErrorNearOneAndFarFromIt) {
 }
 
 }  // namespace
-}  // namespace lptn
+}  // namespace lptn::diagnose

@@ -15,7 +15,7 @@
 #include "lptn_testing/sound_candidates.hpp"
 #include "trainer/diagnose/diagnose.hpp"
 
-namespace lptn {
+namespace lptn::diagnose {
 namespace {
 
 diagnose::Settings settings() {
@@ -252,4 +252,4 @@ TEST(HiddenPhysics, RecirculatingExhaustAirIsAdequateWithinTwoRounds) {
 }
 
 }  // namespace
-}  // namespace lptn
+}  // namespace lptn::diagnose

@@ -15,7 +15,7 @@
 #include "trainer/diagnose/diagnose.hpp"
 #include "trainer/diagnose/internal/heat_path.hpp"
 
-namespace lptn {
+namespace lptn::diagnose {
 namespace {
 
 diagnose::Candidate candidate(const char* name, diagnose::Verdict v, double test_after) {
@@ -192,4 +192,4 @@ TEST(Recommendation, ConfoundingNeedsAHeatPath) {
 }
 
 }  // namespace
-}  // namespace lptn
+}  // namespace lptn::diagnose

@@ -16,7 +16,7 @@
 #include "trainer/data/sensor_fault.hpp"
 #include "trainer/diagnose/diagnose.hpp"
 
-namespace lptn {
+namespace lptn::diagnose {
 namespace {
 
 // Nine cycles of an hour to an hour and a half: a step can only be told from the cycles'
@@ -217,4 +217,4 @@ TEST(SensorFaults, AWeakerCoolingAndCleanDumpsAreNoSensorFault) {
 }
 
 }  // namespace
-}  // namespace lptn
+}  // namespace lptn::diagnose

@@ -10,7 +10,7 @@
 #include "lptn_testing/sample_result.hpp"
 #include "lptn_testing/temp_dir.hpp"
 
-namespace lptn {
+namespace lptn::exporter {
 namespace {
 
 struct Result {
@@ -133,4 +133,4 @@ TEST_F(ExportCli, BadCalibrationIsBadInput) {
 }
 
 }  // namespace
-}  // namespace lptn
+}  // namespace lptn::exporter

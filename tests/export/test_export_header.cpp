@@ -16,7 +16,7 @@
 #include "tools/export/export_header.hpp"
 #include "trainer/model/motor_file.hpp"
 
-namespace lptn {
+namespace lptn::exporter {
 namespace {
 
 template <class F>
@@ -179,4 +179,4 @@ TEST(ExportHeader, Refusals) {
 }
 
 }  // namespace
-}  // namespace lptn
+}  // namespace lptn::exporter

@@ -11,7 +11,7 @@
 #include "trainer/calibrate/calibration_file.hpp"
 #include "trainer/model/motor_file.hpp"
 
-namespace lptn {
+namespace lptn::exporter {
 namespace {
 
 const calibrate::CalibrationResult& fixture() {
@@ -98,4 +98,4 @@ TEST(ExportedHeader, ActorEqualsTheCalibrations) {
 }
 
 }  // namespace
-}  // namespace lptn
+}  // namespace lptn::exporter

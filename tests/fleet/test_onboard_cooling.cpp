@@ -20,7 +20,7 @@
 #include "trainer/calibrate/calibration_file.hpp"
 #include "trainer/fleet/outlier_test.hpp"
 
-namespace lptn {
+namespace lptn::fleet {
 namespace {
 
 namespace fs = std::filesystem;
@@ -94,4 +94,4 @@ TEST(OnboardCooling, EachMotorsFactorWithin5PercentAfterAnHourAndTheAlarmOnTheWe
 }
 
 }  // namespace
-}  // namespace lptn
+}  // namespace lptn::fleet

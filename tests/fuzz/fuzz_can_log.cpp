@@ -21,7 +21,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   void* bytes = size > 1 ? const_cast<std::uint8_t*>(data + 1) : static_cast<void*>(const_cast<char*>(kSpace));
   std::FILE* stream = fmemopen(bytes, size > 1 ? size - 1 : 1, "rb");
   if (!stream) return 0;
-  std::unique_ptr<lptn::fw::FrameSource> source;
+  std::unique_ptr<lptn::frames::FrameSource> source;
   try {
     source = lptn::canfile::open_log(stream, format, "fuzz");
   } catch (const lptn::canfile::LogError&) {
@@ -31,10 +31,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   lptn::fw::CanFrame f;
   const char* why = nullptr;
   std::size_t last_record = 0;
-  for (lptn::fw::FrameSource::Status s; (s = source->next(t, f, why)) != lptn::fw::FrameSource::Status::end;) {
+  for (lptn::frames::FrameSource::Status s; (s = source->next(t, f, why)) != lptn::frames::FrameSource::Status::end;) {
     LPTN_FUZZ_CHECK(source->record() >= last_record, "record numbers go back");
     last_record = source->record();
-    if (s == lptn::fw::FrameSource::Status::bad) {
+    if (s == lptn::frames::FrameSource::Status::bad) {
       LPTN_FUZZ_CHECK(why != nullptr && why[0] != '\0', "a bad record without its reason");
       continue;
     }

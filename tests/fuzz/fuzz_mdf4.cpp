@@ -17,7 +17,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if (size < 1) return 0;
   std::FILE* stream = fmemopen(const_cast<std::uint8_t*>(data), size, "rb");
   if (!stream) return 0;
-  std::unique_ptr<lptn::fw::FrameSource> source;
+  std::unique_ptr<lptn::frames::FrameSource> source;
   try {
     source = lptn::canfile::open_log(stream, lptn::canfile::LogFormat::mdf4, "fuzz");
   } catch (const lptn::canfile::LogError&) {
@@ -27,10 +27,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   lptn::fw::CanFrame f;
   const char* why = nullptr;
   std::size_t last_record = 0;
-  for (lptn::fw::FrameSource::Status s; (s = source->next(t, f, why)) != lptn::fw::FrameSource::Status::end;) {
+  for (lptn::frames::FrameSource::Status s; (s = source->next(t, f, why)) != lptn::frames::FrameSource::Status::end;) {
     LPTN_FUZZ_CHECK(source->record() > last_record, "record numbers do not count up");
     last_record = source->record();
-    if (s == lptn::fw::FrameSource::Status::bad) {
+    if (s == lptn::frames::FrameSource::Status::bad) {
       LPTN_FUZZ_CHECK(why != nullptr && std::strncmp(why, "byte ", 5) == 0, "a bad record without its block's offset");
       continue;
     }

@@ -38,7 +38,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     check_one_line(e);
     return 0;
   }
-  check_motor(motor);
+  model::check_motor(motor);
   // Written and read again: the same motor (format_motor_file writes every value it holds).
   const nlohmann::json again = model::motor_json(motor);
   const model::MotorFile back = model::motor_from_json(hostio::JsonField(again, "motor", file));
@@ -46,7 +46,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                   "the motor's JSON does not read back as the same motor");
   // The same rules as the motor file's: what one reader takes, the other takes.
   try {
-    check_motor(model::parse_motor_file(model::format_motor_file(motor), "written.toml"));
+    model::check_motor(model::parse_motor_file(model::format_motor_file(motor), "written.toml"));
   } catch (const model::MotorFileError& e) {
     std::fprintf(stderr, "%s\n", e.what());
     LPTN_FUZZ_CHECK(false, "a motor the JSON reader took that the motor file's reader refuses");

@@ -13,7 +13,7 @@
 #include "motor_invariants.hpp"
 #include "trainer/model/motor_file.hpp"
 
-using lptn::check_motor;
+using lptn::model::check_motor;
 using lptn::model::MotorFileError;
 using lptn::model::parse_motor_file;
 

@@ -8,7 +8,7 @@
 #include "fuzz_check.hpp"
 #include "trainer/model/motor_file.hpp"
 
-namespace lptn {
+namespace lptn::model {
 
 inline void check_motor(const model::MotorFile& m) {
   const MotorConstants<double>& c = m.constants;
@@ -34,4 +34,4 @@ inline void check_motor(const model::MotorFile& m) {
   (void)m.model();  // the model takes whatever the reader accepted
 }
 
-}  // namespace lptn
+}  // namespace lptn::model

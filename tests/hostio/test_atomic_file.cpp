@@ -11,7 +11,7 @@
 #include "lptn_testing/temp_dir.hpp"
 #include "hostio/atomic_file.hpp"
 
-namespace lptn {
+namespace lptn::hostio {
 namespace {
 
 namespace fs = std::filesystem;
@@ -100,4 +100,4 @@ TEST(AtomicFile, StreamedOutputAppearsOnlyOnCommitAndClearsDeadWritersTemporarie
 }
 
 }  // namespace
-}  // namespace lptn
+}  // namespace lptn::hostio

@@ -5,7 +5,7 @@
 
 #include "hostio/bad_input.hpp"
 
-namespace lptn {
+namespace lptn::hostio {
 namespace {
 
 TEST(BadInput, ControlCharactersOfTheInputAreWrittenAsEscapes) {
@@ -27,4 +27,4 @@ TEST(BadInput, DerivedErrorsAreOneLineToo) {
 }
 
 }  // namespace
-}  // namespace lptn
+}  // namespace lptn::hostio

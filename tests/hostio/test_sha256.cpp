@@ -9,7 +9,7 @@
 #include "hostio/internal/sha256.hpp"
 #include "hostio/sha256.hpp"
 
-namespace lptn {
+namespace lptn::hostio {
 namespace {
 
 std::string hash(const std::string& s) { return hostio::sha256_hex(s.data(), s.size()); }
@@ -75,4 +75,4 @@ TEST(Sha256, FilesOverThreadsAreEachFilesHashInOrder) {
 }
 
 }  // namespace
-}  // namespace lptn
+}  // namespace lptn::hostio

@@ -12,7 +12,7 @@
 #include "trainer/calibrate/set_scorer.hpp"
 #include "trainer/data/coarse_grid.hpp"
 
-namespace lptn {
+namespace lptn::lm {
 namespace {
 
 struct Fixture : testing::Dump {
@@ -141,4 +141,4 @@ TEST(SetScorer, FeaturesPointAtTheConductanceThatIsOff) {
 }
 
 }  // namespace
-}  // namespace lptn
+}  // namespace lptn::lm

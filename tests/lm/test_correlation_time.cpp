@@ -8,7 +8,7 @@
 
 #include "trainer/lm/correlation_time.hpp"
 
-namespace lptn {
+namespace lptn::lm {
 namespace {
 
 using Series = std::vector<std::vector<double>>;
@@ -88,4 +88,4 @@ TEST(CorrelationTime, StopsAtTheFirstLagThatIsNotPositive) {
 }
 
 }  // namespace
-}  // namespace lptn
+}  // namespace lptn::lm

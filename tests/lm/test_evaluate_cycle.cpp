@@ -11,7 +11,7 @@
 #include "trainer/calibrate/problem.hpp"
 #include "trainer/model/simulate.hpp"
 
-namespace lptn {
+namespace lptn::lm {
 namespace {
 
 TEST(EvaluateCycle, MetricsAreSimulateAndEvaluatesToTheBit) {
@@ -58,4 +58,4 @@ TEST(EvaluateCycle, MetricsAreSimulateAndEvaluatesToTheBit) {
 }
 
 }  // namespace
-}  // namespace lptn
+}  // namespace lptn::lm

@@ -16,7 +16,7 @@
 
 #include <ceres/ceres.h>
 
-namespace lptn {
+namespace lptn::lm {
 namespace {
 
 // Nine cycles (as the benchmark), shorter than the default so the test takes seconds.
@@ -243,4 +243,4 @@ TEST(Split, SeededFractionIsRepeatableAndNamedCyclesAreHonoured) {
 }
 
 }  // namespace
-}  // namespace lptn
+}  // namespace lptn::lm

@@ -17,7 +17,7 @@
 #include "lptn_testing/run_lptn.hpp"
 #include "lptn_testing/temp_dir.hpp"
 
-namespace lptn {
+namespace lptn::calibrate {
 namespace {
 
 namespace fs = std::filesystem;
@@ -254,4 +254,4 @@ TEST(MpiCalibration, Td3UnderMpirunIsRefusedNotRunOnEveryRank) {
 }
 
 }  // namespace
-}  // namespace lptn
+}  // namespace lptn::calibrate

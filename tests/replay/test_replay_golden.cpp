@@ -21,6 +21,7 @@
 #include <thread>
 #include <vector>
 
+#include "lptn_testing/run_lptn.hpp"
 #include "lptn_testing/temp_dir.hpp"
 #include "lptn_testing/csv_columns.hpp"
 #include "firmware/linux/record.hpp"
@@ -32,7 +33,7 @@
 #include "trainer/model/motor_file.hpp"
 #include "trainer/model/simulate.hpp"
 
-namespace lptn {
+namespace lptn::replay {
 namespace {
 
 namespace fs = std::filesystem;
@@ -62,12 +63,10 @@ class ReplayGolden : public ::testing::Test {
   static void SetUpTestSuite() {
     dir_ = new testing::TempDir;
     const fs::path d = dir_->path();
-    ASSERT_EQ(run(LPTN_BINARY, "generate --out " + (d / "data").string() +
-                                   " --cycles 1 --seed 11 --minutes-min 25 --minutes-max 30 --force", d).code, 0);
-    fs::path csv;
-    for (const auto& e : fs::directory_iterator(d / "data"))
-      if (e.path().extension() == ".csv") csv = e.path();
-    const Outcome convert = run(LPTN_BINARY, "convert --in " + csv.string() + " --out " + log().string(), d);
+    const auto g = testing::generate_cycle(d, 11, 25, 30);
+    ASSERT_EQ(g.generate.code, 0) << g.generate.err;
+    ASSERT_FALSE(g.csv.empty());
+    const Outcome convert = run(LPTN_BINARY, "convert --in " + g.csv.string() + " --out " + log().string(), d);
     ASSERT_EQ(convert.code, 0) << convert.err;
   }
   static void TearDownTestSuite() { delete dir_; }
@@ -344,4 +343,4 @@ TEST(Daemon, HelpBadArgumentsAndAHostWithoutCan) {
 }
 
 }  // namespace
-}  // namespace lptn
+}  // namespace lptn::replay

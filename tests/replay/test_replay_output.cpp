@@ -23,7 +23,7 @@
 #include "firmware/linux/estimate_csv.hpp"
 #include "can/canfile/can_log.hpp"
 
-namespace lptn {
+namespace lptn::replay {
 namespace {
 
 namespace fs = std::filesystem;
@@ -217,8 +217,8 @@ class ReplayDirectory : public ::testing::Test {
       fw::TimeUs t;
       fw::CanFrame frame;
       const char* why;
-      for (fw::FrameSource::Status s; (s = log.frames->next(t, frame, why)) != fw::FrameSource::Status::end;)
-        if (s == fw::FrameSource::Status::frame) writer->add(t, frame);
+      for (frames::FrameSource::Status s; (s = log.frames->next(t, frame, why)) != frames::FrameSource::Status::end;)
+        if (s == frames::FrameSource::Status::frame) writer->add(t, frame);
       std::ofstream(logs / (std::string(f == canfile::LogFormat::asc ? "b_asc" : "c_blf") + canfile::format_extension(f)),
                     std::ios::binary)
           << writer->finish();
@@ -307,4 +307,4 @@ TEST_F(ReplayDirectory, ConvertOfADirectoryIsItsFilesOneAtATime) {
 }
 
 }  // namespace
-}  // namespace lptn
+}  // namespace lptn::replay

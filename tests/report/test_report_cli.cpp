@@ -20,7 +20,7 @@
 #include "dump.hpp"
 #include "lptn_testing/report_page.hpp"
 
-namespace lptn {
+namespace lptn::report {
 namespace {
 
 namespace fs = std::filesystem;
@@ -278,4 +278,4 @@ TEST_F(ReportTest, DiagnosisThatIsNotJsonIsBadInput) {
 }
 
 }  // namespace
-}  // namespace lptn
+}  // namespace lptn::report

@@ -15,7 +15,7 @@
 #include "lptn_testing/temp_dir.hpp"
 #include "lptn_testing/report_page.hpp"
 
-namespace lptn {
+namespace lptn::report {
 namespace {
 
 namespace fs = std::filesystem;
@@ -236,4 +236,4 @@ TEST(ReportDiagnosis, ASensorFaultOpensThePageWithTheCommandThatCalibratesAround
 }
 
 }  // namespace
-}  // namespace lptn
+}  // namespace lptn::report

@@ -12,7 +12,7 @@
 #include "lptn_testing/temp_dir.hpp"
 #include "lptn_testing/report_page.hpp"
 
-namespace lptn {
+namespace lptn::report {
 namespace {
 
 namespace fs = std::filesystem;
@@ -80,4 +80,4 @@ TEST(ReportFleet, TheWeakMotorIsNamedOnTheFleetPageAndExportsAlone) {
 }
 
 }  // namespace
-}  // namespace lptn
+}  // namespace lptn::report

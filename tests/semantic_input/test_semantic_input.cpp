@@ -21,7 +21,7 @@
 #include "lptn_testing/run_lptn.hpp"
 #include "lptn_testing/temp_dir.hpp"
 
-namespace lptn {
+namespace lptn::cli {
 namespace {
 
 namespace fs = std::filesystem;
@@ -517,4 +517,4 @@ TEST_F(SemanticInput, MissingInputIsSaidBeforeAnExistingOutput) {
 }
 
 }  // namespace
-}  // namespace lptn
+}  // namespace lptn::cli

@@ -24,7 +24,7 @@
 
 extern char** environ;
 
-namespace lptn {
+namespace lptn::td3 {
 namespace {
 
 namespace fs = std::filesystem;
@@ -223,4 +223,4 @@ TEST_P(Td3CrashSafety, KilledAtRandomMomentsAndResumedItEndsWhereAnUninterrupted
 }
 
 }  // namespace
-}  // namespace lptn
+}  // namespace lptn::td3

@@ -12,7 +12,7 @@
 #include "lptn_testing/distinct_motor_constants.hpp"
 #include "trainer/model/motor_file.hpp"
 
-namespace lptn {
+namespace lptn::model {
 namespace {
 
 std::string example_text() {
@@ -190,4 +190,4 @@ TEST(MotorFile, EffectsEnableByNameWithLibraryDefaults) {
 }
 
 }  // namespace
-}  // namespace lptn
+}  // namespace lptn::model

@@ -15,13 +15,13 @@ namespace lptn::canfile {
 // An open file, closed with its owner.
 using File = std::unique_ptr<std::FILE, int (*)(std::FILE*)>;
 
-std::unique_ptr<fw::FrameSource> make_candump_source(File file);
-std::unique_ptr<fw::FrameSource> make_asc_source(File file);
+std::unique_ptr<frames::FrameSource> make_candump_source(File file);
+std::unique_ptr<frames::FrameSource> make_asc_source(File file);
 // Reads the file header; throws LogError naming `path` if it is not a BLF's.
-std::unique_ptr<fw::FrameSource> make_blf_source(File file, const std::filesystem::path& path);
+std::unique_ptr<frames::FrameSource> make_blf_source(File file, const std::filesystem::path& path);
 // Reads the identification and header blocks and the data groups' channel groups; throws LogError
 // naming `path` if the first two are not an MDF4 file's (mdf4_read.cpp).
-std::unique_ptr<fw::FrameSource> make_mdf4_source(File file, const std::filesystem::path& path);
+std::unique_ptr<frames::FrameSource> make_mdf4_source(File file, const std::filesystem::path& path);
 
 std::unique_ptr<LogWriter> make_candump_writer(const std::string& interface);
 std::unique_ptr<LogWriter> make_asc_writer();

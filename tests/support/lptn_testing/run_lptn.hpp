@@ -29,4 +29,22 @@ inline Result run(const std::string& args, const std::filesystem::path& scratch)
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(out), slurp(err)};
 }
 
+// One cycle of `lptn generate` (its seed, between minutes_min and minutes_max long) in scratch/data:
+// what generate said, and the cycle's CSV (empty if it wrote none; the caller asserts both).
+struct GeneratedCycle {
+  Result generate;
+  std::filesystem::path csv;
+};
+inline GeneratedCycle generate_cycle(const std::filesystem::path& scratch, int seed, int minutes_min, int minutes_max) {
+  GeneratedCycle g;
+  const std::filesystem::path data = scratch / "data";
+  g.generate = run("generate --out " + data.string() + " --cycles 1 --seed " + std::to_string(seed) + " --minutes-min " +
+                       std::to_string(minutes_min) + " --minutes-max " + std::to_string(minutes_max),
+                   scratch);
+  if (g.generate.code != 0) return g;
+  for (const auto& e : std::filesystem::directory_iterator(data))
+    if (e.path().extension() == ".csv") g.csv = e.path();
+  return g;
+}
+
 }  // namespace lptn::testing

@@ -1,5 +1,6 @@
-// Where a replay gets its frames, one record of a log at a time: a candump log here (what the
-// daemon replays on the target), Vector ASC and BLF on the host (can/canfile).
+// Where a replay gets its frames, one record of a log at a time: the interface every CAN log reader
+// implements, and candump -L's reader here (what the daemon replays on the target, where the rest of
+// the CAN wing's host side is not built); Vector ASC, BLF and MDF4 on the host (can/canfile).
 #pragma once
 
 #include <cstddef>
@@ -11,7 +12,7 @@
 #include "lptn/firmware/can_frame.hpp"
 #include "lptn/firmware/input.hpp"
 
-namespace lptn::fw {
+namespace lptn::frames {
 
 class FrameSource {
  public:
@@ -20,7 +21,7 @@ class FrameSource {
   // `frame`: the next frame and its time stamp; `bad`: a record that is no frame, `why` (a static
   // string) says what is wrong with it; `end`: nothing more. Records that carry no frame and are
   // no error (a log's header, comments, a BLF's other objects) are passed over.
-  virtual Status next(TimeUs& time_us, CanFrame& frame, const char*& why) = 0;
+  virtual Status next(fw::TimeUs& time_us, fw::CanFrame& frame, const char*& why) = 0;
   // 1-based number of the record last returned: a line, or a BLF object.
   virtual std::size_t record() const = 0;
   // What a record is called in a message: "line" or "object".
@@ -38,7 +39,7 @@ template <class Reader>
 class CandumpLines : public FrameSource {
  public:
   explicit CandumpLines(std::FILE* log) : reader_(log) {}
-  Status next(TimeUs& time_us, CanFrame& frame, const char*& why) override {
+  Status next(fw::TimeUs& time_us, fw::CanFrame& frame, const char*& why) override {
     std::string_view line;
     for (hostio::LineReader::Status s; (s = reader_.next(line)) != hostio::LineReader::Status::end;) {
       if (s == hostio::LineReader::Status::too_long) {
@@ -46,8 +47,8 @@ class CandumpLines : public FrameSource {
         return Status::bad;
       }
       if (line.empty()) continue;
-      CandumpRecord rec;
-      if ((why = parse_candump_line(line, rec)) != nullptr) return Status::bad;
+      fw::CandumpRecord rec;
+      if ((why = fw::parse_candump_line(line, rec)) != nullptr) return Status::bad;
       time_us = rec.time_us;
       frame = rec.frame;
       channel_ = rec.interface;
@@ -67,4 +68,4 @@ class CandumpLines : public FrameSource {
 // The daemon's: a line at a time from the FILE*. Allocates nothing.
 using CandumpSource = CandumpLines<hostio::LineReader>;
 
-}  // namespace lptn::fw
+}  // namespace lptn::frames
