@@ -3,7 +3,7 @@
 // lptn-can-codegen (can/codegen), which writes the codecs from the same Database (comments, value
 // descriptions, the texts of the numbers as written). A file means the same on both routes because
 // it is the same reading; the signal arithmetic below is the generated codecs' bit for bit
-// (tests/dbc holds it to a model of the frame, as tests/can's corpus reference holds the codecs).
+// (tests/dbc holds it to a model of the frame, as tests/codecs' corpus reference holds the codecs).
 #pragma once
 
 #include <cstdint>

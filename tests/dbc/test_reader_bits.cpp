@@ -20,8 +20,8 @@ namespace fs = std::filesystem;
 
 std::vector<fs::path> dbc_files() {
   const fs::path root = LPTN_SOURCE_DIR;
-  std::vector<fs::path> files = {root / "can/codecs/lptn.dbc", root / "tests/can/codec_test.dbc"};
-  for (const char* dir : {"tests/can/good", "tests/can/warn", "tests/can/corpus", "tests/bus/foreign"})
+  std::vector<fs::path> files = {root / "can/codecs/lptn.dbc", root / "tests/codecs/codec_test.dbc"};
+  for (const char* dir : {"tests/codecs/good", "tests/codecs/warn", "tests/codecs/corpus", "tests/bus/foreign"})
     for (const auto& entry : fs::directory_iterator(root / dir))
       if (entry.path().extension() == ".dbc") files.push_back(entry.path());
   return files;

@@ -16,7 +16,7 @@ namespace lptn::workflow {
 // How far above its noise a sensor's RMSE may be before the calibration warns. Looser than
 // diagnose's 1.5x (diagnose/adequacy.hpp), which asks the finer question: at twice the noise the
 // model's own error is 1.7x the noise (sqrt(2^2 - 1)), beyond what a right model keeps on short data
-// with split cycles (1.6x on three 15-minute cycles, each with a 6-minute dropout, tests/data_map).
+// with split cycles (1.6x on three 15-minute cycles, each with a 6-minute dropout, tests/data).
 inline constexpr double kCalibrationAdequateRatio = 2.0;
 
 // Scores a single motor's calibration (result.train and result.test, as score_calibration does, to

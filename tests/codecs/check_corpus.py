@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Runs the DBC codecs generator (lptn-dbc-codegen) over the real DBC files in tests/can/corpus/ and
+"""Runs the DBC codecs generator (lptn-dbc-codegen) over the real DBC files in tests/codecs/corpus/ and
 compiles what it writes (ctest can.corpus).
 
     check_corpus.py --generator GEN --compiler CXX --corpus DIR --work DIR [--jobs N]

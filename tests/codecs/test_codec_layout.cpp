@@ -1,4 +1,4 @@
-// The generator on what lptn.dbc does not use (tests/can/codec_test.dbc): Motorola signals at odd
+// The generator on what lptn.dbc does not use (tests/codecs/codec_test.dbc): Motorola signals at odd
 // start bits, 1- to 64-bit lengths, an extended id, a negative factor. Frames computed by hand, and
 // every message against the reference layout model over random values.
 #include <gtest/gtest.h>
