@@ -206,12 +206,83 @@ def self_test():
             print("  " + p)
         return 1
     print(f"check-layers self-test: the {len(expected)} wrong-way includes of the test tree are refused, the rest allowed")
+    return self_test_layout()
+
+
+def self_test_layout():
+    """The layout check on the real module list and a tree made for it: a table naming every module
+    but trainer/lm and naming a directory the tree lacks, and a source file in no module."""
+    import tempfile
+    rows = [f"| `{m}/` | x |" for m in MODULES if m != "trainer/lm"] + ["| `trainer/gone/` | x |"]
+    with tempfile.TemporaryDirectory() as d:
+        os.makedirs(os.path.join(d, "docs"))
+        with open(os.path.join(d, LAYOUT_DOC), "w") as f:
+            f.write("\n".join(["# Layout", "", "| directory | what it holds |", "|---|---|"] + rows + ["", "more"]) + "\n")
+        for m in MODULES:
+            os.makedirs(os.path.join(d, m))
+        os.makedirs(os.path.join(d, "trainer/stray"))
+        open(os.path.join(d, "trainer/stray/stray.cpp"), "w").close()
+        open(os.path.join(d, "tests/t.cpp"), "w").close()  # tests/ is a module: fine
+        problems, _ = layout(d)
+    expected = [f"{LAYOUT_DOC}:{len(rows) + 4}:", f"{LAYOUT_DOC}:", "trainer/stray/stray.cpp:"]
+    found = [p.split(" ")[0] for p in problems]
+    wanted = ["trainer/gone/", "module trainer/lm/", "in no module"]
+    if sorted(found) != sorted(expected) or not all(any(w in p for p in problems) for w in wanted):
+        print("check-layers self-test: expected the layout's three problems, got:")
+        for p in problems:
+            print("  " + p)
+        return 1
+    print("check-layers self-test: a layout that names a missing directory, leaves out a module, or a source in no module is refused")
     return 0
+
+
+LAYOUT_DOC = "docs/architecture.md"
+SKIP_DIRS = {"build", ".git", "corpus", "node_modules"}
+
+
+def layout(repo):
+    """The layout table of docs/architecture.md against the tree and the modules above: every
+    directory it names exists, every module is named (itself or a directory inside it), and every
+    source file of the tree outside tests/ lies in a module, so that none escapes this check."""
+    named = set()
+    in_table = False
+    with open(os.path.join(repo, LAYOUT_DOC), encoding="utf-8") as f:
+        for number, line in enumerate(f, 1):
+            if line.startswith("| directory |"):
+                in_table = True
+            elif in_table and not line.startswith("|"):
+                break
+            elif in_table and not line.startswith("|---"):
+                for d in re.findall(r"`([^`]+)`", line.split("|")[1]):
+                    named.add((d.rstrip("/"), number))
+    problems = []
+    for d, number in sorted(named):
+        if not os.path.isdir(os.path.join(repo, d)):
+            problems.append(f"{LAYOUT_DOC}:{number}: the layout names {d}/, which the tree does not have")
+    dirs = {d for d, _ in named}
+    for m in MODULES:
+        if not any(d == m or d.startswith(m + "/") for d in dirs):
+            problems.append(f"{LAYOUT_DOC}: the layout does not name the module {m}/")
+    for dirpath, dirnames, filenames in os.walk(repo):
+        dirnames[:] = sorted(d for d in dirnames if d not in SKIP_DIRS and not (dirpath == repo and d == "tests"))
+        for f in sorted(filenames):
+            path = os.path.relpath(os.path.join(dirpath, f), repo)
+            if f.endswith(SOURCE_EXTENSIONS) and module_of(path) is None:
+                problems.append(f"{path}: in no module of the layer check's table (MODULES)")
+    return problems, len(dirs)
 
 
 def main():
     if sys.argv[1:2] == ["--self-test"]:
         return self_test()
+    if sys.argv[1:2] == ["--layout"]:
+        repo = os.path.abspath(sys.argv[2] if len(sys.argv) > 2 else os.path.join(os.path.dirname(__file__), ".."))
+        problems, named = layout(repo)
+        for p in problems:
+            print(p)
+        print(f"check-layers --layout: {named} directories in {LAYOUT_DOC}'s layout, {len(MODULES)} modules, "
+              f"{len(problems)} problems")
+        return 1 if problems else 0
     repo = os.path.abspath(sys.argv[1] if len(sys.argv) > 1 else os.path.join(os.path.dirname(__file__), ".."))
     problems, counted = check(repo)
     for p in problems:
