@@ -6,7 +6,8 @@
 //   --log FILE       a candump log played in (scaled) real time through the same timer loop;
 //                    outputs written as candump lines to --out (default stdout)
 //   --replay FILE    as fast as possible, time stamps driving the ticks (as `lptn replay`), the
-//                    estimates as CSV to --csv
+//                    estimates as CSV to --csv; on stderr the counts and, as `lptn replay` says
+//                    them, the inputs the model did not get as the log sent them
 // With --interface or --log, --record FILE keeps what the estimator was given, in the order it was
 // given it (PX4's replay log): every frame it received, stamped with the time the estimator was
 // told, a receive-buffer overrun the kernel reported (interface overrun, an empty frame), and at
@@ -36,6 +37,7 @@
 #include "lptn/firmware/exported_calibration.hpp"
 #include "lptn/firmware/output_frames.hpp"
 #include "lptn/version.hpp"
+#include "input_tally.hpp"
 #include "replay.hpp"
 #include "socketcan.hpp"
 
@@ -147,11 +149,14 @@ int run_replay(const Options& o) {
     std::fclose(log);
     return 1;
   }
-  lptn::fw::Estimator<double> estimator(make_config(o));
+  const lptn::fw::EstimatorConfig<double> config = make_config(o);
+  lptn::fw::Estimator<double> estimator(config);
   lptn::fw::write_estimate_header(csv.get());
   lptn::fw::ReplaySinks sinks;
+  lptn::fw::InputTally inputs;
   sinks.row = [&](const lptn::fw::EstimatorOutput<double>& out, TimeUs log_start_us) {
     lptn::fw::write_estimate_row(csv.get(), out, log_start_us);
+    inputs.add(out);
   };
   sinks.bad_record = [&](std::size_t line, const char* why) {
     std::fprintf(stderr, "%s:%zu: %s (line skipped)\n", o.replay.c_str(), line, why);
@@ -164,6 +169,9 @@ int run_replay(const Options& o) {
   }
   std::fprintf(stderr, "lptn-daemon: replayed %zu frames, %zu ticks, %zu estimates, %zu bad lines\n", s.frames, s.ticks,
                s.rows, s.bad_records);
+  // What `lptn replay` says of the same log: each input the model did not get as the log sent it.
+  for (const std::string& w : lptn::fw::input_warnings(o.replay, inputs, config))
+    std::fprintf(stderr, "lptn-daemon: warning: %s\n", w.c_str());
   return 0;
 }
 

@@ -92,7 +92,7 @@ void replay_directory(const fs::path& dir, const std::string& out_dir, bool forc
       try {
         data::NameplateCheck check(calibrated.motor.constants);
         item.summary = replay::replay_to_csv(logs[i].string(), config, csv.string(), true, select, &check);
-        item.warnings = replay::input_warnings(logs[i].string(), item.summary, config);
+        item.warnings = fw::input_warnings(logs[i].string(), item.summary.inputs, config);
         for (std::string& w : log_against_motor(logs[i].string(), check, calibrated, source)) item.warnings.push_back(std::move(w));
       } catch (...) {
         item.failure = std::current_exception();
@@ -240,7 +240,7 @@ void add_replay(CLI::App& app) {
                   r.cooling_factor_std, r.cooling_state == fw::CoolingState::tracking ? "tracking" : "frozen: open loop",
                   r.cooling_alarm_from_s < 0 ? "never raised"
                                              : ("raised from " + hostio::ProgressLine::clock(r.cooling_alarm_from_s)).c_str());
-    for (const std::string& w : replay::input_warnings(args->log, r, cal->config))
+    for (const std::string& w : fw::input_warnings(args->log, r.inputs, cal->config))
       std::fprintf(stderr, "lptn: warning: %s\n", w.c_str());
     for (const std::string& w : log_against_motor(args->log, check, calibrated, source))
       std::fprintf(stderr, "lptn: warning: %s\n", w.c_str());

@@ -120,6 +120,49 @@ TEST_F(ReplayGolden, HeaderBuiltFirmwareWritesExactlyWhatTheJsonLoadedReplayWrit
   }
 }
 
+// The stator sensor's frames (TC_StatorTemp) gone from the log's second half: the daemon's replay
+// says so as `lptn replay` does, in the same words after each program's "warning:"; the whole log
+// gives neither a line.
+TEST_F(ReplayGolden, TheDaemonSaysWhichInputsDidNotReachTheModelAsReplayDoes) {
+  std::vector<std::string> lines;
+  {
+    std::ifstream in(log());
+    for (std::string line; std::getline(in, line);) lines.push_back(line);
+  }
+  ASSERT_GT(lines.size(), 10000u);
+  const fs::path silent = dir() / "stator_silent.log";
+  {
+    std::ofstream out(silent);
+    char hex[16];  // candump -L: " 130#<data>", the id in hex
+    std::snprintf(hex, sizeof hex, " %03X#", static_cast<unsigned>(can::TcStatorTemp::kId));
+    for (std::size_t k = 0; k < lines.size(); ++k)
+      if (k < lines.size() / 2 || lines[k].find(hex) == std::string::npos) out << lines[k] << '\n';
+  }
+  for (const fs::path& l : {log(), silent}) {
+    const Outcome a = run(LPTN_BINARY, "replay --quiet --force --log " + l.string() + " --calibration " +
+                                       kCalibration.string() + " --out " + (dir() / "a.csv").string(), dir());
+    ASSERT_EQ(a.code, 0) << a.err;
+    const Outcome b = run(LPTN_DAEMON, "--replay " + l.string() + " --csv " + (dir() / "b.csv").string(), dir());
+    ASSERT_EQ(b.code, 0) << b.err;
+    auto said = [&](const std::string& err) {
+      std::string lines_said;
+      std::istringstream in(err);
+      for (std::string line; std::getline(in, line);)
+        if (line.find("did not reach the model as sent") != std::string::npos)
+          lines_said += line.substr(line.find(l.string())) + "\n";  // after the program's "<name>: warning: "
+      return lines_said;
+    };
+    const std::string x = said(a.err), y = said(b.err);
+    EXPECT_EQ(x, y) << "lptn replay:\n" << a.err << "lptn-daemon --replay:\n" << b.err;
+    if (l == log()) {
+      EXPECT_EQ(y, "") << b.err;
+    } else {
+      EXPECT_NE(y.find(l.string() + ": input stator_sensor did not reach the model as sent: stale"), std::string::npos) << b.err;
+      EXPECT_NE(y.find("those rows went without its readings"), std::string::npos) << b.err;
+    }
+  }
+}
+
 TEST_F(ReplayGolden, TheCommittedHeaderIsTheExportOfTheCommittedCalibration) {
   const fs::path out = dir() / "default_calibration.hpp";
   ASSERT_EQ(run(LPTN_BINARY, "export --calibration " + kCalibration.string() + " --out " + out.string(), dir()).code, 0);

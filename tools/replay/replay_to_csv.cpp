@@ -51,53 +51,6 @@ BandCoverage coverage_of(const Track& t) {
 
 }  // namespace
 
-std::vector<std::string> input_warnings(const std::string& log, const ReplaySummary& summary,
-                                        const fw::EstimatorConfig<double>& config) {
-  std::vector<std::string> out;
-  const std::size_t rows = summary.stats.rows;
-  if (rows == 0) return out;
-  auto share = [&](std::size_t n) {
-    char text[64];
-    std::snprintf(text, sizeof text, "%zu of %zu rows (%.1f %%)", n, rows,
-                  100.0 * static_cast<double>(n) / static_cast<double>(rows));
-    return std::string(text);
-  };
-  for (int i = 0; i < fw::kNumInputs; ++i) {
-    const InputHealth& h = summary.inputs[i];
-    if (h.stale == 0 && h.implausible == 0 && h.substituted == 0) continue;
-    const fw::Input input = static_cast<fw::Input>(i);
-    const fw::InputLimits<double>& limits = config.inputs[i];
-    const char* unit = fw::kInputUnits[i];
-    char range[96];
-    std::snprintf(range, sizeof range, "%g .. %g %s", limits.min, limits.max, unit);
-    std::string line = log + ": input " + fw::kInputNames[i] + " did not reach the model as sent:";
-    std::string sep = " ";
-    if (h.implausible) {
-      line += sep + "implausible (outside " + range + ", its range for the calibration's motor) at " + share(h.implausible);
-      sep = "; ";
-    }
-    if (h.stale) {
-      line += sep + "stale (no good value within its timeout) at " + share(h.stale);
-      sep = "; ";
-    }
-    if (h.substituted) {
-      char value[64];
-      std::snprintf(value, sizeof value, "%g %s", limits.conservative, unit);
-      const bool optional = input == fw::Input::torque || input == fw::Input::voltage;
-      line += sep +
-              (optional ? "left out (the model ran without it) at "
-                        : "replaced by its conservative value " + std::string(value) + " at ") +
-              share(h.substituted);
-    }
-    const bool sensor = input == fw::Input::stator_sensor || input == fw::Input::rotor_sensor;
-    line += sensor          ? ": those rows went without its readings"
-            : h.substituted ? ": the estimates at those rows are not the motor's as the log has it"
-                            : ": the model held the last good value there";
-    out.push_back(line);
-  }
-  return out;
-}
-
 ReplaySummary replay_to_csv(const std::string& log_path, const fw::EstimatorConfig<double>& config,
                               const std::string& csv_path, bool quiet, const canfile::LogSelection& select,
                               data::NameplateCheck* inputs_check) {
@@ -135,12 +88,7 @@ ReplaySummary replay_to_csv(const std::string& log_path, const fw::EstimatorConf
                         static_cast<float>(bus.last_received(fw::Input::frequency)),
                         static_cast<float>(bus.last_received(fw::Input::voltage)));
     }
-    for (int i = 0; i < fw::kNumInputs; ++i) {
-      const fw::InputMask b = fw::bit(static_cast<fw::Input>(i));
-      summary.inputs[i].stale += (o.stale & b) != 0;
-      summary.inputs[i].implausible += (o.implausible & b) != 0;
-      summary.inputs[i].substituted += (o.substituted & b) != 0;
-    }
+    summary.inputs.add(o);
     summary.cooling_factor = o.cooling_factor;
     summary.cooling_factor_std = o.cooling_factor_std;
     summary.cooling_state = o.cooling_state;

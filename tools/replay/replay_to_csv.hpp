@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "lptn/firmware/estimator_config.hpp"
+#include "firmware/linux/input_tally.hpp"
 #include "firmware/linux/replay.hpp"
 #include "can/canfile/can_log.hpp"
 #include "trainer/data/inspection.hpp"
@@ -28,16 +29,9 @@ struct BandCoverage {
   double share() const { return ticks ? static_cast<double>(within) / static_cast<double>(ticks) : 0.0; }
 };
 
-// How one input reached the model over a replay: ticks (rows) at which it was stale, implausible
-// (its last value outside its plausible range) or substituted (the model ran on its conservative
-// value, or without it for torque and voltage), from the status masks each row carries.
-struct InputHealth {
-  std::size_t stale = 0, implausible = 0, substituted = 0;
-};
-
 struct ReplaySummary {
   fw::ReplayStats stats;
-  std::array<InputHealth, fw::kNumInputs> inputs{};
+  fw::InputTally inputs;  // how each input reached the model (fw::input_warnings says it)
   // The estimates against the readings on the bus: the stator winding's (which the filter fuses,
   // so this is near its noise) and the rotor telemetry's (never fused: a check of an unmeasured node).
   double rmse_stator_k = 0, rmse_rotor_k = 0;
@@ -52,11 +46,6 @@ struct ReplaySummary {
   canfile::LogFormat format = canfile::LogFormat::candump;  // what the log was read as
 };
 
-// One line per input the model did not get as the log sent it (stale, implausible or substituted
-// at any row), naming the log, the share of rows, the input's plausible range and what the model
-// ran on instead: estimates at those rows are not the motor's as the log has it.
-std::vector<std::string> input_warnings(const std::string& log, const ReplaySummary& summary,
-                                        const fw::EstimatorConfig<double>& config);
 
 // `select`: the log's format (none: detected) and channel ("": all; frames of several channels are
 // read as one bus, with a warning). `inputs_check`, where given, gets at every row the values the
