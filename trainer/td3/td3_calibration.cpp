@@ -97,23 +97,11 @@ StepError step_error(const Model<double>& model, const double* x, const data::Cy
   return {std::isnan(ys) ? 0.0 : std::abs(model.stator_sensor(x) - ys), std::isnan(yr) ? 0.0 : std::abs(model.rotor_sensor(x) - yr)};
 }
 
-// The run's state between episodes: what a checkpoint holds besides the agent.
-struct RunState {
-  int episode = 0;  // episodes done
-  std::mt19937_64 rng;
-  std::vector<EpisodeRecord> curve;
-  ParamVector<double> reference{};  // the policy's current constant set (warm-up of windows)
-  double initial_evaluation = 0;
-  // The constant set that fit the training cycles best so far (the starting guess until one does
-  // better), its training RMSE (stator and rotor pooled) and the episode it was condensed at.
-  ParamVector<double> best{};
-  double best_train_rmse_k = std::numeric_limits<double>::infinity();
-  int best_episode = 0;
-  double seconds = 0;
-  std::size_t simulated_steps = 0;  // model steps, offsets' fits and scores included
-  long long updates = 0;            // gradient steps
+// The run's state between episodes: every formulation's, and the policy's current constant set
+// (the warm-up of windows).
+struct EpisodeRunState : RunState {
+  ParamVector<double> reference{};
 };
-
 
 // What must match for a checkpoint to be continued: the settings and the training data.
 nlohmann::json identity(const TrainingSettings& settings, const Environment& env) {
@@ -147,7 +135,7 @@ class Trainer {
 
   Agent& agent() { return agent_; }
   const Environment& env() const { return env_; }
-  RunState& state() { return state_; }
+  EpisodeRunState& state() { return state_; }
 
   // Agent steps in an episode on `cycle`: at most max_steps_per_episode, at most the cycle.
   std::size_t episode_length(const data::Cycle& cycle) const {
@@ -156,20 +144,20 @@ class Trainer {
 
   // One episode: returns its record.
   EpisodeRecord episode() {
-    const bool random = state_.episode < settings_.random_episodes;
+    const bool random = state_.done < settings_.random_episodes;
     const std::size_t ci = std::uniform_int_distribution<std::size_t>(0, env_.cycles() - 1)(state_.rng);
     const data::Cycle& cycle = env_.cycle(ci);
     const std::size_t length = episode_length(cycle);
     const std::size_t start = std::uniform_int_distribution<std::size_t>(0, cycle.steps - 1 - length)(state_.rng);
     EpisodeRecord rec;
-    rec.episode = state_.episode + 1;
+    rec.episode = state_.done + 1;
     rec.cycle = cycle.name;
     if (settings_.formulation == Formulation::per_step)
       per_step_episode(ci, start, length, random, rec);
     else
       bandit_episode(ci, start, length, random, rec);
     if (!random && settings_.updates_per_episode > 0) state_.updates += agent_.train(settings_.updates_per_episode).updates;
-    ++state_.episode;
+    ++state_.done;
     append_with_average(state_.curve, rec, settings_.averaging_window);
     return state_.curve.back();
   }
@@ -244,7 +232,7 @@ class Trainer {
   void explore(float* a, std::size_t steps, bool random) {
     const std::size_t p = env_.actions();
     const std::size_t hold = settings_.exploration_hold_steps > 0 ? static_cast<std::size_t>(settings_.exploration_hold_steps) : steps;
-    const double progress = settings_.max_episodes > 1 ? static_cast<double>(state_.episode) / (settings_.max_episodes - 1) : 1.0;
+    const double progress = settings_.max_episodes > 1 ? static_cast<double>(state_.done) / (settings_.max_episodes - 1) : 1.0;
     const double sigma = settings_.exploration_noise + (settings_.exploration_noise_final - settings_.exploration_noise) * progress;
     std::normal_distribution<float> noise(0.0f, static_cast<float>(sigma));
     std::vector<float> draw(p);
@@ -338,7 +326,7 @@ class Trainer {
   const TrainingSettings& settings_;
   Environment env_;
   Agent agent_;
-  RunState state_;
+  EpisodeRunState state_;
   std::uniform_real_distribution<float> uniform_;
   std::vector<model::InitialOffsets<double>> reference_offsets_;  // of state_.reference, per training cycle
   std::vector<float> obs_, act_, rew_;
@@ -346,40 +334,19 @@ class Trainer {
 };
 
 void save_checkpoint(Trainer& trainer, const std::filesystem::path& dir, const nlohmann::json& id) {
-  const RunState& s = trainer.state();
-  nlohmann::json j;
-  j["rng"] = to_text(s.rng);
-  j["seconds"] = s.seconds;
+  const EpisodeRunState& s = trainer.state();
+  nlohmann::json j = run_state_json(s, "best_episode");
   j["reference"] = std::vector<double>(s.reference.begin(), s.reference.end());
-  j["initial_evaluation"] = s.initial_evaluation;
-  j["best"] = std::vector<double>(s.best.begin(), s.best.end());
-  j["best_train_rmse_k"] = s.best_train_rmse_k;
-  j["best_episode"] = s.best_episode;
-  j["simulated_steps"] = s.simulated_steps;
-  j["updates"] = s.updates;
-  for (const EpisodeRecord& r : s.curve) j["curve"].push_back(to_json(r));
-  write_checkpoint(dir, trainer.agent(), s.episode, id, std::move(j));
+  write_checkpoint(dir, trainer.agent(), s.done, id, std::move(j));
 }
 
 void load_checkpoint(Trainer& trainer, const std::filesystem::path& dir, const nlohmann::json& id) {
   const nlohmann::json j = read_checkpoint(dir, id, trainer.agent());
-  RunState& s = trainer.state();
-  s.episode = j.at("episode").get<int>();
-  from_text(j.at("rng").get<std::string>(), s.rng);
-  s.seconds = j.at("seconds").get<double>();
+  read_run_state(j, "best_episode", trainer.state());
   ParamVector<double> reference{};
   const auto ref = j.at("reference").get<std::vector<double>>();
   std::copy(ref.begin(), ref.end(), reference.begin());
   trainer.set_reference(reference);
-  s.initial_evaluation = j.at("initial_evaluation").get<double>();
-  const auto best = j.at("best").get<std::vector<double>>();
-  std::copy(best.begin(), best.end(), s.best.begin());
-  s.best_train_rmse_k = j.at("best_train_rmse_k").get<double>();
-  s.best_episode = j.at("best_episode").get<int>();
-  s.simulated_steps = j.at("simulated_steps").get<std::size_t>();
-  s.updates = j.at("updates").get<long long>();
-  s.curve.clear();
-  for (const auto& r : j.value("curve", nlohmann::json::array())) s.curve.push_back(record_from_json(r));
 }
 
 }  // namespace
@@ -450,10 +417,10 @@ Td3Outcome train_td3(const model::MotorFile& motor, const data::Dataset& dataset
   Trainer trainer(motor, dataset, train, settings);
   const nlohmann::json id = identity(settings, trainer.env());
   Td3Outcome out;
-  RunState& s = trainer.state();
+  EpisodeRunState& s = trainer.state();
   if (resume) {
     load_checkpoint(trainer, checkpoint_dir, id);
-    out.resumed_from = s.episode;
+    out.resumed_from = s.done;
   }
   if (!resume) {
     s.initial_evaluation = trainer.evaluate();
@@ -462,27 +429,27 @@ Td3Outcome train_td3(const model::MotorFile& motor, const data::Dataset& dataset
   }
   const auto t0 = Clock::now();
   const double seconds_before = s.seconds;
-  const int first = s.episode;
+  const int first = s.done;
   out.completed = true;
-  while (s.episode < settings.max_episodes) {
+  while (s.done < settings.max_episodes) {
     const EpisodeRecord rec = trainer.episode();
     s.seconds = seconds_before + std::chrono::duration<double>(Clock::now() - t0).count();
     s.curve.back().seconds = s.seconds;
-    const bool reached = s.episode >= settings.averaging_window && rec.average >= settings.stop_average_reward;
-    if (s.episode % settings.checkpoint_every == 0 || reached || s.episode == settings.max_episodes) {
+    const bool reached = s.done >= settings.averaging_window && rec.average >= settings.stop_average_reward;
+    if (s.done % settings.checkpoint_every == 0 || reached || s.done == settings.max_episodes) {
       trainer.set_reference(trainer.condensed());
       s.curve.back().evaluation = trainer.evaluate();
       const double rmse = trainer.train_rmse(s.reference);
       if (rmse < s.best_train_rmse_k) {
         s.best = s.reference;
         s.best_train_rmse_k = rmse;
-        s.best_episode = s.episode;
+        s.best_at = s.done;
       }
       save_checkpoint(trainer, checkpoint_dir, id);
     }
     if (progress) {
-      const EpisodeReport r = progress_report(rec, s.episode, settings.max_episodes, first, s.seconds, seconds_before,
-                                              s.episode <= settings.random_episodes);
+      const EpisodeReport r = progress_report(rec, s.done, settings.max_episodes, first, s.seconds, seconds_before,
+                                              s.done <= settings.random_episodes);
       if (!progress(r)) {
         out.completed = false;
         break;
@@ -493,9 +460,7 @@ Td3Outcome train_td3(const model::MotorFile& motor, const data::Dataset& dataset
       break;
     }
   }
-  out.values = s.best;
-  out.best_episode = s.best_episode;
-  out.best_train_rmse_k = s.best_train_rmse_k;
+  take_run_state(s, out);
   out.actor = trainer.agent().actor_weights();
   out.param_indices = trainer.env().free().index;
   out.obs_scale = trainer.env().obs_scale();
@@ -504,12 +469,6 @@ Td3Outcome train_td3(const model::MotorFile& motor, const data::Dataset& dataset
   const std::size_t checks = out.check_obs.size() / kObs;
   out.check_actions.resize(checks * trainer.env().actions());
   trainer.agent().act(out.check_obs.data(), checks, out.check_actions.data());
-  out.curve = s.curve;
-  out.initial_evaluation = s.initial_evaluation;
-  out.episodes = s.episode;
-  out.seconds = s.seconds;
-  out.simulated_steps = s.simulated_steps;
-  out.updates = s.updates;
   return out;
 }
 

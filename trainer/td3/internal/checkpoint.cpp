@@ -1,9 +1,11 @@
 #include "trainer/td3/internal/checkpoint.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
+#include <vector>
 
 #include "hostio/atomic_file.hpp"
 
@@ -57,6 +59,36 @@ void from_text(const std::string& text, std::mt19937_64& rng) {
   std::istringstream s(text);
   s >> rng;
   if (!s) throw std::runtime_error("checkpoint: unreadable generator state");
+}
+
+nlohmann::json run_state_json(const RunState& s, const char* best_at_key) {
+  nlohmann::json j;
+  j["rng"] = to_text(s.rng);
+  j["seconds"] = s.seconds;
+  j["initial_evaluation"] = s.initial_evaluation;
+  j["best"] = std::vector<double>(s.best.begin(), s.best.end());
+  j["best_train_rmse_k"] = s.best_train_rmse_k;
+  j[best_at_key] = s.best_at;
+  j["simulated_steps"] = s.simulated_steps;
+  j["updates"] = s.updates;
+  j["curve"] = nlohmann::json::array();
+  for (const EpisodeRecord& r : s.curve) j["curve"].push_back(to_json(r));
+  return j;
+}
+
+void read_run_state(const nlohmann::json& j, const char* best_at_key, RunState& s) {
+  s.done = j.at("episode").get<int>();
+  from_text(j.at("rng").get<std::string>(), s.rng);
+  s.seconds = j.at("seconds").get<double>();
+  s.initial_evaluation = j.at("initial_evaluation").get<double>();
+  const auto best = j.at("best").get<std::vector<double>>();
+  std::copy(best.begin(), best.end(), s.best.begin());
+  s.best_train_rmse_k = j.at("best_train_rmse_k").get<double>();
+  s.best_at = j.at(best_at_key).get<int>();
+  s.simulated_steps = j.at("simulated_steps").get<std::size_t>();
+  s.updates = j.at("updates").get<long long>();
+  s.curve.clear();
+  for (const auto& r : j.value("curve", nlohmann::json::array())) s.curve.push_back(record_from_json(r));
 }
 
 }  // namespace lptn::td3

@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "trainer/td3/internal/run_record.hpp"
 #include "trainer/td3/td3_agent.hpp"
 
 namespace lptn::td3 {
@@ -24,5 +25,11 @@ nlohmann::json read_checkpoint(const std::filesystem::path& dir, const nlohmann:
 
 std::string to_text(const std::mt19937_64& rng);
 void from_text(const std::string& text, std::mt19937_64& rng);
+
+// The run state as state.json holds it. `best_at_key` names the best set's round ("best_round",
+// the sequential formulation) or episode ("best_episode"), as their checkpoints always have.
+nlohmann::json run_state_json(const RunState& s, const char* best_at_key);
+// Back from read_checkpoint()'s state (`done` from its "episode"); a curve may be absent (empty).
+void read_run_state(const nlohmann::json& j, const char* best_at_key, RunState& s);
 
 }  // namespace lptn::td3

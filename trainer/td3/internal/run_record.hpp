@@ -1,14 +1,46 @@
-// What every TD3 formulation's loop does alike with its training curve: the trailing average of
+// What every TD3 formulation's loop does alike: the run's state between rounds or episodes (what a
+// checkpoint holds besides the agent, and what the outcome takes from it), the trailing average of
 // the rewards and the report the progress callback gets.
 #pragma once
 
 #include <algorithm>
 #include <cstddef>
+#include <limits>
+#include <random>
 #include <vector>
 
 #include "trainer/td3/td3_calibration.hpp"
 
 namespace lptn::td3 {
+
+// The run's state between rounds (the sequential formulation) or episodes (the paper's two).
+struct RunState {
+  int done = 0;  // rounds or episodes done
+  std::mt19937_64 rng;
+  std::vector<EpisodeRecord> curve;
+  double initial_evaluation = 0;
+  // The constant set that fit the training cycles best so far (the starting guess until one does
+  // better), its training RMSE (stator and rotor pooled) and the round or episode it came at.
+  ParamVector<double> best{};
+  double best_train_rmse_k = std::numeric_limits<double>::infinity();
+  int best_at = 0;
+  double seconds = 0;
+  std::size_t simulated_steps = 0;  // model steps, offsets' fits and scores included
+  long long updates = 0;            // gradient steps
+};
+
+// What the outcome of every formulation takes from its run state.
+inline void take_run_state(const RunState& s, Td3Outcome& out) {
+  out.values = s.best;
+  out.best_episode = s.best_at;
+  out.best_train_rmse_k = s.best_train_rmse_k;
+  out.curve = s.curve;
+  out.initial_evaluation = s.initial_evaluation;
+  out.episodes = s.done;
+  out.seconds = s.seconds;
+  out.simulated_steps = s.simulated_steps;
+  out.updates = s.updates;
+}
 
 // Appends `rec` to `curve` with its average: of its reward and the rewards of the records before
 // it, `window` in all at most.

@@ -25,19 +25,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-struct SequentialRunState {
-  int round = 0;  // rounds done
-  std::mt19937_64 rng;
-  std::vector<EpisodeRecord> curve;
-  double initial_evaluation = 0;
-  ParamVector<double> best{};
-  double best_train_rmse_k = std::numeric_limits<double>::infinity();
-  int best_round = 0;
-  double seconds = 0;
-  std::size_t simulated_steps = 0;
-  long long updates = 0;
-};
-
 std::vector<data::Cycle> coarse_cycles(const data::Dataset& dataset, const std::vector<std::size_t>& train, int factor) {
   std::vector<data::Cycle> out;
   for (std::size_t c : train) out.push_back(data::coarse_grid(dataset.cycles[c], factor));
@@ -68,7 +55,7 @@ class SequentialTrainer {
   }
 
   Agent& agent() { return agent_; }
-  SequentialRunState& state() { return state_; }
+  RunState& state() { return state_; }
   const calibrate::FreeParameters& free() const { return free_; }
   std::size_t obs_dim() const { return obs_dim_; }
 
@@ -76,8 +63,8 @@ class SequentialTrainer {
   EpisodeRecord round() {
     const std::size_t n = static_cast<std::size_t>(q_.environments);
     // A warm start knows where to go: no random rounds, and exploration from twice its floor.
-    const bool random = !warm_ && state_.round < settings_.random_episodes;
-    const double progress = settings_.max_episodes > 1 ? static_cast<double>(state_.round) / (settings_.max_episodes - 1) : 1.0;
+    const bool random = !warm_ && state_.done < settings_.random_episodes;
+    const double progress = settings_.max_episodes > 1 ? static_cast<double>(state_.done) / (settings_.max_episodes - 1) : 1.0;
     const double first = warm_ ? std::min(settings_.exploration_noise, 2 * settings_.exploration_noise_final) : settings_.exploration_noise;
     const double last = settings_.exploration_noise_final;
     const double sigma = last > 0 && first > 0 ? first * std::pow(last / first, progress) : first + (last - first) * progress;
@@ -113,13 +100,13 @@ class SequentialTrainer {
       now = after;
     }
     EpisodeRecord rec;
-    rec.episode = state_.round + 1;
+    rec.episode = state_.done + 1;
     rec.cycle = "all";
     for (std::size_t e = 0; e < n; ++e) {
       rec.reward += (std::log(first_rmse[e]) - std::log(now[e].rmse_k)) / static_cast<double>(n);
       rec.mean_abs_error_k += now[e].rmse_k / static_cast<double>(n);
     }
-    ++state_.round;
+    ++state_.done;
     append_with_average(state_.curve, rec, settings_.averaging_window);
     return state_.curve.back();
   }
@@ -156,7 +143,7 @@ class SequentialTrainer {
       if (rmse < state_.best_train_rmse_k) {
         state_.best = p;
         state_.best_train_rmse_k = rmse;
-        state_.best_round = state_.round;
+        state_.best_at = state_.done;
       }
     }
     return fall;
@@ -214,7 +201,7 @@ class SequentialTrainer {
   calibrate::SetScorer scorer_;
   std::size_t p_, obs_dim_;
   Agent agent_;
-  SequentialRunState state_;
+  RunState state_;
   std::vector<double> guess_, rollout_starts_;
 };
 
@@ -230,37 +217,13 @@ nlohmann::json identity(const TrainingSettings& settings, const data::Dataset& d
 
 // Returns the agent file it wrote.
 std::filesystem::path save_checkpoint(SequentialTrainer& trainer, const std::filesystem::path& dir, const nlohmann::json& id) {
-  const SequentialRunState& s = trainer.state();
-  nlohmann::json j;
-  j["rng"] = to_text(s.rng);
-  j["seconds"] = s.seconds;
-  j["initial_evaluation"] = s.initial_evaluation;
-  j["best"] = std::vector<double>(s.best.begin(), s.best.end());
-  j["best_train_rmse_k"] = s.best_train_rmse_k;
-  j["best_round"] = s.best_round;
-  j["simulated_steps"] = s.simulated_steps;
-  j["updates"] = s.updates;
-  j["curve"] = nlohmann::json::array();
-  for (const EpisodeRecord& r : s.curve) j["curve"].push_back(to_json(r));
+  const RunState& s = trainer.state();
   // Rounds, under the key every formulation's checkpoint uses.
-  return write_checkpoint(dir, trainer.agent(), s.round, id, std::move(j));
+  return write_checkpoint(dir, trainer.agent(), s.done, id, run_state_json(s, "best_round"));
 }
 
 void load_checkpoint(SequentialTrainer& trainer, const std::filesystem::path& dir, const nlohmann::json& id) {
-  const nlohmann::json j = read_checkpoint(dir, id, trainer.agent());
-  SequentialRunState& s = trainer.state();
-  s.round = j.at("episode").get<int>();
-  from_text(j.at("rng").get<std::string>(), s.rng);
-  s.seconds = j.at("seconds").get<double>();
-  s.initial_evaluation = j.at("initial_evaluation").get<double>();
-  const auto best = j.at("best").get<std::vector<double>>();
-  std::copy(best.begin(), best.end(), s.best.begin());
-  s.best_train_rmse_k = j.at("best_train_rmse_k").get<double>();
-  s.best_round = j.at("best_round").get<int>();
-  s.simulated_steps = j.at("simulated_steps").get<std::size_t>();
-  s.updates = j.at("updates").get<long long>();
-  s.curve.clear();
-  for (const auto& r : j.at("curve")) s.curve.push_back(record_from_json(r));
+  read_run_state(read_checkpoint(dir, id, trainer.agent()), "best_round", trainer.state());
 }
 
 }  // namespace
@@ -271,51 +234,43 @@ Td3Outcome train_sequential(const model::MotorFile& motor, const data::Dataset& 
   SequentialTrainer trainer(motor, dataset, train, settings, warm);
   const nlohmann::json id = identity(settings, dataset, train, trainer.free(), warm);
   Td3Outcome out;
-  SequentialRunState& s = trainer.state();
+  RunState& s = trainer.state();
   const auto t0 = Clock::now();
   if (resume) {
     load_checkpoint(trainer, checkpoint_dir, id);
-    out.resumed_from = s.round;
+    out.resumed_from = s.done;
   } else {
     s.best = motor.initial_values();
     s.best_train_rmse_k = trainer.train_rmse(s.best);
     s.initial_evaluation = trainer.evaluate_and_offer();
   }
   const double seconds_before = s.seconds;
-  const int first = s.round;
+  const int first = s.done;
   out.completed = true;
-  while (s.round < settings.max_episodes) {
+  while (s.done < settings.max_episodes) {
     const EpisodeRecord rec = trainer.round();
     s.seconds = seconds_before + std::chrono::duration<double>(Clock::now() - t0).count();
-    if (s.round % settings.checkpoint_every == 0 || s.round == settings.max_episodes) {
+    if (s.done % settings.checkpoint_every == 0 || s.done == settings.max_episodes) {
       s.curve.back().evaluation = trainer.evaluate_and_offer();
       s.seconds = seconds_before + std::chrono::duration<double>(Clock::now() - t0).count();
       s.curve.back().seconds = s.seconds;
       out.agent_file = save_checkpoint(trainer, checkpoint_dir, id);
-      out.best_at_checkpoints.emplace_back(s.round, s.best);
+      out.best_at_checkpoints.emplace_back(s.done, s.best);
       out.checkpoint_seconds.push_back(s.seconds);
     }
     s.curve.back().seconds = s.seconds;
     if (progress) {
-      const EpisodeReport r = progress_report(rec, s.round, settings.max_episodes, first, s.seconds, seconds_before,
-                                              warm.agent_file.empty() && s.round <= settings.random_episodes);
+      const EpisodeReport r = progress_report(rec, s.done, settings.max_episodes, first, s.seconds, seconds_before,
+                                              warm.agent_file.empty() && s.done <= settings.random_episodes);
       if (!progress(r)) {
         out.completed = false;
         break;
       }
     }
   }
-  out.values = s.best;
-  out.best_episode = s.best_round;
-  out.best_train_rmse_k = s.best_train_rmse_k;
+  take_run_state(s, out);
   out.actor = trainer.agent().actor_weights();
   out.param_indices = trainer.free().index;
-  out.curve = s.curve;
-  out.initial_evaluation = s.initial_evaluation;
-  out.episodes = s.round;
-  out.seconds = s.seconds;
-  out.simulated_steps = s.simulated_steps;
-  out.updates = s.updates;
   return out;
 }
 
