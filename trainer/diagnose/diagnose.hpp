@@ -187,8 +187,10 @@ Selection select_effects(const model::MotorFile& motor, const ParamVector<double
 // `calibration` updated to `motor` (effects, text) and the fit `fit` (values, standard errors,
 // correlated pairs) with metrics recomputed on its split; the method stays "lm". Its data record
 // (files, hashes, data maps, split, time, version) is that of `dataset` and `split`, the data fitted.
-calibrate::CalibrationResult updated_calibration(const calibrate::CalibrationResult& calibration, const model::MotorFile& motor, const lm::LmReport& fit,
-                                       calibrate::DatasetRef dataset, const calibrate::Split& split, const std::string& note);
+calibrate::CalibrationResult updated_calibration(const calibrate::CalibrationResult& calibration,
+                                                 const model::MotorFile& motor, const lm::LmReport& fit,
+                                                 calibrate::DatasetRef dataset, const calibrate::Split& split,
+                                                 const std::string& note);
 
 // The diagnosis file's format (lptn diagnose --json, --json-out; docs/diagnosis.md): 2 added the
 // sensor check ("sensor_faults", candidates of kind "sensor"). A reader refuses a newer one.

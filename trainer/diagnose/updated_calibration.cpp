@@ -5,8 +5,10 @@
 
 namespace lptn::diagnose {
 
-calibrate::CalibrationResult updated_calibration(const calibrate::CalibrationResult& calibration, const model::MotorFile& motor, const lm::LmReport& fit,
-                                       calibrate::DatasetRef dataset, const calibrate::Split& split, const std::string& note) {
+calibrate::CalibrationResult updated_calibration(const calibrate::CalibrationResult& calibration,
+                                                 const model::MotorFile& motor, const lm::LmReport& fit,
+                                                 calibrate::DatasetRef dataset, const calibrate::Split& split,
+                                                 const std::string& note) {
   calibrate::CalibrationResult r = calibration;
   // The refit is the new calibration's fit, made on the data diagnose read: its record names those
   // files as they were read (each one's hash and data map), the split and the lptn that made it,
