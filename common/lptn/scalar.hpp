@@ -22,11 +22,23 @@ constexpr double value_of(const T& x) {
   }
 }
 
+// Whether T is a pack of lanes (lanes.hpp): several doubles stepped at once, each with a double's
+// arithmetic. Decisions on a value (pivoting) are then taken per lane.
+template <class T>
+inline constexpr bool kIsLanes = requires { T::kLanes; };
+
+// x held within [lo, hi] (NaN passes); lanes each on their own.
 template <class T>
 constexpr T clamp_value(const T& x, double lo, double hi) {
-  if (value_of(x) < lo) return T(lo);
-  if (value_of(x) > hi) return T(hi);
-  return x;
+  if constexpr (kIsLanes<T>) {
+    T r = x;
+    for (int l = 0; l < T::kLanes; ++l) r.set_lane(l, clamp_value(x.lane(l), lo, hi));
+    return r;
+  } else {
+    if (value_of(x) < lo) return T(lo);
+    if (value_of(x) > hi) return T(hi);
+    return x;
+  }
 }
 
 }  // namespace lptn

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <random>
+#include <algorithm>
 
 #include "lptn_testing/fleet_dump.hpp"
 #include "trainer/lm/lm.hpp"
@@ -114,6 +116,37 @@ TEST(SetScorer, ScoresASetAsTheMetricsDoOnAnyNumberOfThreads) {
     EXPECT_GT(one[i].simulated_steps, 0u);
   }
   EXPECT_GT(one[1].rmse_k, 5 * one[0].rmse_k);  // the guess is far off
+}
+
+// Sets scored side by side (four at a time in vector registers, two for a remainder of two) get the
+// very bits each gets scored alone (one set: the double run): six sets, a group of four and one
+// of two, against each alone, on one thread and on two.
+TEST(SetScorer, ScoresSetsSideBySideAsEachAloneToTheBit) {
+  const Fixture& f = generated();
+  const Model<double> model = f.motor.model();
+  const calibrate::FreeParameters free = calibrate::FreeParameters::from_motor(f.motor);
+  const calibrate::SetScorer scorer(model, free, f.motor.initial_values(), train_cycles(f.dataset, f.split));
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> d(-0.4, 0.4);
+  const std::vector<double> fit = normalized(free, f.fine_fit.values);
+  constexpr std::size_t kSets = 6;
+  std::vector<double> u;
+  for (std::size_t i = 0; i < kSets; ++i)
+    for (std::size_t j = 0; j < free.size(); ++j) u.push_back(std::clamp(fit[j] + (i == 0 ? 0.0 : d(rng)), -1.0, 1.0));
+  for (const int threads : {1, 2}) {
+    calibrate::SetScore together[kSets];
+    scorer.score(u.data(), kSets, together, threads);
+    for (std::size_t i = 0; i < kSets; ++i) {
+      calibrate::SetScore alone;
+      scorer.score(u.data() + i * free.size(), 1, &alone, 1);
+      EXPECT_EQ(std::memcmp(&together[i].rmse_k, &alone.rmse_k, sizeof(double)), 0) << i << " " << alone.rmse_k;
+      EXPECT_EQ(std::memcmp(&together[i].stator_rmse_k, &alone.stator_rmse_k, sizeof(double)), 0) << i;
+      EXPECT_EQ(std::memcmp(&together[i].rotor_rmse_k, &alone.rotor_rmse_k, sizeof(double)), 0) << i;
+      EXPECT_EQ(together[i].features, alone.features) << i;
+      EXPECT_EQ(together[i].simulated_steps, alone.simulated_steps) << i;
+    }
+    EXPECT_GT(together[kSets - 1].rmse_k, together[0].rmse_k);  // the sets differ: a moved set scores worse than the fit
+  }
 }
 
 // The features say where the model is off: a stator winding that loses more heat to the air

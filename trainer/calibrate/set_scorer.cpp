@@ -81,32 +81,88 @@ ParamVector<double> SetScorer::params_for(const double* u) const {
   return p;
 }
 
-void SetScorer::score_cycle(const ParamVector<double>& p, std::size_t ci, Sums& sums) const {
+namespace {
+
+// One step's residuals into a set's sums (the cycle's sample k, the model's two readings).
+void add_step(SetScorer::Sums& sums, const data::Cycle& c, const std::vector<std::uint8_t>& bits, std::size_t k,
+              const double (&model_reading)[2]) {
   using data::Channel;
+  const float measured[2] = {c.at(Channel::stator_winding_c, k), c.at(Channel::rotor_c, k)};
+  for (int s = 0; s < 2; ++s) {
+    if (std::isnan(measured[s])) continue;
+    const double r = model_reading[s] - measured[s];
+    SetScorer::Sums::Sensor& t = sums.sensor[s];
+    t.n += 1;
+    t.sum += r;
+    t.sum2 += r * r;
+    for (std::size_t b = 0; b < kSplits; ++b)
+      if (bits[k] & (1u << b)) {
+        t.n_in[b] += 1;
+        t.sum_in[b] += r;
+      }
+  }
+}
+
+// Sets side by side on one cycle (run<L>: L lanes, the first `count` read).
+struct SideBySide {
+  const Model<double>& model;
+  const data::Cycle& c;
+  const std::vector<std::uint8_t>& bits;
+  const model::PreparedCycle* prepared;
+  const ParamVector<double>* p;
+  std::size_t count;
+  SetScorer::Sums* sums;
+
+  template <int L>
+  void run() const {
+    ParamVector<double> lane_params[L];
+    for (int l = 0; l < L; ++l) lane_params[l] = p[std::min(static_cast<std::size_t>(l), count - 1)];
+    model::InitialOffsets<double> lane_offsets[L];
+    model::estimate_initial_offsets_lanes<L>(model, lane_params, c, lane_offsets, model::kInitialOffsetWindowS, prepared);
+    model::run_cycle_lanes<L>(model, lane_params, c, [&](std::ptrdiff_t step, const Lanes<L>* x) {
+      const auto k = static_cast<std::size_t>(step + 1);
+      const Lanes<L>& stator = model.stator_sensor(x);
+      const Lanes<L>& rotor = model.rotor_sensor(x);
+      for (std::size_t l = 0; l < count; ++l) {
+        const double model_reading[2] = {stator.lane(static_cast<int>(l)), rotor.lane(static_cast<int>(l))};
+        add_step(sums[l], c, bits, k, model_reading);
+      }
+    }, lane_offsets, prepared);
+  }
+};
+
+// Four lanes, for the baseline and for AVX2 (lanes.hpp: the same bits, one register instead of two).
+[[gnu::flatten]] void side_by_side_baseline(const SideBySide& w) { w.run<4>(); }
+#if defined(__x86_64__) && defined(__GNUC__)
+[[gnu::target("avx2"), gnu::flatten]]
+#endif
+void side_by_side_avx2(const SideBySide& w) { w.run<4>(); }
+
+}  // namespace
+
+void SetScorer::score_cycle(const ParamVector<double>* p, std::size_t count, std::size_t ci, Sums* sums) const {
   const data::Cycle& c = cycles_[ci];
   const std::vector<std::uint8_t>& bits = split_bits_[ci];
   const model::PreparedCycle* prepared = &prepared_[ci];
-  const model::InitialOffsets<double> offsets =
-      model::estimate_initial_offsets(model_, p, c, model::kInitialOffsetWindowS, prepared);  // the metrics' own fit
-  sums.steps = evaluation_steps(c);
-  model::run_cycle(model_, p.data(), c, [&](std::ptrdiff_t step, const double* x) {
-    const auto k = static_cast<std::size_t>(step + 1);
-    const double model_reading[2] = {model_.stator_sensor(x), model_.rotor_sensor(x)};
-    const float measured[2] = {c.at(Channel::stator_winding_c, k), c.at(Channel::rotor_c, k)};
-    for (int s = 0; s < 2; ++s) {
-      if (std::isnan(measured[s])) continue;
-      const double r = model_reading[s] - measured[s];
-      Sums::Sensor& t = sums.sensor[s];
-      t.n += 1;
-      t.sum += r;
-      t.sum2 += r * r;
-      for (std::size_t b = 0; b < kSplits; ++b)
-        if (bits[k] & (1u << b)) {
-          t.n_in[b] += 1;
-          t.sum_in[b] += r;
-        }
-    }
-  }, offsets, SIZE_MAX, prepared);
+  for (std::size_t l = 0; l < count; ++l) sums[l].steps = evaluation_steps(c);
+  if (count == 1) {
+    const model::InitialOffsets<double> offsets =
+        model::estimate_initial_offsets(model_, p[0], c, model::kInitialOffsetWindowS, prepared);  // the metrics' own fit
+    model::run_cycle(model_, p[0].data(), c, [&](std::ptrdiff_t step, const double* x) {
+      const double model_reading[2] = {model_.stator_sensor(x), model_.rotor_sensor(x)};
+      add_step(sums[0], c, bits, static_cast<std::size_t>(step + 1), model_reading);
+    }, offsets, SIZE_MAX, prepared);
+    return;
+  }
+  // Two to kLanes sets side by side, each lane with a double's bits (the offsets' fit too); lanes
+  // past `count` repeat the last set and are not read.
+  const SideBySide work{model_, c, bits, prepared, p, count, sums};
+  if (count == 2)
+    work.run<2>();
+  else if (lanes_run_avx2())
+    side_by_side_avx2(work);
+  else
+    side_by_side_baseline(work);
 }
 
 void SetScorer::score(const double* u, std::size_t n, SetScore* out, int threads) const {
@@ -114,7 +170,15 @@ void SetScorer::score(const double* u, std::size_t n, SetScore* out, int threads
   std::vector<Sums> sums(n * nc);
   std::vector<ParamVector<double>> params(n);
   for (std::size_t i = 0; i < n; ++i) params[i] = params_for(u + i * p);
-  hostio::parallel_for(n * nc, threads, [&](std::size_t item) { score_cycle(params[item / nc], item % nc, sums[item]); });
+  // Sets kLanes at a time on each cycle; a group's sums go to its sets' slots (set-major, as before).
+  const std::size_t groups = (n + kLanes - 1) / kLanes;
+  std::vector<Sums> group_sums(groups * nc * kLanes);
+  hostio::parallel_for(groups * nc, threads, [&](std::size_t item) {
+    const std::size_t g = item / nc, first = g * kLanes;
+    score_cycle(&params[first], std::min(kLanes, n - first), item % nc, &group_sums[item * kLanes]);
+  });
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t ci = 0; ci < nc; ++ci) sums[i * nc + ci] = group_sums[((i / kLanes) * nc + ci) * kLanes + i % kLanes];
   constexpr double kScaleK = 0.2;
   for (std::size_t i = 0; i < n; ++i) {
     Sums total;

@@ -54,9 +54,14 @@ class SetScorer {
   // number of threads (each cycle's sums in its own slot, added in a fixed order).
   void score(const double* u, std::size_t n, SetScore* out, int threads) const;
 
+  struct Sums;  // one set's residual sums on one cycle
+
  private:
-  struct Sums;
-  void score_cycle(const ParamVector<double>& p, std::size_t ci, Sums& sums) const;
+  // Sets scored side by side on one cycle (lanes.hpp: the model stepped in vector registers),
+  // each with a double's bits.
+  static constexpr std::size_t kLanes = 4;
+  // Scores the `count` (1..kLanes) sets p[0..count) on cycle ci into sums[0..count).
+  void score_cycle(const ParamVector<double>* p, std::size_t count, std::size_t ci, Sums* sums) const;
 
   Model<double> model_;
   FreeParameters free_;

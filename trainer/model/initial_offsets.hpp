@@ -30,4 +30,11 @@ InitialOffsets<double> estimate_initial_offsets(const Model<double>& model, cons
                                                const data::Cycle& cycle, double window_s = kInitialOffsetWindowS,
                                                const PreparedCycle* prepared = nullptr);
 
+// estimate_initial_offsets() for L (2 or 4) parameter sets at once, out[l] for params[l], each the
+// bits the one-set call gives (lanes.hpp): for a caller that scores many sets on one cycle.
+template <int L>
+void estimate_initial_offsets_lanes(const Model<double>& model, const ParamVector<double>* params,
+                                    const data::Cycle& cycle, InitialOffsets<double>* out,
+                                    double window_s = kInitialOffsetWindowS, const PreparedCycle* prepared = nullptr);
+
 }  // namespace lptn::model

@@ -7,8 +7,10 @@
 #include <cstdint>
 #include <cstddef>
 #include <string>
+#include <type_traits>
 #include <vector>
 
+#include "lptn/lanes.hpp"
 #include "lptn/model.hpp"
 #include "trainer/data/dataset.hpp"
 
@@ -97,6 +99,79 @@ void run_cycle(const Model<double>& model, const T* params, const data::Cycle& c
       model.step(x, (*prepared)[k], params, cycle.dt_s, work);
     else
       model.step(x, inputs_at(cycle, k), params, cycle.dt_s, work);
+    on_step(static_cast<std::ptrdiff_t>(k), static_cast<const T*>(x));
+  }
+}
+
+// One step of L parameter sets at once (lanes.hpp), x and `count` responses of x to its start
+// beside it (Model::step_with_responses), each lane with the bits a double's step gives params[l]
+// (p: the same sets packed). A step whose lanes would pivot differently, or whose matrix is
+// singular in a lane, is taken lane by lane as doubles.
+template <int L>
+struct LaneStepper {
+  const Model<double>& model;
+  const ParamVector<double>* params;  // L sets
+  Lanes<L> p[kNumParams];
+  typename Model<double>::template StepWorkspace<Lanes<L>> work;
+  typename Model<double>::template StepWorkspace<double> apart;
+
+  LaneStepper(const Model<double>& m, const ParamVector<double>* sets) : model(m), params(sets) {
+    for (int l = 0; l < L; ++l)
+      for (int i = 0; i < kNumParams; ++i) p[i].set_lane(l, params[l][i]);
+  }
+  void step(Lanes<L>* x, const Model<double>::PreparedInputs& in, double dt, Lanes<L>* const* responses = nullptr,
+            int count = 0) {
+    if (model.step_with_responses(x, in, p, dt, work, responses, count)) return;
+    for (int l = 0; l < L; ++l) {
+      double xl[kMaxStates], rl[kMaxStates][kMaxStates];
+      double* rp[kMaxStates];
+      for (int i = 0; i < kMaxStates; ++i) xl[i] = x[i].lane(l);
+      for (int r = 0; r < count; ++r) {
+        rp[r] = rl[r];
+        for (int i = 0; i < kMaxStates; ++i) rl[r][i] = responses[r][i].lane(l);
+      }
+      model.step_with_responses(xl, in, params[l].data(), dt, apart, rp, count);
+      for (int i = 0; i < kMaxStates; ++i) x[i].set_lane(l, xl[i]);
+      for (int r = 0; r < count; ++r)
+        for (int i = 0; i < kMaxStates; ++i) responses[r][i].set_lane(l, rl[r][i]);
+    }
+  }
+};
+
+// LaneStepper's interface for one set of doubles (SetStepper<1>), for code written once for both.
+struct DoubleStepper {
+  const Model<double>& model;
+  const ParamVector<double>* params;  // one set
+  Model<double>::StepWorkspace<double> work;
+
+  DoubleStepper(const Model<double>& m, const ParamVector<double>* set) : model(m), params(set) {}
+  void step(double* x, const Model<double>::PreparedInputs& in, double dt, double* const* responses = nullptr,
+            int count = 0) {
+    model.step_with_responses(x, in, params->data(), dt, work, responses, count);
+  }
+};
+template <int L>
+using SetStepper = std::conditional_t<L == 1, DoubleStepper, LaneStepper<L>>;
+
+// run_cycle() for L parameter sets at once: on_step(k, x) sees the L states packed, lane l the
+// state run_cycle() gives params[l] and offsets[l], to the bit. For a caller that scores many sets
+// on one cycle (the set scorer).
+template <int L, class OnStep>
+void run_cycle_lanes(const Model<double>& model, const ParamVector<double>* params, const data::Cycle& cycle,
+                     OnStep&& on_step, const InitialOffsets<double>* offsets, const PreparedCycle* prepared = nullptr) {
+  using T = Lanes<L>;
+  InitialOffsets<T> lane_offsets;
+  for (int l = 0; l < L; ++l) {
+    lane_offsets.stator_core.set_lane(l, offsets[l].stator_core);
+    lane_offsets.rotor_core.set_lane(l, offsets[l].rotor_core);
+  }
+  T x[kMaxStates];
+  initial_state_for(model, cycle, x, lane_offsets);
+  on_step(std::ptrdiff_t{-1}, static_cast<const T*>(x));
+  LaneStepper<L> stepper(model, params);
+  Model<double>::PreparedInputs computed{};
+  for (std::size_t k = 0; k + 1 < cycle.steps; ++k) {
+    stepper.step(x, prepared ? (*prepared)[k] : (computed = model.prepare(inputs_at(cycle, k))), cycle.dt_s);
     on_step(static_cast<std::ptrdiff_t>(k), static_cast<const T*>(x));
   }
 }

@@ -125,8 +125,7 @@ T smooth_step(R ratio, const T& threshold) {
   using std::exp;
   T z = (T(ratio) - threshold) / T(kStepWidth);
   // Beyond +-40 widths the step is 0 or 1 to double precision; the clamp keeps exp finite (float too).
-  if (z > T(40)) z = T(40);
-  if (z < T(-40)) z = T(-40);
+  z = clamp_value(z, -40.0, 40.0);
   return T(1) / (T(1) + exp(-z));
 }
 

@@ -23,21 +23,26 @@ struct SmallLu {
     return factor_in_place(size);
   }
 
-  // Factorises the matrix already written into lu (rows/cols 0..size-1), as factor() does.
+  // Factorises the matrix already written into lu (rows/cols 0..size-1), as factor() does. For
+  // lanes, false also where the lanes would pivot on different rows (lanes_pivot).
   bool factor_in_place(int size) {
     using std::abs;
     n = size;
     for (int k = 0; k < n; ++k) {
       int p = k;
-      double best = abs(value_of(lu[k][k]));
-      for (int i = k + 1; i < n; ++i) {
-        const double v = abs(value_of(lu[i][k]));
-        if (v > best) {
-          best = v;
-          p = i;
+      if constexpr (kIsLanes<T>) {
+        if (!lanes_pivot(k, p)) return false;
+      } else {
+        double best = abs(value_of(lu[k][k]));
+        for (int i = k + 1; i < n; ++i) {
+          const double v = abs(value_of(lu[i][k]));
+          if (v > best) {
+            best = v;
+            p = i;
+          }
         }
+        if (best == 0.0) return false;
       }
-      if (best == 0.0) return false;
       swap[k] = p;
       if (p != k) {
         for (int j = 0; j < n; ++j) {
@@ -51,6 +56,29 @@ struct SmallLu {
         lu[i][k] *= inv;
         for (int j = k + 1; j < n; ++j) lu[i][j] -= lu[i][k] * lu[k][j];
       }
+    }
+    return true;
+  }
+
+  // Lanes (lanes.hpp): the pivot each lane alone would take (the same search as above, lane by
+  // lane). False where the lanes do not all take the same row, or any lane's pivot is zero: the
+  // caller then steps each lane as a double (the lanes cannot exchange different rows), so every
+  // lane gets a double's bits whatever its neighbours do.
+  bool lanes_pivot(int k, int& p) const {
+    using std::abs;
+    p = -1;
+    for (int l = 0; l < T::kLanes; ++l) {
+      int lane_p = k;
+      double best = abs(lu[k][k].lane(l));
+      for (int i = k + 1; i < n; ++i) {
+        const double v = abs(lu[i][k].lane(l));
+        if (v > best) {
+          best = v;
+          lane_p = i;
+        }
+      }
+      if (best == 0.0 || (p >= 0 && lane_p != p)) return false;
+      p = lane_p;
     }
     return true;
   }

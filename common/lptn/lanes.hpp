@@ -1,0 +1,121 @@
+// A pack of L doubles, each lane computed with exactly the arithmetic a double would see: the model
+// run for L parameter sets at once (the set scorer of TD3 and the search methods) in the
+// processor's vector registers.
+//
+// Why it gives each lane a double's bits: every operator is the same IEEE operation applied lane
+// by lane (GCC's and Clang's vector extensions: +, -, *, / and negation are element-wise and
+// correctly rounded, as the scalar ones are), nothing is reassociated, and no fused multiply-add
+// is formed (the project builds for x86-64's baseline, which has none; an FMA target would
+// contract the scalar code the same way only by chance, so lanes are not for such a build without
+// -ffp-contract=off). The math functions call std:: per lane. Comparisons are left out on
+// purpose: a branch on a value would have to be taken per lane, so code that branches on the
+// scalar does not compile for lanes (value_of() has no lane form) rather than silently taking
+// lane 0's branch; the LU's pivoting asks lanes_agree_on_pivot() instead (internal/small_lu.hpp).
+//
+// Host only (the trainer): the firmware never steps more than one parameter set.
+//
+// Wider registers: a loop over lanes compiled for x86-64's baseline takes four lanes in two SSE2
+// registers. A caller may compile its loop a second time for AVX2 (one register), with
+// [[gnu::target("avx2"), gnu::flatten]] on a wrapper, so that everything it calls is inlined and
+// compiled for AVX2 inside it and nothing outside it is, and call that one where
+// lanes_run_avx2() says the processor has it. AVX2 brings no fused multiply-add (that is FMA's own
+// flag), so both give the same bits. kLanesAvx2 says whether this compiler can build it.
+#pragma once
+
+#include <cmath>
+
+#include "lptn/scalar.hpp"
+
+namespace lptn {
+
+namespace internal {
+// GCC drops a vector_size that depends on a template parameter, so each width is spelled out.
+template <int L>
+struct LaneVector;
+template <>
+struct LaneVector<2> {
+  typedef double type __attribute__((vector_size(16)));
+};
+template <>
+struct LaneVector<4> {
+  typedef double type __attribute__((vector_size(32)));
+};
+template <>
+struct LaneVector<8> {
+  typedef double type __attribute__((vector_size(64)));
+};
+}  // namespace internal
+
+template <int L>
+struct Lanes {
+  using Vector = typename internal::LaneVector<L>::type;
+  static constexpr int kLanes = L;
+  Vector v;
+
+  // Uninitialised, as a double is (T x{} is zero): the integrator's stage arrays are made every step.
+  Lanes() = default;
+  // Every lane x. Not `v = x`: a vector plus a scalar would add to zero, which turns -0.0 into +0.0.
+  Lanes(double x) {  // NOLINT(google-explicit-constructor): a constant enters the model as T(c)
+    for (int l = 0; l < L; ++l) v[l] = x;
+  }
+  static Lanes of(Vector x) {
+    Lanes r;
+    r.v = x;
+    return r;
+  }
+  double lane(int l) const { return v[l]; }
+  void set_lane(int l, double x) { v[l] = x; }
+
+  Lanes& operator+=(const Lanes& o) { v += o.v; return *this; }
+  Lanes& operator-=(const Lanes& o) { v -= o.v; return *this; }
+  Lanes& operator*=(const Lanes& o) { v *= o.v; return *this; }
+  Lanes& operator/=(const Lanes& o) { v /= o.v; return *this; }
+  Lanes operator-() const { return of(-v); }
+  friend Lanes operator+(const Lanes& a, const Lanes& b) { return of(a.v + b.v); }
+  friend Lanes operator-(const Lanes& a, const Lanes& b) { return of(a.v - b.v); }
+  friend Lanes operator*(const Lanes& a, const Lanes& b) { return of(a.v * b.v); }
+  friend Lanes operator/(const Lanes& a, const Lanes& b) { return of(a.v / b.v); }
+  friend Lanes operator+(const Lanes& a, double b) { return a + Lanes(b); }
+  friend Lanes operator-(const Lanes& a, double b) { return a - Lanes(b); }
+  friend Lanes operator*(const Lanes& a, double b) { return a * Lanes(b); }
+  friend Lanes operator/(const Lanes& a, double b) { return a / Lanes(b); }
+  friend Lanes operator+(double a, const Lanes& b) { return Lanes(a) + b; }
+  friend Lanes operator-(double a, const Lanes& b) { return Lanes(a) - b; }
+  friend Lanes operator*(double a, const Lanes& b) { return Lanes(a) * b; }
+  friend Lanes operator/(double a, const Lanes& b) { return Lanes(a) / b; }
+
+  // The model's math functions, found by argument-dependent lookup as the Jets' are.
+  template <class F>
+  friend Lanes each(const Lanes& a, F f) {
+    Lanes r;
+    for (int l = 0; l < L; ++l) r.v[l] = f(a.v[l]);
+    return r;
+  }
+  friend Lanes exp(const Lanes& a) { return each(a, [](double x) { return std::exp(x); }); }
+  friend Lanes log(const Lanes& a) { return each(a, [](double x) { return std::log(x); }); }
+  friend Lanes sqrt(const Lanes& a) { return each(a, [](double x) { return std::sqrt(x); }); }
+  friend Lanes abs(const Lanes& a) { return each(a, [](double x) { return std::abs(x); }); }
+  friend Lanes pow(const Lanes& a, double b) { return each(a, [b](double x) { return std::pow(x, b); }); }
+  friend Lanes pow(double a, const Lanes& b) { return each(b, [a](double x) { return std::pow(a, x); }); }
+  friend Lanes pow(const Lanes& a, const Lanes& b) {
+    Lanes r;
+    for (int l = 0; l < L; ++l) r.v[l] = std::pow(a.v[l], b.v[l]);
+    return r;
+  }
+};
+
+#if defined(__x86_64__) && defined(__GNUC__)
+inline constexpr bool kLanesAvx2 = true;
+inline bool lanes_run_avx2() {
+  static const bool has = [] {
+    __builtin_cpu_init();
+    return __builtin_cpu_supports("avx2") != 0;
+  }();
+  return has;
+}
+#else
+inline constexpr bool kLanesAvx2 = false;
+inline bool lanes_run_avx2() { return false; }
+#endif
+
+}  // namespace lptn
