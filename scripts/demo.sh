@@ -51,9 +51,10 @@ step "3. simulate and compare: the paper's model with the motor file's initial g
 "$lptn" simulate --data "$out/fleet" --motor "$out/fleet/motor.toml" --out "$out/simulation" --force
 step "4. calibrate with Levenberg-Marquardt (Ceres): 6 cycles train, 3 test"
 calibrate --data "$out/fleet" --motor "$out/fleet/motor.toml" --method lm --seed 1 --out "$out/calibration-lm.json" --force
-if ((${TD3_ROUNDS:=400} > 0)); then
+if ((${TD3_ROUNDS:=550} > 0)); then
   step "5. calibrate with TD3 (libtorch), an agent stepping through parameter sets, demo budget of $TD3_ROUNDS rounds"
-  echo "      (its default, 1200 rounds, reaches LM within 1.1x in about 4 minutes on 2 cores: see docs/benchmarks.md)"
+  echo "      (550 rounds end within 1.1x of LM on seeds 1-5; its default, 1200 rounds, is the budget for a dump"
+  echo "      it has not seen: docs/benchmarks.md)"
   calibrate --data "$out/fleet" --motor "$out/fleet/motor.toml" --method td3 --seed 1 --episodes "$TD3_ROUNDS" \
     --out "$out/calibration-td3.json" --checkpoint-dir "$out/td3-checkpoints" --force
 fi
