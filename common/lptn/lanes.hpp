@@ -58,7 +58,7 @@ struct Lanes {
   Lanes(double x) {  // NOLINT(google-explicit-constructor): a constant enters the model as T(c)
     for (int l = 0; l < L; ++l) v[l] = x;
   }
-  static Lanes of(Vector x) {
+  static Lanes of(const Vector& x) {
     Lanes r;
     r.v = x;
     return r;

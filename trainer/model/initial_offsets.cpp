@@ -128,10 +128,10 @@ InitialOffsets<double> estimate_initial_offsets(const Model<double>& model, cons
 }
 
 namespace {
-// Four lanes' window for the baseline and for AVX2 (lanes.hpp: the same bits).
-[[gnu::flatten]] void window_sums_4_baseline(const Model<double>& model, const ParamVector<double>* params,
-                                             const data::Cycle& cycle, std::size_t steps, const PreparedCycle* prepared,
-                                             Quadratic* out) {
+// Four lanes' window for the baseline and for AVX2 (lanes.hpp: the same bits); the baseline's
+// left to the compiler's own inlining.
+void window_sums_4_baseline(const Model<double>& model, const ParamVector<double>* params, const data::Cycle& cycle,
+                            std::size_t steps, const PreparedCycle* prepared, Quadratic* out) {
   window_sums<4>(model, params, cycle, steps, prepared, out);
 }
 #if defined(__x86_64__) && defined(__GNUC__)
