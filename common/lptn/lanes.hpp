@@ -10,16 +10,14 @@
 // -ffp-contract=off). The math functions call std:: per lane. Comparisons are left out on
 // purpose: a branch on a value would have to be taken per lane, so code that branches on the
 // scalar does not compile for lanes (value_of() has no lane form) rather than silently taking
-// lane 0's branch; the LU's pivoting asks lanes_agree_on_pivot() instead (internal/small_lu.hpp).
+// lane 0's branch; the LU's pivoting asks SmallLu::lanes_pivot() instead (internal/small_lu.hpp).
 //
 // Host only (the trainer): the firmware never steps more than one parameter set.
 //
 // Wider registers: a loop over lanes compiled for x86-64's baseline takes four lanes in two SSE2
-// registers. A caller may compile its loop a second time for AVX2 (one register), with
-// [[gnu::target("avx2"), gnu::flatten]] on a wrapper, so that everything it calls is inlined and
-// compiled for AVX2 inside it and nothing outside it is, and call that one where
-// lanes_run_avx2() says the processor has it. AVX2 brings no fused multiply-add (that is FMA's own
-// flag), so both give the same bits. kLanesAvx2 says whether this compiler can build it.
+// registers; run_on_widest_lanes(f) below compiles f a second time for AVX2 (one register) and
+// runs that copy where the processor has AVX2. AVX2 brings no fused multiply-add (that is FMA's
+// own flag), so both give the same bits.
 #pragma once
 
 #include <cmath>
@@ -39,10 +37,6 @@ struct LaneVector<2> {
 template <>
 struct LaneVector<4> {
   typedef double type __attribute__((vector_size(32)));
-};
-template <>
-struct LaneVector<8> {
-  typedef double type __attribute__((vector_size(64)));
 };
 }  // namespace internal
 
@@ -105,17 +99,38 @@ struct Lanes {
 };
 
 #if defined(__x86_64__) && defined(__GNUC__)
-inline constexpr bool kLanesAvx2 = true;
-inline bool lanes_run_avx2() {
+namespace internal {
+inline bool has_avx2() {
   static const bool has = [] {
     __builtin_cpu_init();
     return __builtin_cpu_supports("avx2") != 0;
   }();
   return has;
 }
+// f() with everything it calls inlined into this copy and compiled for AVX2 (flatten), and nothing
+// outside it: the out-of-line functions it still calls (libm's pow, say) stay the baseline's. F is
+// the caller's own lambda, so no other translation unit makes this instantiation.
+template <class F>
+[[gnu::target("avx2"), gnu::flatten]] void run_avx2(const F& f) {
+  f();
+}
+}  // namespace internal
+
+// f(), a loop over lanes, in the widest vector registers the processor has: its AVX2 copy where it
+// has AVX2, else as built (the baseline's copy left to the compiler's own inlining: flattened too,
+// it made the set scorer's batch 6 s longer to compile). The same bits either way.
+template <class F>
+void run_on_widest_lanes(const F& f) {
+  if (internal::has_avx2())
+    internal::run_avx2(f);
+  else
+    f();
+}
 #else
-inline constexpr bool kLanesAvx2 = false;
-inline bool lanes_run_avx2() { return false; }
+template <class F>
+void run_on_widest_lanes(const F& f) {
+  f();
+}
 #endif
 
 }  // namespace lptn

@@ -131,15 +131,6 @@ struct SideBySide {
   }
 };
 
-// Four lanes, for the baseline and for AVX2 (lanes.hpp: the same bits, one register instead of two).
-// The baseline's, for processors without AVX2, is left to the compiler's own inlining: flattened
-// too, it made this file's batch 6 s longer to compile on a build of what the demo runs.
-void side_by_side_baseline(const SideBySide& w) { w.run<4>(); }
-#if defined(__x86_64__) && defined(__GNUC__)
-[[gnu::target("avx2"), gnu::flatten]]
-#endif
-void side_by_side_avx2(const SideBySide& w) { w.run<4>(); }
-
 }  // namespace
 
 void SetScorer::score_cycle(const ParamVector<double>* p, std::size_t count, std::size_t ci, Sums* sums) const {
@@ -161,31 +152,26 @@ void SetScorer::score_cycle(const ParamVector<double>* p, std::size_t count, std
   const SideBySide work{model_, c, bits, prepared, p, count, sums};
   if (count == 2)
     work.run<2>();
-  else if (lanes_run_avx2())
-    side_by_side_avx2(work);
   else
-    side_by_side_baseline(work);
+    run_on_widest_lanes([&] { work.run<4>(); });
 }
 
 void SetScorer::score(const double* u, std::size_t n, SetScore* out, int threads) const {
   const std::size_t p = free_.size(), nc = cycles_.size();
-  std::vector<Sums> sums(n * nc);
   std::vector<ParamVector<double>> params(n);
   for (std::size_t i = 0; i < n; ++i) params[i] = params_for(u + i * p);
-  // Sets kLanes at a time on each cycle; a group's sums go to its sets' slots (set-major, as before).
+  // Sets kLanes at a time on each cycle: item (group g, cycle ci) holds its sets' sums side by side.
   const std::size_t groups = (n + kLanes - 1) / kLanes;
-  std::vector<Sums> group_sums(groups * nc * kLanes);
+  std::vector<Sums> sums(groups * nc * kLanes);
   hostio::parallel_for(groups * nc, threads, [&](std::size_t item) {
-    const std::size_t g = item / nc, first = g * kLanes;
-    score_cycle(&params[first], std::min(kLanes, n - first), item % nc, &group_sums[item * kLanes]);
+    const std::size_t first = item / nc * kLanes;
+    score_cycle(&params[first], std::min(kLanes, n - first), item % nc, &sums[item * kLanes]);
   });
-  for (std::size_t i = 0; i < n; ++i)
-    for (std::size_t ci = 0; ci < nc; ++ci) sums[i * nc + ci] = group_sums[((i / kLanes) * nc + ci) * kLanes + i % kLanes];
   constexpr double kScaleK = 0.2;
   for (std::size_t i = 0; i < n; ++i) {
     Sums total;
     for (std::size_t ci = 0; ci < nc; ++ci) {  // a fixed order: the same sums on any number of threads
-      const Sums& s = sums[i * nc + ci];
+      const Sums& s = sums[((i / kLanes) * nc + ci) * kLanes + i % kLanes];
       total.steps += s.steps;
       for (int k = 0; k < 2; ++k) {
         Sums::Sensor& t = total.sensor[k];

@@ -127,36 +127,16 @@ InitialOffsets<double> estimate_initial_offsets(const Model<double>& model, cons
   return offsets_from(q);
 }
 
-namespace {
-// Four lanes' window for the baseline and for AVX2 (lanes.hpp: the same bits); the baseline's
-// left to the compiler's own inlining.
-void window_sums_4_baseline(const Model<double>& model, const ParamVector<double>* params, const data::Cycle& cycle,
-                            std::size_t steps, const PreparedCycle* prepared, Quadratic* out) {
-  window_sums<4>(model, params, cycle, steps, prepared, out);
-}
-#if defined(__x86_64__) && defined(__GNUC__)
-[[gnu::target("avx2"), gnu::flatten]]
-#endif
-void window_sums_4_avx2(const Model<double>& model, const ParamVector<double>* params, const data::Cycle& cycle,
-                        std::size_t steps, const PreparedCycle* prepared, Quadratic* out) {
-  window_sums<4>(model, params, cycle, steps, prepared, out);
-}
-}  // namespace
-
 template <int L>
 void estimate_initial_offsets_lanes(const Model<double>& model, const ParamVector<double>* params,
                                     const data::Cycle& cycle, InitialOffsets<double>* out, double window_s,
                                     const PreparedCycle* prepared) {
   Quadratic q[L];
   const std::size_t steps = window_steps(cycle, window_s);
-  if constexpr (L == 4) {
-    if (lanes_run_avx2())
-      window_sums_4_avx2(model, params, cycle, steps, prepared, q);
-    else
-      window_sums_4_baseline(model, params, cycle, steps, prepared, q);
-  } else {
+  if constexpr (L == 4)
+    run_on_widest_lanes([&] { window_sums<4>(model, params, cycle, steps, prepared, q); });
+  else
     window_sums<L>(model, params, cycle, steps, prepared, q);
-  }
   for (int l = 0; l < L; ++l) out[l] = offsets_from(q[l]);
 }
 template void estimate_initial_offsets_lanes<2>(const Model<double>&, const ParamVector<double>*, const data::Cycle&,
