@@ -96,6 +96,26 @@ std::vector<double> all_kinds_of_doubles(std::size_t n) {
     v.insert(v.end(), {d, static_cast<double>(static_cast<float>(d)), std::round(d * 1e6) / 1e6,
                        std::ldexp(std::round(std::ldexp(d, 20)), -27), r});
   }
+  // Ties at the ninth significant digit ("%.9g" rounds them to even): odd / 2^(9 - X) in the
+  // decade 10^X is exactly (ninth digit) + 1/2; and the doubles next to each decade's boundary,
+  // where nine digits round up into the next decade (and into or out of the exponent form).
+  std::size_t ties = 0;
+  for (int x = -6; x <= 9; ++x) {
+    const double lo = std::pow(10.0, x), hi = std::pow(10.0, x + 1);
+    // The odd numerators whose quotient lies in the decade.
+    std::uniform_real_distribution<double> in_decade(std::ldexp(lo, 9 - x) / 2, std::ldexp(hi, 9 - x) / 2);
+    for (int i = 0; i < 2000; ++i) {
+      const double t = std::ldexp(2 * std::floor(in_decade(g)) + 1, -(9 - x));
+      if (t >= lo && t < hi) {
+        v.insert(v.end(), {t, -t});
+        ++ties;
+      }
+      const double u1 = lo * (1.0 + u(g) * 1e-8);
+      v.insert(v.end(), {u1, std::nextafter(lo, 0.0), std::nextafter(lo, 1e300), lo * (1.0 - 5e-10), lo * (1.0 - 4.9e-10),
+                         -u1});
+    }
+  }
+  EXPECT_GT(ties, 20000u);  // the ties are there
   return v;
 }
 
