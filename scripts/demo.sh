@@ -27,9 +27,9 @@ if [[ -n ${LPTN:-} ]]; then
   lptn=$(realpath "$LPTN")
 else
   scripts/setup.sh
-  step "0. build: configure and build lptn and lptn-daemon (preset host)"
+  step "0. build: configure and build lptn (preset host; the demo runs no daemon)"
   cmake --preset host >/dev/null
-  cmake --build --preset host -j"$(nproc)" --target lptn lptn-daemon
+  cmake --build --preset host -j"$(nproc)" --target lptn
   lptn=build/host/programs/cli/lptn
 fi
 out=${1:-demo-out}
