@@ -26,7 +26,8 @@ inline std::size_t count_grid_residuals(const data::Cycle& cycle, std::size_t ma
 // state, which starts at the measurement by construction.) False if the numbers left finite.
 template <class T, class Put>
 bool for_each_grid_residual(const Model<double>& model, const ParamVector<T>& p, const data::Cycle& cycle,
-                            const model::InitialOffsets<T>& start, Put&& put, std::size_t max_steps = SIZE_MAX) {
+                            const model::InitialOffsets<T>& start, Put&& put, std::size_t max_steps = SIZE_MAX,
+                            const model::PreparedCycle* prepared = nullptr) {
   bool finite = true;
   model::run_cycle(model, p.data(), cycle, [&](std::ptrdiff_t k, const T* x) {
     if (k < 0) return;
@@ -36,7 +37,7 @@ bool for_each_grid_residual(const Model<double>& model, const ParamVector<T>& p,
     if (!std::isnan(ys)) put(model.stator_sensor(x) - T(ys));
     if (!std::isnan(yr)) put(model.rotor_sensor(x) - T(yr));
     finite = finite && std::isfinite(value_of(x[0]));
-  }, start, max_steps);
+  }, start, max_steps, prepared);
   return finite;
 }
 

@@ -181,7 +181,7 @@ SharedDataset share_work(data::Dataset dataset, const hostio::ProcessGroup& grou
 
 SharedDataset load_shared_dump(const std::vector<std::filesystem::path>& paths, const hostio::ProcessGroup& group,
                                const data::LoadOptions& options) {
-  if (!group.shared()) return {data::load_fleet_dump(paths, options), {}};
+  if (!group.shared()) return {data::load_fleet_dump(paths, options), {}, {}};
   const std::vector<std::filesystem::path> files = data::cycle_files(paths);
   std::vector<std::filesystem::path> own;
   for (std::size_t f = 0; f < files.size(); ++f)

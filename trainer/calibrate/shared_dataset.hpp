@@ -32,6 +32,11 @@ struct SharedDataset {
   data::Dataset data;
   std::vector<CycleShare> shares;  // one per cycle where shared; empty where this process holds them all
   bool shared() const { return !shares.empty(); }
+  // Each cycle's inputs as the model prepares them (model::prepare_cycle), for a caller that fits
+  // many models of one motor on it (diagnose's refits on the 1 s grid): prepared with the motor
+  // constants of every model fitted on it (effects and parameters do not enter). Empty, or one per
+  // cycle, empty for a cycle not prepared: the fits then prepare each step as they go.
+  std::vector<model::PreparedCycle> prepared;
 };
 
 // A dataset as the computations that share their work read it (fit_lm, evaluate_split, the fleet's
@@ -42,7 +47,10 @@ class DatasetRef {
  public:
   DatasetRef(const data::Dataset& dataset) : cycles(dataset.cycles), data(dataset) {}  // NOLINT: implicit on purpose
   DatasetRef(const SharedDataset& dataset)  // NOLINT: implicit on purpose
-      : cycles(dataset.data.cycles), data(dataset.data), shares_(dataset.shared() ? &dataset.shares : nullptr) {}
+      : cycles(dataset.data.cycles),
+        data(dataset.data),
+        shares_(dataset.shared() ? &dataset.shares : nullptr),
+        prepared_(dataset.prepared.empty() ? nullptr : &dataset.prepared) {}
   DatasetRef(data::Dataset&&) = delete;  // a reference to a temporary would dangle
   DatasetRef(SharedDataset&&) = delete;
 
@@ -60,9 +68,15 @@ class DatasetRef {
   std::string file_sha256(std::size_t cycle) const { return shares_ != nullptr ? (*shares_)[cycle].file_sha256 : std::string(); }
   // The processes the dataset is shared over: the MPI job's where it is shared, else this one alone.
   const hostio::ProcessGroup& group() const { return shared() ? hostio::ProcessGroup::world() : hostio::ProcessGroup::alone(); }
+  // The cycle's prepared inputs (SharedDataset::prepared), or null where there are none.
+  const model::PreparedCycle* prepared(std::size_t cycle) const {
+    if (prepared_ == nullptr || cycle >= prepared_->size() || (*prepared_)[cycle].empty()) return nullptr;
+    return &(*prepared_)[cycle];
+  }
 
  private:
   const std::vector<CycleShare>* shares_ = nullptr;
+  const std::vector<model::PreparedCycle>* prepared_ = nullptr;
 };
 
 // Which rank loads unit `unit`.

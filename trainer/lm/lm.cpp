@@ -59,9 +59,10 @@ template <int N>
 class CycleResiduals final : public CycleBlock {
  public:
   CycleResiduals(const Model<double>& model, const data::Cycle& cycle, const calibrate::FreeParameters& free,
-                 const ParamVector<double>& fixed, std::size_t max_steps, double cooling)
+                 const ParamVector<double>& fixed, std::size_t max_steps, double cooling,
+                 const model::PreparedCycle* prepared)
       : model_(model), cycle_(cycle), free_(free), fixed_(fixed), max_steps_(std::min(max_steps, cycle.steps)),
-        cooling_(cooling) {
+        cooling_(cooling), prepared_(prepared) {
     measured_ = calibrate::count_grid_residuals(cycle, max_steps_);
     set_num_residuals(static_cast<int>(columns()) + 1);
     for (Jets& c : cache_) {
@@ -222,7 +223,7 @@ class CycleResiduals final : public CycleBlock {
 
   template <class T, class Put>
   bool fill(const ParamVector<T>& p, const model::InitialOffsets<T>& start, Put&& put) const {
-    return calibrate::for_each_grid_residual(model_, p, cycle_, start, put, max_steps_);
+    return calibrate::for_each_grid_residual(model_, p, cycle_, start, put, max_steps_, prepared_);
   }
 
   const Model<double>& model_;
@@ -231,6 +232,7 @@ class CycleResiduals final : public CycleBlock {
   const ParamVector<double>& fixed_;
   std::size_t max_steps_;
   double cooling_;  // the cycle's motor's cooling factor (1 outside a fleet)
+  const model::PreparedCycle* prepared_;  // the cycle's inputs prepared once (the dataset's), or null
   // The last two Jet evaluations (Ceres evaluates one block from one thread at a time); oldest_
   // the one the next evaluation replaces.
   mutable std::array<Jets, 2> cache_;
@@ -246,19 +248,20 @@ class CycleResiduals final : public CycleBlock {
 
 // The smallest Jet that carries `n` derivatives.
 CycleBlock* make_residuals(const Model<double>& model, const data::Cycle& cycle, const calibrate::FreeParameters& free,
-                           const ParamVector<double>& fixed, std::size_t max_steps, double cooling = 1.0) {
+                           const ParamVector<double>& fixed, std::size_t max_steps, double cooling = 1.0,
+                           const model::PreparedCycle* prepared = nullptr) {
   const std::size_t n = free.size() + kOffsets;
-  if (n <= 4) return new CycleResiduals<4>(model, cycle, free, fixed, max_steps, cooling);
+  if (n <= 4) return new CycleResiduals<4>(model, cycle, free, fixed, max_steps, cooling, prepared);
   // The paper's six conductances and the two offsets: a width that vectorizes without a remainder.
-  if (n <= 8) return new CycleResiduals<8>(model, cycle, free, fixed, max_steps, cooling);
-  if (n <= 10) return new CycleResiduals<10>(model, cycle, free, fixed, max_steps, cooling);
+  if (n <= 8) return new CycleResiduals<8>(model, cycle, free, fixed, max_steps, cooling, prepared);
+  if (n <= 10) return new CycleResiduals<10>(model, cycle, free, fixed, max_steps, cooling, prepared);
   // The paper's parameters with an effect or a dictionary term or two (the usual calibration and
   // every refit of diagnose): a Jet sized by the whole library would carry mostly zeros.
-  if (n <= 16) return new CycleResiduals<16>(model, cycle, free, fixed, max_steps, cooling);
-  if (n <= 24) return new CycleResiduals<24>(model, cycle, free, fixed, max_steps, cooling);
+  if (n <= 16) return new CycleResiduals<16>(model, cycle, free, fixed, max_steps, cooling, prepared);
+  if (n <= 24) return new CycleResiduals<24>(model, cycle, free, fixed, max_steps, cooling, prepared);
   // Every parameter of the library free: sized by the library, so that registering an effect
   // (docs/effects.md) needs nothing here.
-  return new CycleResiduals<std::max(18, kNumParams + kOffsets)>(model, cycle, free, fixed, max_steps, cooling);
+  return new CycleResiduals<std::max(18, kNumParams + kOffsets)>(model, cycle, free, fixed, max_steps, cooling, prepared);
 }
 
 
@@ -497,7 +500,8 @@ LmReport fit_once(const model::MotorFile& motor, const ParamVector<double>& star
     std::unique_ptr<CycleBlock> local;
     if (!dataset.remote(cycles[i])) {
       local_residuals += measured;
-      local.reset(make_residuals(model, cycle, free, start, SIZE_MAX, cooling.empty() ? 1.0 : cooling[i]));
+      local.reset(make_residuals(model, cycle, free, start, SIZE_MAX, cooling.empty() ? 1.0 : cooling[i],
+                                 dataset.prepared(cycles[i])));
     }
     const std::size_t slot = shared.add(std::move(local), theta.data(), offsets[i].data());
     problem.AddResidualBlock(new SharedBlock(shared, slot, nf), nullptr, theta.data(), offsets[i].data());
@@ -816,7 +820,8 @@ NormalEquations normal_equations(const Model<double>& model, const calibrate::Fr
   };
   std::vector<CycleSums> sums;
   for (std::size_t i = 0; i < cycles.size(); ++i) {
-    std::unique_ptr<CycleBlock> block(make_residuals(model, dataset.cycles[cycles[i]], free, at, SIZE_MAX));
+    std::unique_ptr<CycleBlock> block(
+        make_residuals(model, dataset.cycles[cycles[i]], free, at, SIZE_MAX, 1.0, dataset.prepared(cycles[i])));
     out.residuals += block->measured();
     if (block->measured() == 0) continue;
     sums.push_back({std::move(block), {offsets[i].stator_core, offsets[i].rotor_core}, {}, {}, 0, true});
