@@ -13,6 +13,8 @@
 #include "simulator/generate/plant_truth.hpp"
 #include "trainer/lm/lm.hpp"
 #include "trainer/model/initial_offsets.hpp"
+#include "trainer/model/motor_effects.hpp"
+#include "trainer/model/simulate.hpp"
 
 #include <ceres/ceres.h>
 
@@ -50,6 +52,48 @@ TEST(LevenbergMarquardt, RecoversTrueConductancesAndFitsUnseenCyclesToTheNoise) 
   EXPECT_GT(before.stator.rmse_k, 5 * test.stator.rmse_k);
   std::printf("LM: %d iterations, %.2f s, train RMSE %.3f K, test stator %.3f K rotor %.3f K (before %.3f K)\n",
               r.iterations, r.seconds, r.rmse_k, test.stator.rmse_k, test.rotor.rmse_k, before.stator.rmse_k);
+}
+
+// A dataset's prepared inputs (SharedDataset::prepared, what diagnose's fits on the 1 s grid share)
+// give the fit the bits it finds preparing every step itself, for the paper's model and for one
+// with an effect (effects do not enter the prepared inputs); prepared with another motor's
+// constants they move it, so the fit does read them.
+TEST(LevenbergMarquardt, PreparedInputsGiveTheFitItsOwnBits) {
+  const testing::Dump& f = generated();
+  calibrate::SharedDataset plain{f.dataset, {}, {}};
+  auto prepared_with = [&](const model::MotorFile& motor) {
+    calibrate::SharedDataset d{f.dataset, {}, {}};
+    d.prepared.resize(d.data.cycles.size());
+    for (std::size_t c : f.split.train) d.prepared[c] = model::prepare_cycle(motor.model(), d.data.cycles[c]);
+    return d;
+  };
+  const calibrate::SharedDataset prepared = prepared_with(f.motor);
+  ASSERT_NE(calibrate::DatasetRef(prepared).prepared(f.split.train[0]), nullptr);
+  ASSERT_EQ(calibrate::DatasetRef(plain).prepared(f.split.train[0]), nullptr);
+  model::MotorFile windage = f.motor;
+  model::enable_effect(windage, effect_index("windage"));
+  ASSERT_NE(windage.effects, f.motor.effects);
+  lm::LmSettings settings;
+  settings.max_iterations = 4;
+  const model::MotorFile* motors[] = {&f.motor, &windage};
+  for (const model::MotorFile* motor : motors) {
+    const ParamVector<double> start = motor->initial_values();
+    const lm::LmReport a = lm::fit_lm(*motor, start, plain, f.split.train, settings);
+    const lm::LmReport b = lm::fit_lm(*motor, start, prepared, f.split.train, settings);
+    EXPECT_EQ(a.iterations, b.iterations);
+    EXPECT_EQ(a.final_cost, b.final_cost);
+    for (int i = 0; i < kNumParams; ++i) EXPECT_EQ(a.values[i], b.values[i]) << param_spec(i).name;
+    for (std::size_t c = 0; c < a.offsets.size(); ++c) {
+      EXPECT_EQ(a.offsets[c].stator_core, b.offsets[c].stator_core);
+      EXPECT_EQ(a.offsets[c].rotor_core, b.offsets[c].rotor_core);
+    }
+  }
+  model::MotorFile other = f.motor;
+  other.constants.stator_resistance_20c_ohm *= 2;
+  const calibrate::SharedDataset wrong = prepared_with(other);
+  const ParamVector<double> start = f.motor.initial_values();
+  EXPECT_NE(lm::fit_lm(f.motor, start, plain, f.split.train, settings).final_cost,
+            lm::fit_lm(f.motor, start, wrong, f.split.train, settings).final_cost);
 }
 
 TEST(LevenbergMarquardt, ReportsStandardErrorsThatCoverTheTruth) {
