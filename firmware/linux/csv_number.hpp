@@ -96,13 +96,14 @@ inline char* put_fixed6(char* out, double v) {
 // that range (and for infinities and NaN) std::to_chars's general format, which prints as printf
 // does (what the standard asks of it); for every value it took a seventh of `lptn replay`'s time.
 inline char* put_general9(char* out, double v) {
+  auto general = [&] { return std::to_chars(out, out + kMaxChars, v, std::chars_format::general, 9).ptr; };
   const double a = std::fabs(v);
   if (a == 0.0) {
     if (std::signbit(v)) *out++ = '-';
     *out++ = '0';
     return out;
   }
-  if (!(a >= 1e-5 && a < 1e9)) return std::to_chars(out, out + kMaxChars, v, std::chars_format::general, 9).ptr;
+  if (!(a >= 1e-5 && a < 1e9)) return general();
   // 10^k, k = 0..13, exact in 64 bits.
   static constexpr std::uint64_t kTen[14] = {1ull,
                                              10ull,
@@ -137,12 +138,12 @@ inline char* put_general9(char* out, double v) {
       break;
     }
   }
-  if (n < kTen[8] || n > kTen[9]) return std::to_chars(out, out + kMaxChars, v, std::chars_format::general, 9).ptr;
+  if (n < kTen[8] || n > kTen[9]) return general();
   if (n == kTen[9]) {  // rounded up into the next decade: 1.00000000 10^(x+1)
     n = kTen[8];
     ++x;
   }
-  if (x < -4 || x >= 9) return std::to_chars(out, out + kMaxChars, v, std::chars_format::general, 9).ptr;
+  if (x < -4 || x >= 9) return general();
   char digits[9];
   for (int i = 8; i >= 0; --i) {
     digits[i] = static_cast<char>('0' + n % 10);

@@ -513,10 +513,10 @@ Diagnosis diagnose(const model::MotorFile& motor, const ParamVector<double>& cal
   // calls were a tenth of a 200 h diagnosis. 152 bytes a step of the 1 s grid: 73 MB for the 133 h
   // of a 200 h dump's training cycles. Every refit's model is this motor's (effects do not enter).
   coarse.dataset.prepared.resize(coarse.dataset.data.cycles.size());
+  const calibrate::DatasetRef on_coarse(coarse.dataset);
   hostio::parallel_for(split.train.size(), settings.threads, [&](std::size_t i) {
     const std::size_t c = split.train[i];
-    if (!coarse.dataset.shared() || !coarse.dataset.shares[c].remote)
-      coarse.dataset.prepared[c] = lptn::model::prepare_cycle(model, coarse.dataset.data.cycles[c]);
+    if (!on_coarse.remote(c)) coarse.dataset.prepared[c] = lptn::model::prepare_cycle(model, on_coarse.cycles[c]);
   });
   {
     lm::LmSettings lm = refit_settings(settings);
