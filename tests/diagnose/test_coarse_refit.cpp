@@ -201,6 +201,24 @@ TEST(RefitStop, ACrawlShortOfItsMarkStopsAndOneThatCanReachItRunsOn) {
   EXPECT_EQ(stopped_after({-500, 0.5, 1.5, 1.5, 2.5, 2.5}, 6.9, 15), -1);
 }
 
+TEST(RefitStop, ARefitThatHasStalledAboveItsMarkStopsAndOneStillGainingRunsOn) {
+  // Past its mark of 6.9 at iteration 2, then 0.002 an iteration: once its jump to 7 is out of
+  // the last three iterations (at 5), twice its pace over the 10 left is 0.04, below
+  // kStalledGain, so it ends there.
+  std::vector<double> stalled{-500, 5, 7.0};
+  for (int i = 3; i <= 15; ++i) stalled.push_back(stalled.back() + 0.002);
+  EXPECT_EQ(stopped_after(stalled, 6.9, 15), 5);
+  // At 0.01 an iteration it would gain 0.2 at twice its pace: it runs on, until the iterations
+  // left at that pace no longer add kStalledGain (2 x 0.01 x 2 = 0.04 at iteration 13).
+  std::vector<double> creeping{-500, 5, 7.0};
+  for (int i = 3; i <= 15; ++i) creeping.push_back(creeping.back() + 0.01);
+  EXPECT_EQ(stopped_after(creeping, 6.9, 15), 13);
+  // Its last iteration is LM's own end: not a stall.
+  std::vector<double> steady{-500, 1.0};
+  for (int i = 2; i <= 15; ++i) steady.push_back(steady.back() + 0.5);
+  EXPECT_NE(stopped_after(steady, 6.9, 15), 15);
+}
+
 TEST(RefitStop, AboveTheBaselineOnlyWhereItWouldEndAboveItAnyway) {
   // At -3 and climbing 0.5 an iteration: it would reach the baseline, so it runs on while it
   // can (stopped only once above it, short of the mark, or not at all).
