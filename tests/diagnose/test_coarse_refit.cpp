@@ -230,6 +230,12 @@ TEST(RefitStop, AboveTheBaselineOnlyWhereItWouldEndAboveItAnyway) {
   std::vector<double> stuck{-500, -3.0};
   for (int i = 2; i <= 15; ++i) stuck.push_back(stuck.back() + 0.01);
   EXPECT_EQ(stopped_after(stuck, 6.9, 15), 4);
+  // Just above the baseline (at -0.12, its band 0.1) and creeping 0.002 an iteration: stalled,
+  // but twice its pace would take it back into the band, so it is not ended above it.
+  std::vector<double> creeping_back{-500, -3.0, -0.12};
+  for (int i = 3; i <= 15; ++i) creeping_back.push_back(creeping_back.back() + 0.002);
+  const int back = stopped_after(creeping_back, 6.9, 15);
+  EXPECT_TRUE(back == -1 || creeping_back[static_cast<std::size_t>(back)] >= -0.1 - 1e-9) << back;
 }
 
 }  // namespace

@@ -107,8 +107,10 @@ std::function<bool(int, double)> stop_short_of(double mark, double base_cost, do
     double pace = 0;
     for (std::size_t k = n - static_cast<std::size_t>(pace_iterations); k < n; ++k) pace = std::max(pace, ratios[k] - ratios[k - 1]);
     const double now = ratios.back(), reach = now + kPaceMargin * pace * (max_iterations - iteration);
-    if (iteration < max_iterations && reach - now < kStalledGain) return true;  // stalled, above its mark or below
-    return reach < mark && (now >= -at_baseline || reach < -at_baseline);
+    // Above the baseline, only where it would end above it too.
+    const bool ends_on_its_side = now >= -at_baseline || reach < -at_baseline;
+    const bool stalled = iteration < max_iterations && reach - now < kStalledGain;
+    return (stalled || reach < mark) && ends_on_its_side;
   };
 }
 

@@ -105,9 +105,10 @@ inline constexpr int kPaceIterations = 3;
 inline constexpr int kPolishPaceIterations = 1;
 inline constexpr double kPaceMargin = 2.0;
 // A refit that at kPaceMargin times its pace would gain less than this likelihood ratio in the
-// iterations it has left has stalled, and is ended too, wherever it is: below its mark the rule
-// above ends it as well, and above it the refit is polished (or kept) either way, so what the
-// rest of its crawl would add is its ratio's last digits, not its verdict. "Would" at its recent
+// iterations it has left has stalled, and is ended too, above its mark as below it (and above the
+// baseline only where it would end there too, as above): above its mark the refit is polished (or
+// kept) either way, so what the rest of its crawl would add is its ratio's last digits, not its
+// verdict. Its last iteration is LM's own end, not a stall. "Would" at its recent
 // pace: LM lengthens its steps again after small ones, so a stalled crawl can still gain more than
 // this. On the clean 200 h dump (FLEET_MOTORS=0 scripts/bench-scale.sh 200) windage's refit from
 // its neutral value stalled at 6.41 after 5 of its 15 coarse iterations and the 10 more gained
