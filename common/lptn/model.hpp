@@ -103,6 +103,12 @@ class Model {
   }
   template <class T>
   void assemble(const PreparedInputs& step, const T* p, HeatBalance<T>& sys) const {
+    assemble_in_power_units(step, p, sys);
+    sys.finish();
+  }
+  // assemble() before its finish(): the network in W/K and W, not yet divided by the capacitances.
+  template <class T>
+  void assemble_in_power_units(const PreparedInputs& step, const T* p, HeatBalance<T>& sys) const {
     const Inputs<R>& in = step.in;
     const EffectInputs<R> e{motor_, in, step.losses, step.speed_ratio, step.effective_airflow_m3s, step.airflow_factor};
 
@@ -120,7 +126,6 @@ class Model {
       const T* ep = p + kNumPaperParams + EffectLibrary::kParamOffsets[index];
       if constexpr (requires { E::apply(e, ep, g, sys, 0); }) E::apply(e, ep, g, sys, first_state_[index]);
     });
-    sys.finish();
   }
 
   // One fixed step of dt seconds with the inputs held over it. Returns false only if the step's

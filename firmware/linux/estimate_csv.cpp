@@ -1,6 +1,8 @@
 #include "estimate_csv.hpp"
 
+#include <cassert>
 #include <cmath>
+#include <cstring>
 
 #include "csv_number.hpp"
 
@@ -11,14 +13,26 @@ using namespace csv_number;
 
 // Nine significant digits ("%.9g"): a float (the loader stores inputs as float) survives the round
 // trip. NaN: an empty cell.
-char* put(char* out, double v) {
-  *out++ = ',';
-  return std::isnan(v) ? out : put_general9(out, v);
-}
+char* general9_or_empty(char* out, double v) { return std::isnan(v) ? out : put_general9(out, v); }
 
-char* put6(char* out, double v) {
+// A column's number: from the cell where it is the cell's double, else formatted (and kept).
+template <char* (*Format)(char*, double)>
+char* put_cell(char* out, EstimateRowFormatter::Cell& cell, double v) {
   *out++ = ',';
-  return put_fixed6(out, v);
+  std::uint64_t bits;
+  std::memcpy(&bits, &v, sizeof bits);
+  if (cell.length != 0 && cell.bits == bits) {
+    std::memcpy(out, cell.text, sizeof cell.text);  // the whole cell: a fixed copy, kMaxEstimateRow has the room
+    return out + cell.length;
+  }
+  char* end = Format(out, v);
+  const std::size_t length = static_cast<std::size_t>(end - out);
+  cell.length = length <= sizeof cell.text ? length : 0;
+  if (cell.length != 0) {
+    cell.bits = bits;
+    std::memcpy(cell.text, out, length);
+  }
+  return end;
 }
 
 char* put_int_field(char* out, long long v) {
@@ -44,6 +58,14 @@ char* put_padded6(char* out, long long v) {
 void write_estimate_header(std::FILE* out) { std::fputs(kEstimateHeader, out); }
 
 std::size_t format_estimate_row(char* buf, const EstimatorOutput<double>& o, TimeUs t0_us) {
+  EstimateRowFormatter fresh;
+  return fresh.format(buf, o, t0_us);
+}
+
+std::size_t EstimateRowFormatter::format(char* buf, const EstimatorOutput<double>& o, TimeUs t0_us) {
+  Cell* cell = cells_;
+  auto put = [&](char* out, double v) { return put_cell<general9_or_empty>(out, *cell++, v); };
+  auto put6 = [&](char* out, double v) { return put_cell<put_fixed6>(out, *cell++, v); };
   const TimeUs t = o.time_us - t0_us;
   char* p = put_int(buf, static_cast<long long>(t / kUsPerS));
   *p++ = '.';
@@ -81,6 +103,7 @@ std::size_t format_estimate_row(char* buf, const EstimatorOutput<double>& o, Tim
   p = put_int_field(p, static_cast<unsigned>(o.cooling_state));
   p = put_int_field(p, o.cooling_alarm ? 1 : 0);
   *p++ = '\n';
+  assert(cell == cells_ + kNumberColumns);
   return static_cast<std::size_t>(p - buf);
 }
 

@@ -172,14 +172,38 @@ std::string printf_row(const fw::EstimatorOutput<double>& o, fw::TimeUs t0_us) {
   return s;
 }
 
+// Every row twice: alone (format_estimate_row) and by one EstimateRowFormatter for all rows in
+// turn, most of whose numbers are those of the row before or differ from them only in sign (+0 and
+// -0, NaN of either sign among them) or in the last bit.
 TEST(EstimateRow, IsTheRowPrintfWrote) {
   const std::vector<double> values = all_kinds_of_doubles(20000);
   std::mt19937_64 g(7);
   std::uniform_int_distribution<std::size_t> pick(0, values.size() - 1);
   std::uniform_int_distribution<int> small(0, 7);
   std::uniform_int_distribution<long long> time(-5 * fw::kUsPerS, 400000 * fw::kUsPerS);
-  auto any = [&] { return values[pick(g)]; };
+  std::vector<double> previous, current;  // the rows' numbers, column by column as any() hands them out
+  std::size_t column = 0;
+  auto any = [&] {
+    const double fresh = values[pick(g)];
+    double v = fresh;
+    if (column < previous.size()) {
+      const double old = previous[column];
+      switch (small(g)) {
+        case 0: case 1: case 2: case 3: v = old; break;
+        case 4: v = -old; break;
+        case 5: v = std::nextafter(old, INFINITY); break;
+        default: break;
+      }
+    }
+    ++column;
+    current.push_back(v);
+    return v;
+  };
+  fw::EstimateRowFormatter rows;
   for (int i = 0; i < 20000; ++i) {
+    previous.swap(current);
+    current.clear();
+    column = 0;
     fw::EstimatorOutput<double> o;
     o.time_us = time(g);
     o.inputs.speed_rpm = any();
@@ -212,6 +236,8 @@ TEST(EstimateRow, IsTheRowPrintfWrote) {
     char buf[fw::kMaxEstimateRow];
     const std::string row(buf, fw::format_estimate_row(buf, o, t0));
     ASSERT_EQ(row, printf_row(o, t0)) << "row " << i;
+    const std::string in_turn(buf, rows.format(buf, o, t0));
+    ASSERT_EQ(in_turn, row) << "row " << i << ", formatted in turn";
   }
 }
 

@@ -74,13 +74,14 @@ ReplaySummary replay_to_csv(const std::string& log_path, const fw::EstimatorConf
     std::fwrite(out.data(), 1, used, csv.get());
     used = 0;
   };
+  fw::EstimateRowFormatter rows;
   hostio::ProgressLine progress(quiet);
   fw::ReplaySinks sinks;
   double sum_stator = 0, sum_rotor = 0;
   Track stator, rotor;
   sinks.row = [&](const fw::EstimatorOutput<double>& o, fw::TimeUs start) {
     if (out.size() - used < fw::kMaxEstimateRow) flush();
-    used += fw::format_estimate_row(out.data() + used, o, start);
+    used += rows.format(out.data() + used, o, start);
     if (inputs_check) {
       const fw::InputConditioner<double>& bus = estimator->input_conditioner();
       inputs_check->add(static_cast<float>(bus.last_received(fw::Input::speed)),

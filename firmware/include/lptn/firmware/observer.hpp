@@ -34,6 +34,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstring>
 
 #include "lptn/model.hpp"
 
@@ -136,22 +137,27 @@ class Observer {
     for (int i : kConductancesToAir) p[i] = params[i] * factor;
     // The inputs' share of the step (losses, airflow), once for the step and its sensitivities.
     const typename Model<T>::PreparedInputs step = model_.prepare(in);
-    HeatBalance<T> sys;
-    model_.assemble(step, p.data(), sys);
+    // The network in power units, kept for the stepped sets below to be compared with row by row.
+    // (The networks are members: constructing three on every step zeroed 240 numbers.)
+    HeatBalance<T>& unscaled = unscaled_;
+    HeatBalance<T>& sys = sys_;
+    HeatBalance<T>& stepped = stepped_;
+    model_.assemble_in_power_units(step, p.data(), unscaled);
+    sys.finish_from(unscaled);
     losses_ = step.losses;
     T phi[kMaxFilterStates][kMaxFilterStates]{};
-    // The rates at x_, and one network for every stepped set below (assemble() sets all it reads).
+    // The rates at x_, and one network for every stepped set below (assembled in full: every
+    // row it reads is set).
     T rate[kMaxStates];
     for (int i = 0; i < n; ++i) rate[i] = sys.derivative(i, x_);
-    HeatBalance<T> stepped;
     if (settings_.estimate_cooling) {
       // The rates are linear in the factor, so a step of 10 % gives d rate / d theta exactly,
       // up to rounding, at magnitudes a float resolves.
       constexpr double kStep = 1.1;
       for (int i : kConductancesToAir) p[i] = params[i] * factor * T(kStep);
-      model_.assemble(step, p.data(), stepped);
+      model_.assemble_in_power_units(step, p.data(), stepped);
       const T scale = settings_.dt_s / T(log(kStep));
-      for (int i = 0; i < n; ++i) phi[i][n] = (stepped.derivative(i, x_) - rate[i]) * scale;
+      for (int i = 0; i < n; ++i) phi[i][n] = rate_difference(stepped, unscaled, rate, i) * scale;
       phi[n][n] = T(1);
       for (int i : kConductancesToAir) p[i] = params[i] * factor;
     }
@@ -163,10 +169,10 @@ class Observer {
       const int j = consider_[c];
       const T base = p[j];
       p[j] = base * T(kParamStep);
-      model_.assemble(step, p.data(), stepped);
+      model_.assemble_in_power_units(step, p.data(), stepped);
       p[j] = base;
       const T scale = settings_.dt_s / T(kParamStep - 1.0);
-      for (int i = 0; i < n; ++i) psi[i][c] = (stepped.derivative(i, x_) - rate[i]) * scale;
+      for (int i = 0; i < n; ++i) psi[i][c] = rate_difference(stepped, unscaled, rate, i) * scale;
     }
     // The step of the state and its transition matrix last: the columns above are rates at the
     // step's start.
@@ -219,9 +225,30 @@ class Observer {
     return sqrt(p_[c][c] > T(0) ? p_[c][c] : T(0));
   }
   T cooling_factor_std() const { return cooling_factor() * cooling_factor_std_ln(); }
+  // The filter's covariance (states, then the cooling factor's), and the cross-covariance of the
+  // states with consider parameter c (parameter index consider_param(c)).
+  T covariance(int i, int j) const { return p_[i][j]; }
+  int num_consider() const { return num_consider_; }
+  int consider_param(int c) const { return consider_[c]; }
+  T cross_covariance(int i, int c) const { return cross_[i][c]; }
   const OperatingLosses<T>& losses() const { return losses_; }
 
  private:
+  // Row i's rate in `stepped` (a network in power units at stepped parameters, finished here where
+  // needed) minus the calibrated rate. A parameter enters one or two rows of the network, so most
+  // rows of a stepped set are those of `unscaled` (the calibrated network in power units) in every
+  // bit: such a row would finish to the calibrated row's bits and give the calibrated rate, so its
+  // difference is rate - rate (+0 for a finite rate), with no division and no sum. Every row gives
+  // the bits finishing the whole network gives.
+  T rate_difference(HeatBalance<T>& stepped, const HeatBalance<T>& unscaled, const T* rate, int i) const {
+    bool same = same_bits(stepped.c[i], unscaled.c[i]) && same_bits(stepped.capacitance[i], unscaled.capacitance[i]);
+    for (int j = 0; same && j < stepped.n; ++j) same = same_bits(stepped.a[i][j], unscaled.a[i][j]);
+    if (same) return rate[i] - rate[i];
+    stepped.finish_row(i);
+    return stepped.derivative(i, x_) - rate[i];
+  }
+  static bool same_bits(const T& a, const T& b) { return std::memcmp(&a, &b, sizeof(T)) == 0; }
+
   void propagate_covariance(const T (&phi)[kMaxFilterStates][kMaxFilterStates],
                             const T (&psi)[kMaxFilterStates][kNumParams], bool freeze_cooling) {
     const int n = num_filter_states();
@@ -306,6 +333,7 @@ class Observer {
   int consider_[kNumParams]{};
   int num_consider_ = 0;
   T cross_[kMaxFilterStates][kNumParams]{};
+  HeatBalance<T> unscaled_, sys_, stepped_;      // predict's scratch: the networks of the step
   T psi_[kMaxFilterStates][kNumParams]{};        // predict's scratch: the step's parameter sensitivities
   T phi_cross_[kMaxFilterStates][kNumParams]{};  // propagate's scratch: Phi C
   OperatingLosses<T> losses_{};
