@@ -7,6 +7,7 @@
 #
 #   scripts/bench-scale.sh [HOURS...]    default: 50 200; work in build/bench-scale (about 1 GB per 100 h);
 #                                      then a fleet of FLEET_MOTORS (default 20) motors, 3 cycles each
+#                                      (FLEET_MOTORS=0: no fleet)
 #   scripts/bench-scale.sh fleet         the fleet alone
 #   scripts/bench-scale.sh mpi [HOURS]   the calibration of HOURS (default 200) alone and under
 #                                      `mpirun -np 2` (Open MPI; lptn built with LPTN_WITH_MPI)
@@ -82,6 +83,7 @@ for r in "${ratios[@]}"; do echo "$r"; done
 # A fleet of FLEET_MOTORS (default 20) motors, 3 cycles each (one motor weak): the type over all of them, each
 # motor's cooling factor, the outliers (lptn calibrate --fleet). Its hours are counted from truth.json.
 : "${FLEET_MOTORS:=20}"
+((FLEET_MOTORS > 0)) || exit 0
 motors="$work/motors-$FLEET_MOTORS"
 if [ ! -f "$motors/truth.json" ]; then
   "$lptn" generate --fleet --motors "$FLEET_MOTORS" --cycles 3 --seed 7 --minutes-min 60 --minutes-max 90 --out "$motors" \

@@ -30,7 +30,7 @@ char* put_cell(char* out, EstimateRowFormatter::Cell& cell, double v) {
   cell.length = length <= sizeof cell.text ? length : 0;
   if (cell.length != 0) {
     cell.bits = bits;
-    std::memcpy(cell.text, out, length);
+    std::memcpy(cell.text, out, sizeof cell.text);  // a fixed copy too (a call to memcpy where the length varies)
   }
   return end;
 }
