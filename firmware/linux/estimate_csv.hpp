@@ -34,7 +34,7 @@ std::size_t format_estimate_row(char* buf, const EstimatorOutput<double>& o, Tim
 // format_estimate_row for one writer's rows in turn: a number that is the very double its column
 // held in the row before is copied from that row's text, not formatted again. Between two readings
 // that is a third of a row's numbers (airflow, ambient, the readings, the last fusion's figures, the
-// cooling factor), a quarter of the formatting's time in a replay. The same bytes.
+// cooling factor). The same bytes.
 class EstimateRowFormatter {
  public:
   std::size_t format(char* buf, const EstimatorOutput<double>& o, TimeUs t0_us);
