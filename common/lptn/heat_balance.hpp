@@ -69,15 +69,15 @@ struct HeatBalance {
   void finish() {
     for (int i = 0; i < n; ++i) finish_row(i);
   }
-  // This network as `raw` (not yet finished) would be after finish(), in finish()'s arithmetic:
-  // a copy and its finish() in one pass over the active block.
+  // This network as `raw` (not yet finished) would be after finish(): the active block copied
+  // and finished row by row, the rest left alone.
   void finish_from(const HeatBalance& raw) {
     n = raw.n;
     for (int i = 0; i < n; ++i) {
       capacitance[i] = raw.capacitance[i];
-      const T inv = T(1) / raw.capacitance[i];
-      c[i] = raw.c[i] * inv;
-      for (int j = 0; j < n; ++j) a[i][j] = raw.a[i][j] * inv;
+      c[i] = raw.c[i];
+      for (int j = 0; j < n; ++j) a[i][j] = raw.a[i][j];
+      finish_row(i);
     }
   }
   // finish() of row i alone: rows are finished independently (a caller that needs some rows'
