@@ -83,7 +83,7 @@ for r in "${ratios[@]}"; do echo "$r"; done
 # A fleet of FLEET_MOTORS (default 20) motors, 3 cycles each (one motor weak): the type over all of them, each
 # motor's cooling factor, the outliers (lptn calibrate --fleet). Its hours are counted from truth.json.
 : "${FLEET_MOTORS:=20}"
-((FLEET_MOTORS > 0)) || exit 0
+[[ $FLEET_MOTORS != 0 ]] || exit 0  # any other value goes to generate --motors, which checks it
 motors="$work/motors-$FLEET_MOTORS"
 if [ ! -f "$motors/truth.json" ]; then
   "$lptn" generate --fleet --motors "$FLEET_MOTORS" --cycles 3 --seed 7 --minutes-min 60 --minutes-max 90 --out "$motors" \
