@@ -184,8 +184,7 @@ TEST(EstimateRow, IsTheRowPrintfWrote) {
   std::vector<double> previous, current;  // the rows' numbers, column by column as any() hands them out
   std::size_t column = 0;
   auto any = [&] {
-    const double fresh = values[pick(g)];
-    double v = fresh;
+    double v = values[pick(g)];
     if (column < previous.size()) {
       const double old = previous[column];
       switch (small(g)) {
