@@ -3,7 +3,8 @@
 # the same tests built with AddressSanitizer and UndefinedBehaviorSanitizer (all but libtorch),
 # the fuzz smoke run, the firmware-only build (no libtorch, no Ceres), the firmware cross-compiled
 # for aarch64 Linux with its tests under qemu, the Cortex-M7 image checked for heap and exception
-# code and its replay twin run under qemu's mps2-an500 against the host, and the vcan bench.
+# code and its replay twin run under qemu's mps2-an500 against the host, and the vcan bench (with the
+# daemon's interface lost under it).
 # Installs what each step is missing first. Any failing step fails the script.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -58,11 +59,14 @@ scripts/check-m7-image.sh build/cortex-m7/firmware/baremetal/lptn_m7_image.elf
 scripts/check-m7-image.sh build/cortex-m7/firmware/baremetal/lptn_m7_replay.elf
 scripts/check-m7-golden.sh
 
-step "vcan bench: lptn-daemon on vcan0 in a qemu guest against the in-process replay"
+step "vcan bench: lptn-daemon on vcan0 in a qemu guest against the in-process replay, and its interface lost"
 scripts/setup.sh bench
 # Exactly: the daemon's record replays to its frames. Against the replay, open loop only the inputs'
 # sampling phase separates the two: a tight bound; closed loop, within a share of the filter's own
 # uncertainty; judged where the guest's timing moved no frame (lptn-vcan-bench --help says why).
 build/ci/programs/vcan-bench/lptn-vcan-bench --out build/ci/vcan-bench/open-loop --open-loop --tolerance-k 0.05 --tolerance-sigma 0
 build/ci/programs/vcan-bench/lptn-vcan-bench --out build/ci/vcan-bench/closed-loop
+# The interface going away under the daemon: a link down and up read on, a removed interface a clean stop.
+programs/vcan-bench/interface-loss.sh --lptn build/ci/programs/cli/lptn --daemon build/ci/firmware/lptn-daemon \
+  --cache build/ci/vcan-bench/cache
 printf '\nevery step passed in %d s\n' "$SECONDS"

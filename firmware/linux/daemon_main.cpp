@@ -62,7 +62,8 @@ constexpr const char* kUsage =
     "  --open-loop        do not fuse the stator winding sensor\n"
     "  --use-actor        let the calibration's TD3 actor schedule the parameters (needs torque)\n"
     "  --help, --version\n"
-    "Exit: 0 after SIGTERM/SIGINT or the end of the input, 1 on a runtime failure, 2 on bad arguments.\n";
+    "Exit: 0 after SIGTERM/SIGINT or the end of the input, 1 on a runtime failure (the interface removed among\n"
+    "them; what was received until then is recorded), 2 on bad arguments.\n";
 
 struct Options {
   std::string interface, log, replay, csv, out, record;
@@ -325,13 +326,40 @@ int run_live(const Options& o) {
       break;
     }
     if (fds[0].revents & POLLIN) break;  // SIGTERM or SIGINT: stop between ticks
+    if (!log && (fds[2].revents & (POLLERR | POLLHUP | POLLNVAL))) {
+      // A pending socket error makes poll() return at once until it is taken: left there, the loop
+      // spun a core and said nothing while the interface was gone. The interface removed (ENODEV;
+      // a USB adapter unplugged, a driver reset) ends the run: no frame can come or go on this
+      // socket. The record and the outputs so far are committed, as on SIGTERM: they are what
+      // led up to it. Any other error (a link down, ENETDOWN) is said and cleared, and the socket
+      // reads on once the link is up again.
+      const int error = socket.take_error();
+      const bool gone = (fds[2].revents & (POLLHUP | POLLNVAL)) || error == ENODEV ||
+                        (error == 0 && !(fds[2].revents & POLLIN));
+      if (gone) {
+        std::fprintf(stderr, "lptn-daemon: error: %s: %s; stopped, what was received until then is kept\n",
+                     o.interface.c_str(), error ? std::strerror(error) : "the socket reports a failure");
+        rc = 1;
+        break;
+      }
+      if (error) std::fprintf(stderr, "lptn-daemon: warning: %s: %s; reading on\n", o.interface.c_str(), std::strerror(error));
+    }
     if (!log && (fds[2].revents & POLLIN)) {
       lptn::fw::CanFrame f;
       bool overrun = false;
       for (lptn::fw::CanSocket::Read r; (r = socket.read(f, overrun)) != lptn::fw::CanSocket::Read::none;) {
         if (r == lptn::fw::CanSocket::Read::failed) {
-          std::fprintf(stderr, "lptn-daemon: error: reading %s: %s\n", o.interface.c_str(), std::strerror(errno));
-          return 1;
+          const int error = errno;
+          if (error == ENETDOWN) {  // the pending error of a link that went down, returned by the read
+            std::fprintf(stderr, "lptn-daemon: warning: %s: %s; reading on\n", o.interface.c_str(), std::strerror(error));
+            break;
+          }
+          // Stopped as on SIGTERM (not returned from here: the record would be thrown away).
+          std::fprintf(stderr, "lptn-daemon: error: reading %s: %s; stopped, what was received until then is kept\n",
+                       o.interface.c_str(), std::strerror(error));
+          rc = 1;
+          running = false;
+          break;
         }
         const TimeUs t = now();
         if (overrun) {
@@ -342,6 +370,7 @@ int run_live(const Options& o) {
         keep(t, "rx", f);
         ++frames_in;
       }
+      if (!running) break;
     }
     if (!(fds[1].revents & POLLIN)) continue;
     std::uint64_t expirations = 0;

@@ -93,4 +93,11 @@ bool CanSocket::write(const CanFrame& frame) {
   return ::write(fd_, &raw, sizeof raw) == static_cast<ssize_t>(sizeof raw);
 }
 
+int CanSocket::take_error() {
+  int error = 0;
+  socklen_t length = sizeof error;
+  if (::getsockopt(fd_, SOL_SOCKET, SO_ERROR, &error, &length) != 0) return errno;
+  return error;
+}
+
 }  // namespace lptn::fw

@@ -26,6 +26,10 @@ class CanSocket {
   // Non-blocking. `overrun` is set when the kernel dropped frames since the previous read.
   Read read(CanFrame& frame, bool& overrun);
   bool write(const CanFrame& frame);
+  // The socket's pending error (SO_ERROR), cleared by reading it; 0: none. poll() reports POLLERR
+  // for as long as one is pending (ENODEV once the interface is removed), so a loop that waits on
+  // the socket must take it or spin.
+  int take_error();
 
  private:
   int fd_ = -1;
