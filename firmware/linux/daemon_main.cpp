@@ -319,6 +319,10 @@ int run_live(const Options& o) {
   std::uint64_t uninitialized_ticks = 0, waiting_with_frames = 0;
   lptn::fw::CanFrame outputs[lptn::fw::kMaxOutputFrames];
   int rc = 0;
+  // A socket error the run goes on after (a link down): said, and the socket read on.
+  const auto reading_on = [&](int error) {
+    std::fprintf(stderr, "lptn-daemon: warning: %s: %s; reading on\n", o.interface.c_str(), std::strerror(error));
+  };
   for (bool running = true; running;) {
     pollfd fds[3] = {{signals, POLLIN, 0}, {timer, POLLIN, 0}, {socket.fd(), POLLIN, 0}};
     if (poll(fds, log ? 2 : 3, -1) < 0 && errno != EINTR) {
@@ -342,7 +346,7 @@ int run_live(const Options& o) {
         rc = 1;
         break;
       }
-      if (error) std::fprintf(stderr, "lptn-daemon: warning: %s: %s; reading on\n", o.interface.c_str(), std::strerror(error));
+      if (error) reading_on(error);
     }
     if (!log && (fds[2].revents & POLLIN)) {
       lptn::fw::CanFrame f;
@@ -351,7 +355,7 @@ int run_live(const Options& o) {
         if (r == lptn::fw::CanSocket::Read::failed) {
           const int error = errno;
           if (error == ENETDOWN) {  // the pending error of a link that went down, returned by the read
-            std::fprintf(stderr, "lptn-daemon: warning: %s: %s; reading on\n", o.interface.c_str(), std::strerror(error));
+            reading_on(error);
             break;
           }
           // Stopped as on SIGTERM (not returned from here: the record would be thrown away).
