@@ -15,10 +15,9 @@ import os
 import statistics
 import sys
 
+from pooled_rmse import combined
 
-def combined(m):
-    ns, nr = m["samples_stator"], m.get("samples_rotor", 0)
-    return math.sqrt((m["rmse_stator_k"] ** 2 * ns + m.get("rmse_rotor_k", 0.0) ** 2 * nr) / (ns + nr))
+
 
 
 def main(out):

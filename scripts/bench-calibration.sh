@@ -53,12 +53,10 @@ if [[ $mode == scheduled ]]; then
     "$lptn" generate --out "$dir/fleet" --cycles 9 --seed 1 --hidden rotor_speed_convection,windage --force >/dev/null
   calibrate "$dir" lm --method lm
   calibrate "$dir" td3-paper --method td3-paper --seed 1 --episodes "${SCHEDULED_EPISODES:-200}"
-  python3 - "$dir" <<'PY'
-import json, math, sys
+  PYTHONPATH=scripts python3 - "$dir" <<'PY'
+import json, sys
 d = sys.argv[1]
-def combined(m):
-    ns, nr = m["samples_stator"], m["samples_rotor"]
-    return math.sqrt((m["rmse_stator_k"] ** 2 * ns + m["rmse_rotor_k"] ** 2 * nr) / (ns + nr))
+from pooled_rmse import combined
 lm = json.load(open(d + "/lm.json"))["metrics"]["test"]
 td3 = json.load(open(d + "/td3-paper.json"))
 s = td3["method"]["details"]["scheduled_actor"]
@@ -81,12 +79,10 @@ if [[ $mode == discovered ]]; then
   split=(--test-cycles cycle_07_regional,cycle_08_intercity --effect heat_stator_winding_i2f)
   calibrate "$dir" lm --method lm "${split[@]}"
   for seed in $seeds; do calibrate "$dir" "td3-$seed" --method td3 --seed "$seed" "${split[@]}"; done
-  python3 - "$dir" $seeds <<'PY'
-import json, math, statistics, sys
+  PYTHONPATH=scripts python3 - "$dir" $seeds <<'PY'
+import json, statistics, sys
 d, seeds = sys.argv[1], sys.argv[2:]
-def combined(m):
-    ns, nr = m["samples_stator"], m["samples_rotor"]
-    return math.sqrt((m["rmse_stator_k"] ** 2 * ns + m["rmse_rotor_k"] ** 2 * nr) / (ns + nr))
+from pooled_rmse import combined
 lm = json.load(open(d + "/lm.json"))
 lm_test = combined(lm["metrics"]["test"])
 free = sum(1 for p in lm["parameters"] if p["calibrated"])
@@ -121,12 +117,10 @@ if [[ $mode == transfer ]]; then
   calibrate "$dir" lm --method lm
   calibrate "$dir" td3-scratch --method td3 --seed 1 --test-curve
   calibrate "$dir" td3-warm --method td3 --seed 1 --test-curve --warm-start "$previous"
-  python3 - "$dir" "$previous" <<'PY'
-import json, math, sys
+  PYTHONPATH=scripts python3 - "$dir" "$previous" <<'PY'
+import json, sys
 d = sys.argv[1]
-def combined(m):
-    ns, nr = m["samples_stator"], m["samples_rotor"]
-    return math.sqrt((m["rmse_stator_k"] ** 2 * ns + m["rmse_rotor_k"] ** 2 * nr) / (ns + nr))
+from pooled_rmse import combined
 lm = combined(json.load(open(d + "/lm.json"))["metrics"]["test"])
 print(f"second dump (conductances +-15 %), warm start from {sys.argv[2]}; LM test {lm:.4f} K, target 1.1x = {1.1 * lm:.4f} K")
 for name in ("td3-scratch", "td3-warm"):

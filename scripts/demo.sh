@@ -60,12 +60,9 @@ if ((${TD3_ROUNDS:=550} > 0)); then
   calibrate --data "$out/fleet" --motor "$out/fleet/motor.toml" --method td3 --seed 1 --episodes "$TD3_ROUNDS" \
     --out "$out/calibration-td3.json" --checkpoint-dir "$out/td3-checkpoints" --force
   # TD3's test RMSE as a multiple of LM's, stator and rotor pooled: what docs/benchmarks.md compares.
-  python3 - "$out/calibration-lm.json" "$out/calibration-td3.json" <<'PY'
-import json, math, sys
-def pooled(path):
-    m = json.load(open(path))["metrics"]["test"]
-    ns, nr = m["samples_stator"], m["samples_rotor"]
-    return math.sqrt((ns * m["rmse_stator_k"] ** 2 + nr * m["rmse_rotor_k"] ** 2) / (ns + nr))
+  PYTHONPATH=scripts python3 - "$out/calibration-lm.json" "$out/calibration-td3.json" <<'PY'
+import sys
+from pooled_rmse import pooled
 lm, td3 = pooled(sys.argv[1]), pooled(sys.argv[2])
 print(f"   TD3 against LM on the test cycles, stator and rotor pooled: {td3:.3f} K against {lm:.3f} K, {td3 / lm:.2f}x")
 PY
