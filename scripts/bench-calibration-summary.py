@@ -18,8 +18,6 @@ import sys
 from pooled_rmse import combined
 
 
-
-
 def main(out):
     truth = json.load(open(os.path.join(out, "fleet", "truth.json")))["parameters"]
     runs = {}
