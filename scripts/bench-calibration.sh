@@ -55,8 +55,8 @@ if [[ $mode == scheduled ]]; then
   calibrate "$dir" td3-paper --method td3-paper --seed 1 --episodes "${SCHEDULED_EPISODES:-200}"
   PYTHONPATH=scripts python3 - "$dir" <<'PY'
 import json, sys
-d = sys.argv[1]
 from pooled_rmse import combined
+d = sys.argv[1]
 lm = json.load(open(d + "/lm.json"))["metrics"]["test"]
 td3 = json.load(open(d + "/td3-paper.json"))
 s = td3["method"]["details"]["scheduled_actor"]
@@ -81,8 +81,8 @@ if [[ $mode == discovered ]]; then
   for seed in $seeds; do calibrate "$dir" "td3-$seed" --method td3 --seed "$seed" "${split[@]}"; done
   PYTHONPATH=scripts python3 - "$dir" $seeds <<'PY'
 import json, statistics, sys
-d, seeds = sys.argv[1], sys.argv[2:]
 from pooled_rmse import combined
+d, seeds = sys.argv[1], sys.argv[2:]
 lm = json.load(open(d + "/lm.json"))
 lm_test = combined(lm["metrics"]["test"])
 free = sum(1 for p in lm["parameters"] if p["calibrated"])
@@ -119,8 +119,8 @@ if [[ $mode == transfer ]]; then
   calibrate "$dir" td3-warm --method td3 --seed 1 --test-curve --warm-start "$previous"
   PYTHONPATH=scripts python3 - "$dir" "$previous" <<'PY'
 import json, sys
-d = sys.argv[1]
 from pooled_rmse import combined
+d = sys.argv[1]
 lm = combined(json.load(open(d + "/lm.json"))["metrics"]["test"])
 print(f"second dump (conductances +-15 %), warm start from {sys.argv[2]}; LM test {lm:.4f} K, target 1.1x = {1.1 * lm:.4f} K")
 for name in ("td3-scratch", "td3-warm"):

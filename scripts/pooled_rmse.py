@@ -1,13 +1,10 @@
-#!/usr/bin/env python3
 """The combined RMSE of a calibration's metrics: stator and rotor residuals pooled, each sensor
 weighted by its samples (a dump without rotor readings: the stator's alone). What the demo and the
-calibration benchmarks compare TD3 with LM by; one definition for all of them.
-
-  scripts/pooled_rmse.py CALIBRATION.json [SIDE]   prints the pooled RMSE of SIDE (default test) in K
+calibration benchmarks compare TD3 with LM by; one definition for all of them (imported with
+scripts/ on PYTHONPATH or beside the importing script).
 """
 import json
 import math
-import sys
 
 
 def combined(m):
@@ -21,8 +18,3 @@ def pooled(path, side="test"):
     with open(path) as f:
         return combined(json.load(f)["metrics"][side])
 
-
-if __name__ == "__main__":
-    if len(sys.argv) not in (2, 3):
-        sys.exit(__doc__.strip().splitlines()[-1].strip())
-    print(f"{pooled(*sys.argv[1:]):.6f}")
