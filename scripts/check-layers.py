@@ -17,6 +17,7 @@ may include everything its dependencies may (the closure). An include fails the 
 """
 import os
 import re
+import subprocess
 import sys
 
 # Longest prefix first wins. The generated headers (lptn/can/*, lptn/bus/*, lptn/version.hpp) belong to the
@@ -263,13 +264,26 @@ def layout(repo):
     for m in MODULES:
         if not any(d == m or d.startswith(m + "/") for d in dirs):
             problems.append(f"{LAYOUT_DOC}: the layout does not name the module {m}/")
-    for dirpath, dirnames, filenames in os.walk(repo):
-        dirnames[:] = sorted(d for d in dirnames if d not in SKIP_DIRS and not (dirpath == repo and d == "tests"))
-        for f in sorted(filenames):
-            path = os.path.relpath(os.path.join(dirpath, f), repo)
-            if f.endswith(SOURCE_EXTENSIONS) and module_of(path) is None:
-                problems.append(f"{path}: in no module of the layer check's table (MODULES)")
+    for path in tree_files(repo):
+        if path.endswith(SOURCE_EXTENSIONS) and module_of(path) is None:
+            problems.append(f"{path}: in no module of the layer check's table (MODULES)")
     return problems, len(dirs)
+
+
+def tree_files(repo):
+    """The tree's files outside tests/, relative to repo: in a git work tree those git would keep
+    (tracked, or new and not ignored: the demo's output, demo-out/, is ignored, and a user runs the
+    tests after the demo), elsewhere (a source archive) every file outside SKIP_DIRS."""
+    try:
+        listed = subprocess.run(["git", "-C", repo, "ls-files", "--cached", "--others", "--exclude-standard", "-z"],
+                                capture_output=True, check=True).stdout.decode().split("\0")
+        return sorted(p for p in listed if p and not p.startswith("tests/") and os.path.exists(os.path.join(repo, p)))
+    except (OSError, subprocess.CalledProcessError):
+        paths = []
+        for dirpath, dirnames, filenames in os.walk(repo):
+            dirnames[:] = sorted(d for d in dirnames if d not in SKIP_DIRS and not (dirpath == repo and d == "tests"))
+            paths += [os.path.relpath(os.path.join(dirpath, f), repo) for f in sorted(filenames)]
+        return paths
 
 
 def main():

@@ -16,7 +16,7 @@ trap 'rm -rf "$prefix" "$work"' EXIT
 fail() { echo "test-install: $*" >&2; exit 1; }
 
 cmake --install "$build" --prefix "$prefix" >/dev/null
-for f in bin/lptn bin/lptn-daemon include/lptn/model.hpp include/lptn/version.hpp include/lptn/firmware/estimator.hpp \
+for f in bin/lptn bin/lptn-full bin/lptn-daemon include/lptn/model.hpp include/lptn/version.hpp include/lptn/firmware/estimator.hpp \
          include/lptn/can/lptn_frames.hpp include/lptn/bus/bus_glue.hpp include/lptn/bus/bus_glue_codecs.hpp; do
   [ -e "$prefix/$f" ] || fail "$f was not installed"
 done

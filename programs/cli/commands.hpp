@@ -37,6 +37,8 @@ std::vector<std::string>& invocation();
 // Parses and runs `app` as every lptn program does: one line per failure, exit code 2 for bad input
 // (BadInput, hostio/bad_input.hpp, which every module's own kind derives from; with the subcommand
 // it did not know named), 1 for any other failure.
+int parse_and_run(CLI::App& app, int argc, char** argv);
+// parse_and_run, and in an MPI job a failure ends every rank (MPI linked: lptn-full, lptn-td3).
 int run_cli(CLI::App& app, int argc, char** argv);
 
 

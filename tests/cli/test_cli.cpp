@@ -4,6 +4,8 @@
 #include <sys/wait.h>
 
 #include <cstdio>
+#include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -27,6 +29,37 @@ TEST(Cli, EverySubcommandHasHelp) {
     EXPECT_NE(r.out.find("--"), std::string::npos) << sub;
   }
   EXPECT_EQ(run("--help", t.path()).code, 0);
+}
+
+// The libraries a command's process loads, as the dynamic loader lists them (LD_DEBUG=files: one
+// "file=NAME [0];  needed by ..." line each, for lptn and, after the hand-over, lptn-full).
+std::string loaded_libraries(const std::string& args, const std::filesystem::path& scratch) {
+  const auto err = scratch / "loader.txt";
+  const std::string cmd = "LD_DEBUG=files " + std::string(LPTN_BINARY) + " " + args + " >/dev/null 2>" + err.string();
+  EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  std::ifstream in(err);
+  std::string names, line;
+  while (std::getline(in, line))
+    if (const auto at = line.find("file="); at != std::string::npos && line.find("needed by") != std::string::npos)
+      names += line.substr(at + 5, line.find(' ', at) - at - 5) + " ";
+  return names;
+}
+
+// Replay and convert run in lptn itself, which loads none of the calibrators' libraries (their
+// loading and OpenBLAS's threads were 6 ms of a 0.1 s replay); any other command is lptn-full's,
+// and loads them.
+TEST(Cli, ReplayAndConvertLoadNoneOfTheCalibratorsLibraries) {
+  testing::TempDir t;
+  for (const char* command : {"replay --help", "convert --help", "--version"}) {
+    const std::string libraries = loaded_libraries(command, t.path());
+    EXPECT_NE(libraries.find("libstdc++"), std::string::npos) << command << ": " << libraries;  // the list is read
+    for (const char* heavy : {"libmpi", "libopen-pal", "libceres", "libglog", "libopenblas", "libblas", "liblapack",
+                              "libcholmod", "libgfortran", "libtorch"})
+      EXPECT_EQ(libraries.find(heavy), std::string::npos) << command << " loads " << heavy << ": " << libraries;
+  }
+  // Handed over: the same list shows them.
+  const std::string full = loaded_libraries("calibrate --help", t.path());
+  EXPECT_NE(full.find("liblapack"), std::string::npos) << full;
 }
 
 TEST(Cli, GeneratedDataPassesInspectWithoutWarnings) {

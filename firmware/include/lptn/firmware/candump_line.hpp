@@ -28,12 +28,21 @@ struct CandumpRecord {
 
 namespace candump_detail {
 
-inline int hex_value(char c) {
-  if (c >= '0' && c <= '9') return c - '0';
-  if (c >= 'a' && c <= 'f') return c - 'a' + 10;
-  if (c >= 'A' && c <= 'F') return c - 'A' + 10;
-  return -1;
-}
+// Every byte's value as a hex digit, -1 for any other byte: one load a digit, where three ranges
+// tested in turn were a branch a range (a log's data digits are as often letters as numbers).
+struct HexValues {
+  std::int8_t of[256];
+  constexpr HexValues() : of() {
+    for (int c = 0; c < 256; ++c)
+      of[c] = static_cast<std::int8_t>(c >= '0' && c <= '9'   ? c - '0'
+                                       : c >= 'a' && c <= 'f' ? c - 'a' + 10
+                                       : c >= 'A' && c <= 'F' ? c - 'A' + 10
+                                                              : -1);
+  }
+};
+inline constexpr HexValues kHexValues{};
+
+inline int hex_value(char c) { return kHexValues.of[static_cast<unsigned char>(c)]; }
 
 // Digits only, at most `max_digits`, into an integer; false on anything else or an empty field.
 inline bool decimal(std::string_view s, std::size_t max_digits, long long& out) {
@@ -126,7 +135,7 @@ inline const char* parse_candump_line(std::string_view line, CandumpRecord& out)
   if (data.size() / 2 > max_len) return f.fd ? "CAN FD data longer than 64 bytes" : "data longer than 8 bytes";
   for (std::size_t i = 0; i < data.size(); i += 2) {
     const int hi = hex_value(data[i]), lo = hex_value(data[i + 1]);
-    if (hi < 0 || lo < 0) return "data is not hexadecimal";
+    if ((hi | lo) < 0) return "data is not hexadecimal";
     f.data[i / 2] = static_cast<std::uint8_t>(hi << 4 | lo);
   }
   f.len = static_cast<std::uint8_t>(data.size() / 2);
