@@ -13,10 +13,18 @@ using namespace csv_number;
 
 // Nine significant digits ("%.9g"): a float (the loader stores inputs as float) survives the round
 // trip. NaN: an empty cell.
+ShortText general9_or_empty_short(double v) {
+  if (!std::isnan(v)) return general9_short(v);
+  ShortText empty;
+  empty.length = 0;
+  return empty;
+}
 char* general9_or_empty(char* out, double v) { return std::isnan(v) ? out : put_general9(out, v); }
 
-// A column's number: from the cell where it is the cell's double, else formatted (and kept).
-template <char* (*Format)(char*, double)>
+// A column's number: from the cell where it is the cell's double, else made (and kept). A text
+// made in registers is stored from them into the row and into the cell; any other is written by
+// Format and copied from the row (no number of the demo's rows is one).
+template <ShortText (*Short)(double), char* (*Format)(char*, double)>
 char* put_cell(char* out, EstimateRowFormatter::Cell& cell, double v) {
   *out++ = ',';
   std::uint64_t bits;
@@ -24,6 +32,13 @@ char* put_cell(char* out, EstimateRowFormatter::Cell& cell, double v) {
   if (cell.length != 0 && cell.bits == bits) {
     std::memcpy(out, cell.text, sizeof cell.text);  // the whole cell: a fixed copy, kMaxEstimateRow has the room
     return out + cell.length;
+  }
+  if (const ShortText text = Short(v); text.length >= 0) {
+    static_assert(sizeof text.bytes <= sizeof cell.text);
+    std::memcpy(cell.text, &text.bytes, sizeof text.bytes);
+    cell.bits = bits;
+    cell.length = static_cast<std::size_t>(text.length);
+    return put_short(out, text);
   }
   char* end = Format(out, v);
   const std::size_t length = static_cast<std::size_t>(end - out);
@@ -64,8 +79,8 @@ std::size_t format_estimate_row(char* buf, const EstimatorOutput<double>& o, Tim
 
 std::size_t EstimateRowFormatter::format(char* buf, const EstimatorOutput<double>& o, TimeUs t0_us) {
   Cell* cell = cells_;
-  auto put = [&](char* out, double v) { return put_cell<general9_or_empty>(out, *cell++, v); };
-  auto put6 = [&](char* out, double v) { return put_cell<put_fixed6>(out, *cell++, v); };
+  auto put = [&](char* out, double v) { return put_cell<general9_or_empty_short, general9_or_empty>(out, *cell++, v); };
+  auto put6 = [&](char* out, double v) { return put_cell<fixed6_short, put_fixed6>(out, *cell++, v); };
   const TimeUs t = o.time_us - t0_us;
   char* p = put_int(buf, static_cast<long long>(t / kUsPerS));
   *p++ = '.';
