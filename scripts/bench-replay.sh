@@ -8,7 +8,8 @@
 #     python3-can: can.CanutilsLogReader, can.ASCReader, can.BLFReader) iterating every message of
 #     the same file, timed around the loop alone (no interpreter start, no import), best of RUNS;
 #   - the nine logs as a directory: `lptn replay --log DIR` on one thread (--threads 1) and on every
-#     core, against python-can reading the nine files one after the other (one run each).
+#     core, best of RUNS, against python-can reading the nine files one after the other (one run:
+#     it takes 2-4 s a format).
 # Wall and CPU seconds of each, lptn's and python-can's runs interleaved; frames/s per CPU second
 # (one core's rate: on a machine where other work runs, the wall time says more about the other
 # work) and lptn's as a multiple of python-can's.
@@ -17,8 +18,9 @@
 #   scripts/bench-replay.sh                            builds lptn (host preset), work in build/bench-replay
 #   LPTN=build/ci/programs/cli/lptn scripts/bench-replay.sh   an lptn already built
 #   RUNS=5 ...                                       best of 5 (default 3)
-#   BEFORE=path/to/old/lptn ...                      rows "BEFORE" of that lptn on the same log, its
-#                                                    runs interleaved too (and its CSV compared)
+#   BEFORE=path/to/old/lptn ...                      rows "BEFORE" of that lptn on the same log and
+#                                                    directory (one thread), its runs interleaved too
+#                                                    (and its CSVs compared)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 if [[ -n ${LPTN:-} ]]; then
@@ -53,16 +55,17 @@ done
 # One comparison, its runs interleaved so that other work on the machine weighs on each alike:
 #   measure READER FILE... -- COMMAND... [-- COMMAND...]
 # RUNS times: each COMMAND (a process, its output thrown away), then python-can's READER over
-# the FILEs (the loop alone, in this process: no interpreter start, no import). Prints the frames
-# python-can read and its "WALL CPU", then "WALL CPU" of each COMMAND: the best of the runs for
-# each. CPU is user + system time (a command's process and its threads, from os.wait4), which
-# other work beside it changes far less than the wall time.
+# the FILEs (the loop alone, in this process: no interpreter start, no import; in the first
+# READER_RUNS runs only, default all). Prints the frames python-can read and its "WALL CPU", then
+# "WALL CPU" of each COMMAND: the best of the runs for each. CPU is user + system time (a
+# command's process and its threads, from os.wait4), which other work beside it changes far less
+# than the wall time.
 measure() {
-  /usr/bin/python3 - "$runs" "$@" <<'PY'
+  /usr/bin/python3 - "$runs" "${reader_runs:-$runs}" "$@" <<'PY'
 import os, subprocess, sys, time
 import can
-args = sys.argv[2:]
-runs, reader = int(sys.argv[1]), getattr(can, args[0])
+args = sys.argv[3:]
+runs, reader_runs, reader = int(sys.argv[1]), int(sys.argv[2]), getattr(can, args[0])
 parts, cur = [], []
 for a in args[1:]:
     if a == "--":
@@ -78,7 +81,7 @@ def keep(i, w, c):
     b[0] = w if b[0] is None else min(b[0], w)
     b[1] = c if b[1] is None else min(b[1], c)
 frames = 0
-for _ in range(runs):
+for run in range(runs):
     for i, cmd in enumerate(commands):
         start = time.perf_counter()
         p = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
@@ -86,6 +89,8 @@ for _ in range(runs):
         if status != 0:
             sys.exit("bench-replay: failed: " + " ".join(cmd))
         keep(i + 1, time.perf_counter() - start, usage.ru_utime + usage.ru_stime)
+    if run >= reader_runs:
+        continue
     w0, c0 = time.perf_counter(), time.process_time()
     frames = 0
     for path in files:
@@ -129,10 +134,18 @@ for format in candump asc blf; do
   ((directories)) || continue
 
   all_frames=$(frames_of "$work"/logs-candump/*.log)
-  read -r py_frames py_wall py_cpu one_wall one_cpu all_wall all_cpu < <(runs=1 measure "${reader[$format]}" "$dir"/* \
+  before_cmds=()
+  [[ -z $before ]] || ! "$before" replay --help | grep -q -- --threads || before_cmds=(-- "$before" replay --quiet \
+    --log "$dir" --threads 1 --calibration "$work/calibration.json" --out "$work/out-before-$format" --force)
+  read -r py_frames py_wall py_cpu one_wall one_cpu all_wall all_cpu b_one_wall b_one_cpu < <(reader_runs=1 measure \
+    "${reader[$format]}" "$dir"/* \
     -- "$lptn" replay --quiet --log "$dir" --threads 1 --calibration "$work/calibration.json" --out "$work/out-$format" --force \
-    -- "$lptn" replay --quiet --log "$dir" --threads "$threads" --calibration "$work/calibration.json" --out "$work/out-$format" --force)
+    -- "$lptn" replay --quiet --log "$dir" --threads "$threads" --calibration "$work/calibration.json" --out "$work/out-$format" \
+    --force "${before_cmds[@]}")
   ((py_frames == all_frames)) || echo "bench-replay: python-can read $py_frames frames of $dir, lptn $all_frames" >&2
   row "$format" "replay 9 logs, 1 thread" "$all_frames" "$one_wall" "$one_cpu" "$py_wall" "$py_cpu"
+  ((${#before_cmds[@]} == 0)) || row "$format" "replay 9 logs, 1 thread, BEFORE" "$all_frames" "$b_one_wall" "$b_one_cpu" "$py_wall" "$py_cpu"
+  ((${#before_cmds[@]} == 0)) || diff -rq "$work/out-$format" "$work/out-before-$format" >/dev/null ||
+    echo "bench-replay: $dir: the CSVs differ" >&2
   row "$format" "replay 9 logs, $threads threads" "$all_frames" "$all_wall" "$all_cpu" "$py_wall" "$py_cpu"
 done

@@ -15,9 +15,30 @@
 namespace lptn::replay {
 namespace {
 
+// Numbers appended one at a time and read back by index, in blocks of 64 Ki that are never moved:
+// a vector's doublings copied each number and touched twice the pages it ends with (two thirds
+// of a replay's page faults).
+class Column {
+ public:
+  void push_back(double v) {
+    if (used_ == kBlock) {
+      blocks_.push_back(std::make_unique_for_overwrite<double[]>(kBlock));
+      used_ = 0;
+    }
+    blocks_.back()[used_++] = v;
+  }
+  std::size_t size() const { return blocks_.empty() ? 0 : (blocks_.size() - 1) * kBlock + used_; }
+  double operator[](std::size_t k) const { return blocks_[k / kBlock][k % kBlock]; }
+
+ private:
+  static constexpr std::size_t kBlock = std::size_t{1} << 16;
+  std::vector<std::unique_ptr<double[]>> blocks_;
+  std::size_t used_ = kBlock;
+};
+
 // One node's track: the estimate, its spread and the fresh reading (NaN: none) per tick.
 struct Track {
-  std::vector<double> estimate, spread, reading;
+  Column estimate, spread, reading;
   void add(double e, double s, double y) {
     estimate.push_back(e);
     spread.push_back(s);
@@ -29,7 +50,7 @@ constexpr std::size_t kNoiseLagTicks = 20;  // 2 s at the 0.1 s step (BandCovera
 
 BandCoverage coverage_of(const Track& t) {
   BandCoverage c;
-  const std::vector<double>& y = t.reading;
+  const Column& y = t.reading;
   double sum = 0;
   std::size_t n = 0;
   for (std::size_t k = 0; k + 2 * kNoiseLagTicks < y.size(); ++k) {
@@ -67,11 +88,13 @@ ReplaySummary replay_to_csv(const std::string& log_path, const fw::EstimatorConf
   if (!csv.open(csv_path)) throw std::invalid_argument(csv_path + ": cannot be written");
   auto estimator = std::make_unique<fw::Estimator<double>>(config);
   fw::write_estimate_header(csv.get());
-  // Rows are formatted into a buffer of 1 MiB and written a buffer at a time.
-  std::vector<char> out(std::size_t{1} << 20);
+  // Rows are formatted into a buffer of 1 MiB (not zeroed first: every byte written is written
+  // before it is read) and written a buffer at a time.
+  constexpr std::size_t kOut = std::size_t{1} << 20;
+  const std::unique_ptr<char[]> out = std::make_unique_for_overwrite<char[]>(kOut);
   std::size_t used = 0;
   auto flush = [&] {
-    std::fwrite(out.data(), 1, used, csv.get());
+    std::fwrite(out.get(), 1, used, csv.get());
     used = 0;
   };
   fw::EstimateRowFormatter rows;
@@ -80,8 +103,8 @@ ReplaySummary replay_to_csv(const std::string& log_path, const fw::EstimatorConf
   double sum_stator = 0, sum_rotor = 0;
   Track stator, rotor;
   sinks.row = [&](const fw::EstimatorOutput<double>& o, fw::TimeUs start) {
-    if (out.size() - used < fw::kMaxEstimateRow) flush();
-    used += rows.format(out.data() + used, o, start);
+    if (kOut - used < fw::kMaxEstimateRow) flush();
+    used += rows.format(out.get() + used, o, start);
     if (inputs_check) {
       const fw::InputConditioner<double>& bus = estimator->input_conditioner();
       inputs_check->add(static_cast<float>(bus.last_received(fw::Input::speed)),
