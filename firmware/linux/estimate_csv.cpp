@@ -23,7 +23,7 @@ char* general9_or_empty(char* out, double v) { return std::isnan(v) ? out : put_
 
 // A column's number: from the cell where it is the cell's double, else made (and kept). A text
 // made in registers is stored from them into the row and into the cell; any other is written by
-// Format and copied from the row (no number of the demo's rows is one).
+// Format and copied from the row (none of the demo's numbers is).
 template <ShortText (*Short)(double), char* (*Format)(char*, double)>
 char* put_cell(char* out, EstimateRowFormatter::Cell& cell, double v) {
   *out++ = ',';

@@ -30,6 +30,9 @@ void add_replay(CLI::App& app);
 void add_report(CLI::App& app);
 void add_check(CLI::App& app);
 
+// What `lptn --help` says first, in each program that is lptn (lptn, lptn-full).
+inline constexpr char kLptnDescription[] = "lptn: lumped-parameter thermal network estimator for traction motors";
+
 // The program's own arguments as main() received them, for handing a command over to another
 // program (lptn calibrate --method td3 to lptn-td3).
 std::vector<std::string>& invocation();

@@ -5,7 +5,7 @@
 #include "programs/cli/commands.hpp"
 
 int main(int argc, char** argv) {
-  CLI::App app{"lptn: lumped-parameter thermal network estimator for traction motors", "lptn"};
+  CLI::App app{lptn::cli::kLptnDescription, "lptn"};
   app.require_subcommand(1);
   app.set_version_flag("--version", lptn::kNameAndVersion);
   lptn::cli::add_generate(app);

@@ -40,7 +40,7 @@ int hand_over_to_full_program(char** argv) {
 
 int main(int argc, char** argv) {
   if (!runs_here(argc, argv)) return hand_over_to_full_program(argv);
-  CLI::App app{"lptn: lumped-parameter thermal network estimator for traction motors", "lptn"};
+  CLI::App app{lptn::cli::kLptnDescription, "lptn"};
   app.require_subcommand(1);
   app.set_version_flag("--version", lptn::kNameAndVersion);
   lptn::cli::add_convert(app);
