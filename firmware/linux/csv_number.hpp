@@ -19,8 +19,34 @@ namespace lptn::fw::csv_number {
 
 inline constexpr std::size_t kMaxChars = 330;
 
-// The decimal digits of v.
+namespace detail {
+
+// "00" to "99": two digits' text at 2 v.
+inline constexpr char kDigitPairs[] =
+    "00010203040506070809101112131415161718192021222324252627282930313233343536373839"
+    "40414243444546474849505152535455565758596061626364656667686970717273747576777879"
+    "8081828384858687888990919293949596979899";
+static_assert(std::endian::native == std::endian::little, "a text's first byte is its word's lowest");
+
+// The two digits of v < 100 as text in the low 16 bits.
+inline std::uint64_t pair_text(std::uint64_t v) {
+  std::uint16_t pair;
+  std::memcpy(&pair, kDigitPairs + 2 * v, sizeof pair);
+  return pair;
+}
+
+}  // namespace detail
+
+// The decimal digits of v. One or two digits (every flag and count of a row) from the table.
 inline char* put_unsigned(char* out, std::uint64_t v) {
+  if (v < 10) {
+    *out = static_cast<char>('0' + v);
+    return out + 1;
+  }
+  if (v < 100) {
+    std::memcpy(out, detail::kDigitPairs + 2 * v, 2);
+    return out + 2;
+  }
   char tmp[20];
   int n = 0;
   do {
@@ -86,20 +112,6 @@ inline std::uint64_t round_scaled(double a, double ten_k_double, std::uint64_t t
     return scaled_round(m, e, ten_k);
   }
   return static_cast<std::uint64_t>(below) + (fraction > 0.5 ? 1 : 0);
-}
-
-// "00" to "99": two digits' text at 2 v.
-inline constexpr char kDigitPairs[] =
-    "00010203040506070809101112131415161718192021222324252627282930313233343536373839"
-    "40414243444546474849505152535455565758596061626364656667686970717273747576777879"
-    "8081828384858687888990919293949596979899";
-static_assert(std::endian::native == std::endian::little, "a text's first byte is its word's lowest");
-
-// The two digits of v < 100 as text in the low 16 bits.
-inline std::uint64_t pair_text(std::uint64_t v) {
-  std::uint16_t pair;
-  std::memcpy(&pair, kDigitPairs + 2 * v, sizeof pair);
-  return pair;
 }
 
 inline constexpr std::uint64_t kAsciiZeros = 0x3030303030303030;  // '0' in every byte
