@@ -35,6 +35,12 @@ inline std::uint64_t pair_text(std::uint64_t v) {
   return pair;
 }
 
+// The six digits of v < 10^6, leading zeros included, as text in the low 48 bits.
+inline std::uint64_t six_digits_text(std::uint64_t v) {
+  const std::uint64_t hundreds = v / 100;
+  return pair_text(v / 10000) | pair_text(hundreds % 100) << 16 | pair_text(v - hundreds * 100) << 32;
+}
+
 }  // namespace detail
 
 // The decimal digits of v. One or two digits (every flag and count of a row) from the table.
@@ -133,6 +139,16 @@ inline char* put_short(char* out, const ShortText& t) {
   return out + t.length;
 }
 
+// A made text of |v| with v's sign before it: printf writes '-' for every negative sign, -0 and
+// numbers that round to zero included.
+inline ShortText signed_text(ShortText t, double v) {
+  if (std::signbit(v)) {
+    t.bytes = t.bytes << 8 | '-';
+    ++t.length;
+  }
+  return t;
+}
+
 // "%.6f" of |v| below 999.9999995 (every temperature, spread and margin): the whole part by its
 // count of digits, a branch each (the length is then known as soon as the branch is predicted).
 inline ShortText fixed6_short(double v) {
@@ -140,10 +156,8 @@ inline ShortText fixed6_short(double v) {
   const double a = std::fabs(v);
   if (!(a < 1000.0)) return t;
   const std::uint64_t n = detail::round_scaled(a, 1e6, 1000000);
-  const std::uint64_t whole = n / 1000000, frac = n - whole * 1000000, hundreds = frac / 100;
-  // '.' and the six decimals: seven bytes.
-  const std::uint64_t point_decimals = '.' | detail::pair_text(frac / 10000) << 8 | detail::pair_text(hundreds % 100) << 24 |
-                                       detail::pair_text(frac - hundreds * 100) << 40;
+  const std::uint64_t whole = n / 1000000;
+  const std::uint64_t point_decimals = '.' | detail::six_digits_text(n - whole * 1000000) << 8;  // seven bytes
   using detail::u128;
   if (whole < 10) {
     t.bytes = ('0' + whole) | point_decimals << 8;
@@ -157,11 +171,7 @@ inline ShortText fixed6_short(double v) {
   } else {
     return t;  // 999.9999995 and above round up to 1000
   }
-  if (std::signbit(v)) {
-    t.bytes = t.bytes << 8 | '-';
-    ++t.length;
-  }
-  return t;
+  return signed_text(t, v);
 }
 
 // "%.6f": |v| * 1e6 rounded half to even, exactly, in 128-bit integers (v = m 2^e, m < 2^53, so
@@ -177,11 +187,8 @@ inline char* put_fixed6(char* out, double v) {
   if (std::signbit(v)) *out++ = '-';
   out = put_unsigned(out, n / 1000000);
   *out++ = '.';
-  std::uint64_t frac = n % 1000000;
-  for (int i = 5; i >= 0; --i) {
-    out[i] = static_cast<char>('0' + frac % 10);
-    frac /= 10;
-  }
+  const std::uint64_t decimals = detail::six_digits_text(n % 1000000);
+  std::memcpy(out, &decimals, sizeof decimals);  // 8 bytes, 2 past the end: `out` has kMaxChars
   return out + 6;
 }
 
@@ -198,9 +205,9 @@ inline ShortText general9_short(double v) {
   ShortText t;
   const double a = std::fabs(v);
   if (a == 0.0) {
-    t.bytes = std::signbit(v) ? '0' << 8 | '-' : '0';
-    t.length = std::signbit(v) ? 2 : 1;
-    return t;
+    t.bytes = '0';
+    t.length = 1;
+    return signed_text(t, v);
   }
   if (!(a >= 1e-5 && a < 1e9)) return t;
   // 10^k, k = 0..13, exact in 64 bits and in a double.
@@ -269,11 +276,7 @@ inline ShortText general9_short(double v) {
     t.bytes = (zero_point & ((std::uint64_t{1} << (8 * prefix)) - 1)) | digits << (8 * prefix);
     t.length = prefix + last + 1;
   }
-  if (std::signbit(v)) {
-    t.bytes = t.bytes << 8 | '-';
-    ++t.length;
-  }
-  return t;
+  return signed_text(t, v);
 }
 
 inline char* put_general9(char* out, double v) {

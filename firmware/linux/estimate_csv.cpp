@@ -59,9 +59,7 @@ char* put_int_field(char* out, long long v) {
 // microseconds) three pairs of digits from the table.
 char* put_padded6(char* out, long long v) {
   if (v >= 0 && v < 1000000) {
-    const auto u = static_cast<std::uint64_t>(v), hundreds = u / 100;
-    const std::uint64_t text = detail::pair_text(u / 10000) | detail::pair_text(hundreds % 100) << 16 |
-                               detail::pair_text(u - hundreds * 100) << 32;
+    const std::uint64_t text = detail::six_digits_text(static_cast<std::uint64_t>(v));
     std::memcpy(out, &text, sizeof text);  // 8 bytes, the last two past the field: the row has the room
     return out + 6;
   }

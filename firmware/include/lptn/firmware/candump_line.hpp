@@ -78,17 +78,16 @@ inline std::size_t first_of(std::string_view s, char c, std::size_t from = 0) {
 inline bool fixed_width_stamp(std::string_view line, TimeUs& time_us) {
   if (line.size() < 20 || line[0] != '(' || line[11] != '.' || line[18] != ')' || line[19] != ' ') return false;
   unsigned not_digit = 0;
-  long long sec = 0, usec = 0;
-  for (int i = 1; i <= 10; ++i) {
-    const unsigned d = static_cast<unsigned char>(line[i]) - static_cast<unsigned>('0');
-    not_digit |= d > 9 ? 1u : 0u;
-    sec = sec * 10 + d;
-  }
-  for (int i = 12; i <= 17; ++i) {
-    const unsigned d = static_cast<unsigned char>(line[i]) - static_cast<unsigned>('0');
-    not_digit |= d > 9 ? 1u : 0u;
-    usec = usec * 10 + d;
-  }
+  auto digits = [&](int first, int last) {  // line[first..last] as a number, not_digit marking any other byte
+    long long value = 0;
+    for (int i = first; i <= last; ++i) {
+      const unsigned d = static_cast<unsigned char>(line[i]) - static_cast<unsigned>('0');
+      not_digit |= d > 9 ? 1u : 0u;
+      value = value * 10 + d;
+    }
+    return value;
+  };
+  const long long sec = digits(1, 10), usec = digits(12, 17);
   if (not_digit != 0) return false;
   time_us = static_cast<TimeUs>(sec) * kUsPerS + static_cast<TimeUs>(usec);
   return true;
