@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -60,6 +61,23 @@ TEST(Cli, ReplayAndConvertLoadNoneOfTheCalibratorsLibraries) {
   // Handed over: the same list shows them.
   const std::string full = loaded_libraries("calibrate --help", t.path());
   EXPECT_NE(full.find("liblapack"), std::string::npos) << full;
+}
+
+// lptn copied somewhere without lptn-full (a user who takes the one program): replay still runs
+// there, and any other command ends at once with one line naming what is missing, not in silence.
+TEST(Cli, WithoutLptnFullBesideItACommandSaysSo) {
+  testing::TempDir t;
+  const auto alone = t.path() / "lptn";
+  std::filesystem::copy_file(LPTN_BINARY, alone);
+  const auto err = t.path() / "err.txt";
+  const int status = std::system((alone.string() + " inspect --help >/dev/null 2>" + err.string()).c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 1);
+  std::ifstream in(err);
+  const std::string said((std::istreambuf_iterator<char>(in)), {});
+  EXPECT_EQ(lines(said), 1) << said;
+  EXPECT_NE(said.find((t.path() / "lptn-full").string() + ": cannot run it"), std::string::npos) << said;
+  EXPECT_EQ(std::system((alone.string() + " replay --help >/dev/null 2>&1").c_str()), 0);
 }
 
 TEST(Cli, GeneratedDataPassesInspectWithoutWarnings) {
