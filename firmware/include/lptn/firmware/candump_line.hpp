@@ -16,6 +16,7 @@
 #include <string_view>
 
 #include "lptn/firmware/can_frame.hpp"
+#include "lptn/firmware/hex_digit.hpp"
 #include "lptn/firmware/input.hpp"
 
 namespace lptn::fw {
@@ -27,22 +28,6 @@ struct CandumpRecord {
 };
 
 namespace candump_detail {
-
-// Every byte's value as a hex digit, -1 for any other byte: one load a digit, where three ranges
-// tested in turn were a branch a range (a log's data digits are as often letters as numbers).
-struct HexValues {
-  std::int8_t of[256];
-  constexpr HexValues() : of() {
-    for (int c = 0; c < 256; ++c)
-      of[c] = static_cast<std::int8_t>(c >= '0' && c <= '9'   ? c - '0'
-                                       : c >= 'a' && c <= 'f' ? c - 'a' + 10
-                                       : c >= 'A' && c <= 'F' ? c - 'A' + 10
-                                                              : -1);
-  }
-};
-inline constexpr HexValues kHexValues{};
-
-inline int hex_value(char c) { return kHexValues.of[static_cast<unsigned char>(c)]; }
 
 // Digits only, at most `max_digits`, into an integer; false on anything else or an empty field.
 inline bool decimal(std::string_view s, std::size_t max_digits, long long& out) {
