@@ -19,7 +19,7 @@ HOST=(
   libgmp-dev                                            # the DBC reader's exact range arithmetic (can/dbc; the CAN generators)
   libjs-dygraphs                                        # lptn report's charts, embedded at build time
   time                                                  # GNU time: scripts/bench-scale.sh's peak memory
-  zlib1g-dev                                            # Vector BLF logs' containers, MDF4's DZ blocks
+  zlib1g-dev libdeflate-dev                             # Vector BLF logs' containers, MDF4's DZ blocks: deflated, inflated
   python3-can                                           # tests: ASC and BLF logs written and read by another implementation
   libopenmpi-dev openmpi-bin                            # mpirun -np N lptn calibrate: one calibration over N processes
 )
@@ -40,7 +40,7 @@ FUZZ=(
   cmake ninja-build python3                             # the fuzz preset's build; python3 for the project's scripts
   libgmp-dev                                            # the CAN generators' DBC reader (exact range arithmetic)
   libtomlplusplus-dev nlohmann-json3-dev                # the fuzzed trainer/ libraries (no libtorch, no Ceres)
-  zlib1g-dev                                            # the fuzzed CAN log readers (BLF, MDF4)
+  zlib1g-dev libdeflate-dev pkg-config                  # the fuzzed CAN log readers (BLF, MDF4)
 )
 
 PACKAGES=()

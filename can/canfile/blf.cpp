@@ -21,6 +21,7 @@
 
 #include "hostio/civil_time.hpp"
 #include "can/canfile/internal/formats.hpp"
+#include "can/canfile/internal/inflate.hpp"
 
 namespace lptn::canfile {
 namespace {
@@ -183,8 +184,7 @@ class BlfSource final : public FrameSource {
     }
     const std::size_t at = pending_.size();
     pending_.resize(at + unpacked);
-    uLongf length = unpacked;
-    if (uncompress(pending_.data() + at, &length, data, static_cast<uLong>(packed)) != Z_OK || length != unpacked) {
+    if (!inflater_.inflate_exactly(data, packed, pending_.data() + at, unpacked)) {
       pending_.resize(at);
       why = "log container does not inflate to its stated size (corrupt); skipped";
       return Outer::bad;
@@ -333,6 +333,7 @@ class BlfSource final : public FrameSource {
   char channel_[8] = "";
   std::size_t channel_length_ = 0;
   std::vector<std::uint8_t> body_, pending_;
+  Inflater inflater_;
   std::size_t offset_ = 0;   // into pending_
   std::size_t objects_ = 0;  // read so far, outer and inner
 };

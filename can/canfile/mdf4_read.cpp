@@ -12,8 +12,6 @@
 // A damaged block (a data block that does not inflate, a list whose links lead nowhere, a channel
 // group the convention cannot be read from) is one bad record naming the block's byte offset; the
 // other blocks are read. A file cut short ends with one bad record.
-#include <zlib.h>
-
 #include <algorithm>
 #include <cmath>
 #include <deque>
@@ -24,6 +22,7 @@
 #include <vector>
 
 #include "can/canfile/internal/formats.hpp"
+#include "can/canfile/internal/inflate.hpp"
 #include "can/canfile/internal/mdf4_blocks.hpp"
 
 namespace lptn::canfile {
@@ -504,8 +503,7 @@ class Mdf4Source final : public FrameSource {
     if (zipped > b.data.size() - 24) return "zipped block shorter than its zipped length";
     if (original > zipped * kMaxInflateRatio + 64) return "zipped block claims more bytes than deflate packs";
     std::vector<std::uint8_t> inflated(original);
-    uLongf length = static_cast<uLongf>(original);
-    if (uncompress(inflated.data(), &length, d + 24, static_cast<uLong>(zipped)) != Z_OK || length != original)
+    if (!inflater_.inflate_exactly(d + 24, zipped, inflated.data(), original))
       return "zipped data does not inflate to its stated length (corrupt)";
     if (zip == kTransposeDeflate && columns > 0) {
       out.resize(inflated.size());
@@ -851,6 +849,7 @@ class Mdf4Source final : public FrameSource {
   };
 
   File file_;
+  Inflater inflater_;
   std::uint64_t size_ = 0, last_dt_ = 0;
   bool unfinished_ = false;
   std::uint16_t unfin_flags_ = 0;
