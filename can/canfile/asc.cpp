@@ -191,7 +191,11 @@ class ClassicLine {
     if (!next_field(field) || !seconds_us(field, t)) return false;
     std::uint32_t value;
     if (!next_field(channel) || !number(channel, 10, 0xFFFF, value)) return false;
-    CanFrame f;
+    // Into the caller's frame: a line this reading gives up on leaves it changed, which no reader
+    // of a FrameSource looks at after anything but a frame (a frame made here and copied was a
+    // tenth of this reading).
+    CanFrame& f = frame;
+    f = CanFrame{};
     if (!next_field(field) || parse_id(field, base, f) != nullptr) return false;
     if (!next_field(field) || !is_direction(field)) return false;
     if (!next_field(field) || (field != "d" && field != "D")) return false;
@@ -211,7 +215,6 @@ class ClassicLine {
       if (!next_field(field) || !number(field, base, 0xFF, value)) return false;
       f.data[i] = static_cast<std::uint8_t>(value);
     }
-    frame = f;
     return true;
   }
 

@@ -47,11 +47,11 @@ class CandumpLines : public FrameSource {
         return Status::bad;
       }
       if (line.empty()) continue;
-      fw::CandumpRecord rec;
-      if ((why = fw::parse_candump_line(line, rec)) != nullptr) return Status::bad;
-      time_us = rec.time_us;
-      frame = rec.frame;
-      channel_ = rec.interface;
+      // The record is the reader's own, not cleared for every line: the parse sets all of it.
+      if ((why = fw::parse_candump_line(line, record_)) != nullptr) return Status::bad;
+      time_us = record_.time_us;
+      frame = record_.frame;
+      channel_ = record_.interface;
       return Status::frame;
     }
     return Status::end;
@@ -62,6 +62,7 @@ class CandumpLines : public FrameSource {
 
  private:
   Reader reader_;
+  fw::CandumpRecord record_;
   std::string_view channel_;
 };
 
