@@ -55,11 +55,12 @@ struct Sdirk2 {
   // the stages: what a Kalman filter needs of a step (its state moved, its covariance's matrix).
   // x and phi get the bits step() and transition() give them. Returns false (x and phi
   // untouched) if the stage matrix is singular.
+  // The pass is step_rows(), with the network's size a constant: the observer's every tick.
   template <class R>
   static bool step_and_transition(const HeatBalance<T>& sys, T* x, const R& h, T (&phi)[kMaxStates][kMaxStates]) {
     internal::SmallLu<T> lu;
     if (!factor_stage_matrix(sys, h, lu)) return false;
-    step_and_columns(sys, lu, x, h, phi);
+    step_rows_of_size(sys, lu, x, h, phi);
     return true;
   }
   // step() of x, and of `count` (at most kMaxStates) more states without the input term, through
@@ -105,6 +106,62 @@ struct Sdirk2 {
     advance<kMaxStates + 1>(sys, lu, columns, count, x ? 1 : 0, h);
     for (int j = 0; j < n; ++j)
       for (int i = 0; i < n; ++i) phi[i][j] = unit[j][i];
+  }
+
+  // step_rows<N>() for N = sys.n (1 .. kMaxStates).
+  template <class R, int N = 1>
+  static void step_rows_of_size(const HeatBalance<T>& sys, const internal::SmallLu<T>& lu, T* x, const R& h,
+                                T (&phi)[kMaxStates][kMaxStates]) {
+    if constexpr (N < kMaxStates) {
+      if (sys.n != N) return step_rows_of_size<R, N + 1>(sys, lu, x, h, phi);
+    }
+    step_rows<N>(sys, lu, x, h, phi);
+  }
+
+  // step_and_columns() of x and the N unit vectors, with N (= sys.n) a constant: the N + 1 states
+  // held by row in one array, s[i][c] state c's entry i (the state first), so that the loops over
+  // the states are innermost and of a constant length, which a compiler unrolls into vector
+  // operations (two divisions at once, where the back substitution's divisions were most of the
+  // step). Each state's arithmetic is advance()'s for it alone, in advance()'s order: the same bits
+  // (Integrator.StepAndTransitionGiveTheBitsOfStepAndOfTransition holds it, for every size).
+  template <int N, class R>
+  static void step_rows(const HeatBalance<T>& sys, const internal::SmallLu<T>& lu, T* x, const R& h,
+                        T (&phi)[kMaxStates][kMaxStates]) {
+    constexpr int C = N + 1;
+    // sys.derivative() of each state, the input term c in the first state's only.
+    auto rates = [&](const T (&at)[N][C], T (&k)[N][C]) {
+      for (int i = 0; i < N; ++i) {
+        k[i][0] = sys.c[i];
+        for (int c = 1; c < C; ++c) k[i][c] = T(0);
+        for (int j = 0; j < N; ++j) {
+          const T a = sys.a[i][j];
+          for (int c = 0; c < C; ++c) k[i][c] += a * at[j][c];
+        }
+      }
+    };
+    T s[N][C];
+    for (int i = 0; i < N; ++i) {
+      s[i][0] = x[i];
+      for (int j = 0; j < N; ++j) s[i][1 + j] = T(i == j ? 1 : 0);
+    }
+    // Stage 1: k1 = A (x + gamma h k1) + c.
+    T k1[N][C];
+    rates(s, k1);
+    lu.solve_rows(k1);
+    // Stage 2: k2 = A (x + (1 - gamma) h k1 + gamma h k2) + c.
+    T x1[N][C];
+    const T w1 = T((1.0 - kGamma) * h);
+    for (int i = 0; i < N; ++i)
+      for (int c = 0; c < C; ++c) x1[i][c] = s[i][c] + w1 * k1[i][c];
+    T k2[N][C];
+    rates(x1, k2);
+    lu.solve_rows(k2);
+    // Stiffly accurate: the new state is the second stage's.
+    const T w2 = T(kGamma * h);
+    for (int i = 0; i < N; ++i) {
+      x[i] = x1[i][0] + w2 * k2[i][0];
+      for (int j = 0; j < N; ++j) phi[i][j] = x1[i][1 + j] + w2 * k2[i][1 + j];
+    }
   }
 
   // The two stages, for `count` (at most Capacity) states at once: columns[0 .. with_input) with

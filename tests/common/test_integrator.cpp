@@ -5,9 +5,11 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <random>
 #include <unsupported/Eigen/MatrixFunctions>
 
+#include "lptn/internal/small_lu.hpp"
 #include "lptn/model.hpp"
 #include "lptn_testing/reference_case.hpp"
 
@@ -200,6 +202,57 @@ TEST(Integrator, TransitionMatrixIsTheStepsOwnLinearPart) {
       for (int j = 0; j < n; ++j) predicted += phi[i][j] * d[j];
       EXPECT_NEAR(xd[i] - x[i], predicted, 1e-9) << "state " << i;
     }
+  }
+}
+
+// step_and_transition() runs its own pass (step_rows, the network's size a constant) and promises
+// the bits of step() for the state and of transition() for phi, which run advance(): held here for
+// every size of network, on networks that need the LU's row exchanges and on ones that do not.
+TEST(Integrator, StepAndTransitionGiveTheBitsOfStepAndOfTransition) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0), temperature(0.0, 150.0);
+  const double steps[] = {0.1, 1.0, 30.0};
+  for (int n = 1; n <= kMaxStates; ++n) {
+    int exchanged = 0, trials = 0;
+    for (int trial = 0; trial < 40; ++trial) {
+      // Half of the networks passive (diagonally dominant: no exchange), half with large couplings
+      // and weak diagonals, for which I - gamma h A pivots.
+      const bool wild = trial % 2 == 1;
+      HeatBalance<double> sys;
+      sys.reset(n);
+      for (int i = 0; i < n; ++i) {
+        sys.c[i] = 50.0 * unit(rng);
+        for (int j = 0; j < n; ++j) sys.a[i][j] = (wild ? 5.0 : 0.05) * unit(rng);
+        sys.a[i][i] = wild ? 0.01 * unit(rng) : -0.1 * n - 0.5 * (1.0 + unit(rng));
+      }
+      const double h = steps[trial % 3];
+      double x[kMaxStates], y[kMaxStates];
+      for (int i = 0; i < n; ++i) x[i] = y[i] = temperature(rng);
+      double phi[kMaxStates][kMaxStates], reference[kMaxStates][kMaxStates];
+      const bool stepped = Sdirk2<double>::step_and_transition(sys, x, h, phi);
+      ASSERT_EQ(stepped, Sdirk2<double>::step(sys, y, h)) << n;
+      ASSERT_EQ(stepped, Sdirk2<double>::transition(sys, h, reference)) << n;
+      if (!stepped) continue;
+      ++trials;
+      for (int i = 0; i < n; ++i) {
+        EXPECT_EQ(std::memcmp(&x[i], &y[i], sizeof x[i]), 0) << "n " << n << " trial " << trial << " state " << i;
+        for (int j = 0; j < n; ++j)
+          EXPECT_EQ(std::memcmp(&phi[i][j], &reference[i][j], sizeof phi[i][j]), 0)
+              << "n " << n << " trial " << trial << " phi " << i << "," << j;
+      }
+      // Did this network's factorisation exchange rows? (The same matrix the integrator factors.)
+      internal::SmallLu<double> lu;
+      double m[kMaxStates][kMaxStates];
+      const double gh = Sdirk2<double>::kGamma * h;
+      for (int i = 0; i < n; ++i) {
+        for (int j = 0; j < n; ++j) m[i][j] = -gh * sys.a[i][j];
+        m[i][i] += 1.0;
+      }
+      ASSERT_TRUE(lu.factor(m, n));
+      for (int k = 0; k < n; ++k) exchanged += lu.swap[k] != k ? 1 : 0;
+    }
+    EXPECT_GE(trials, 30) << n;
+    if (n > 1) EXPECT_GT(exchanged, 0) << "no network of size " << n << " made the LU exchange rows";
   }
 }
 

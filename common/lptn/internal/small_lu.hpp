@@ -90,6 +90,32 @@ struct SmallLu {
     T* const columns[1] = {b};
     solve_columns(columns, 1);
   }
+  // solve() of C right-hand sides held by row, b[i][c] row i of side c, for a factorisation of
+  // size N (= n): each side with exactly solve()'s arithmetic in solve()'s order (so each gets
+  // solve()'s bits), the sides innermost, in loops of constant length (Sdirk2::step_rows).
+  template <int N, int C>
+  void solve_rows(T (&b)[N][C]) const {
+    for (int k = 0; k < N; ++k)
+      if (swap[k] != k)
+        for (int c = 0; c < C; ++c) {
+          T t = b[k][c];
+          b[k][c] = b[swap[k]][c];
+          b[swap[k]][c] = t;
+        }
+    for (int i = 0; i < N; ++i)
+      for (int j = 0; j < i; ++j) {
+        const T l = lu[i][j];
+        for (int c = 0; c < C; ++c) b[i][c] -= l * b[j][c];
+      }
+    for (int i = N - 1; i >= 0; --i) {
+      for (int j = i + 1; j < N; ++j) {
+        const T u = lu[i][j];
+        for (int c = 0; c < C; ++c) b[i][c] -= u * b[j][c];
+      }
+      const T d = lu[i][i];
+      for (int c = 0; c < C; ++c) b[i][c] /= d;
+    }
+  }
   // solve() of `count` right-hand sides, each with exactly solve()'s arithmetic in solve()'s order
   // (so each gives solve()'s bits), interleaved row by row: the back substitution's divisions of
   // different columns are independent and overlap in the pipeline, where one column's wait for
