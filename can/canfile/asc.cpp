@@ -187,21 +187,38 @@ class ClassicLine {
   explicit ClassicLine(std::string_view line) : p_(line.data()), end_(line.data() + line.size()) {}
 
   bool read(int base, TimeUs& t, std::string_view& channel, CanFrame& frame) {
-    std::string_view field;
-    if (!next_field(field) || !seconds_us(field, t)) return false;
-    std::uint32_t value;
-    if (!next_field(channel) || !number(channel, 10, 0xFFFF, value)) return false;
+    // Each field read as its bytes are passed, not found first and read again: the time stamp,
+    // the channel, the id, the direction and 'd' as the general reading takes them.
+    if (!seconds_here(t)) return false;
+    skip_separators();
+    const char* const channel_start = p_;
+    std::uint64_t value = 0;
+    if (!digits_here(10, 10, value) || value > 0xFFFF) return false;
+    channel = std::string_view(channel_start, static_cast<std::size_t>(p_ - channel_start));
     // Into the caller's frame: a line this reading gives up on leaves it changed, which no reader
     // of a FrameSource looks at after anything but a frame (a frame made here and copied was a
     // tenth of this reading).
     CanFrame& f = frame;
     f = CanFrame{};
-    if (!next_field(field) || parse_id(field, base, f) != nullptr) return false;
-    if (!next_field(field) || !is_direction(field)) return false;
-    if (!next_field(field) || (field != "d" && field != "D")) return false;
+    skip_separators();
+    if (!digits_here(base, 10, value, true)) return false;
+    f.extended = p_ != end_ && (*p_ == 'x' || *p_ == 'X');
+    if (f.extended) ++p_;
+    if (!at_field_end() || value > (f.extended ? 0x1FFFFFFFu : 0x7FFu)) return false;
+    f.id = static_cast<std::uint32_t>(value);
+    skip_separators();
+    if (end_ - p_ < 2 || (p_[0] != 'R' && p_[0] != 'T') || p_[1] != 'x') return false;
+    p_ += 2;
+    if (!at_field_end()) return false;
+    skip_separators();
+    if (p_ == end_ || (*p_ != 'd' && *p_ != 'D')) return false;
+    ++p_;
+    if (!at_field_end()) return false;
+    std::string_view field;
     std::uint32_t dlc;
     if (!next_field(field) || !number(field, 16, 15, dlc)) return false;
     f.len = static_cast<std::uint8_t>(dlc > 8 ? 8 : dlc);
+    std::uint32_t byte;
     for (std::uint8_t i = 0; i < f.len; ++i) {
       // A blank, two hex digits and the field's end: a data byte as logs write it.
       if (base == 16 && end_ - p_ >= 3 && p_[0] == ' ') {
@@ -212,8 +229,8 @@ class ClassicLine {
           continue;
         }
       }
-      if (!next_field(field) || !number(field, base, 0xFF, value)) return false;
-      f.data[i] = static_cast<std::uint8_t>(value);
+      if (!next_field(field) || !number(field, base, 0xFF, byte)) return false;
+      f.data[i] = static_cast<std::uint8_t>(byte);
     }
     return true;
   }
@@ -233,6 +250,43 @@ class ClassicLine {
   bool next_field(std::string_view& field) {
     skip_separators();
     return field_here(field);
+  }
+  bool at_field_end() const { return p_ == end_ || is_separator(*p_); }
+  // One to max_digits digits in base from p_ into value, as number() reads a field of them; then
+  // the field's end, or with `suffix_may_follow` anything (the caller looks at what follows).
+  bool digits_here(int base, int max_digits, std::uint64_t& value, bool suffix_may_follow = false) {
+    const char* const start = p_;
+    value = 0;
+    for (; p_ != end_; ++p_) {
+      const int d = fw::hex_value(*p_);
+      if (d < 0 || d >= base) break;
+      value = value * static_cast<unsigned>(base) + static_cast<unsigned>(d);
+    }
+    const std::ptrdiff_t count = p_ - start;
+    return count > 0 && count <= max_digits && (suffix_may_follow || at_field_end());
+  }
+  // The time stamp field as seconds_us() reads it: 1 to 12 digits, then optionally a point and any
+  // number of digits, the seventh rounding.
+  bool seconds_here(TimeUs& t) {
+    skip_separators();
+    std::uint64_t sec;
+    if (!digits_here(10, 12, sec, true)) return false;
+    TimeUs us = 0;
+    bool round_up = false;
+    if (p_ != end_ && *p_ == '.') {
+      ++p_;
+      int i = 0;
+      for (; p_ != end_; ++p_, ++i) {
+        const unsigned d = static_cast<unsigned char>(*p_) - unsigned{'0'};
+        if (d > 9) break;
+        if (i < 6) us = us * 10 + d;
+        else if (i == 6) round_up = d >= 5;
+      }
+      for (; i < 6; ++i) us *= 10;
+    }
+    if (!at_field_end()) return false;
+    t = static_cast<TimeUs>(sec) * fw::kUsPerS + us + (round_up ? 1 : 0);
+    return true;
   }
 
   const char* p_;
