@@ -73,44 +73,55 @@ bool istarts_with(std::string_view s, std::string_view prefix) {
   return s.size() >= prefix.size() && iequals(s.substr(0, prefix.size()), prefix);
 }
 
-// "12.345678" (any number of decimals) in microseconds, rounded; false if it is no such number.
-bool seconds_us(std::string_view s, TimeUs& out) {
-  const char* p = s.data();
-  const char* const end = p + s.size();
-  TimeUs sec = 0;
-  for (; p != end && *p != '.'; ++p) {
-    const unsigned d = static_cast<unsigned char>(*p) - unsigned{'0'};
-    if (d > 9 || p - s.data() == 12) return false;  // at most 12 digits of seconds
-    sec = sec * 10 + d;
+// Digits of `base` (16 or 10) from p: the byte after them, their value in `value` (wrapping past
+// 64 bits, which max_digits rules out); nullptr for none or more than max_digits.
+const char* read_digits(const char* p, const char* end, int base, int max_digits, std::uint64_t& value) {
+  const char* const start = p;
+  value = 0;
+  for (; p != end; ++p) {
+    const int d = fw::hex_value(*p);
+    if (d < 0 || d >= base) break;
+    value = value * static_cast<unsigned>(base) + static_cast<unsigned>(d);
   }
-  const std::size_t whole = static_cast<std::size_t>(p - s.data());
-  if (whole == 0) return false;
+  const std::ptrdiff_t count = p - start;
+  return count > 0 && count <= max_digits ? p : nullptr;
+}
+
+// A time stamp from p, "12.345678": 1 to 12 digits of seconds, then optionally a point and any
+// number of decimals (the first six microseconds, the seventh rounding). The byte after it, or
+// nullptr if p starts no such number.
+const char* read_seconds(const char* p, const char* end, TimeUs& t) {
+  std::uint64_t sec;
+  if ((p = read_digits(p, end, 10, 12, sec)) == nullptr) return nullptr;
   TimeUs us = 0;
   bool round_up = false;
-  if (p != end) {  // the decimals after the point: the first six are microseconds, the seventh rounds
+  if (p != end && *p == '.') {
     ++p;
-    for (int i = 0; p != end; ++p, ++i) {
+    int i = 0;
+    for (; p != end; ++p, ++i) {
       const unsigned d = static_cast<unsigned char>(*p) - unsigned{'0'};
-      if (d > 9) return false;
+      if (d > 9) break;
       if (i < 6) us = us * 10 + d;
       else if (i == 6) round_up = d >= 5;
     }
-    for (std::ptrdiff_t i = end - (s.data() + whole + 1); i < 6; ++i) us *= 10;
+    for (; i < 6; ++i) us *= 10;
   }
-  out = sec * fw::kUsPerS + us + (round_up ? 1 : 0);
-  return true;
+  t = static_cast<TimeUs>(sec) * fw::kUsPerS + us + (round_up ? 1 : 0);
+  return p;
 }
 
-// An id, a length code or a data byte in `base` (16 or 10), at most 10 digits and `max`.
+// A field that is a time stamp, in microseconds, rounded; false if it is no such number.
+// (An absent field is an empty view whose data() may be null, as read_*'s nullptr: ruled out first.)
+bool seconds_us(std::string_view s, TimeUs& out) {
+  const char* const end = s.data() + s.size();
+  return !s.empty() && read_seconds(s.data(), end, out) == end;
+}
+
+// A field that is an id, a length code or a data byte in `base`: at most 10 digits and `max`.
 bool number(std::string_view s, int base, std::uint32_t max, std::uint32_t& out) {
-  if (s.empty() || s.size() > 10) return false;
-  std::uint64_t v = 0;
-  for (char c : s) {
-    const int d = fw::hex_value(c);
-    if (d < 0 || d >= base) return false;
-    v = v * static_cast<unsigned>(base) + static_cast<unsigned>(d);
-  }
-  if (v > max) return false;
+  const char* const end = s.data() + s.size();
+  std::uint64_t v;
+  if (s.empty() || read_digits(s.data(), end, base, 10, v) != end || v > max) return false;
   out = static_cast<std::uint32_t>(v);
   return true;
 }
@@ -252,41 +263,21 @@ class ClassicLine {
     return field_here(field);
   }
   bool at_field_end() const { return p_ == end_ || is_separator(*p_); }
-  // One to max_digits digits in base from p_ into value, as number() reads a field of them; then
-  // the field's end, or with `suffix_may_follow` anything (the caller looks at what follows).
+  // read_digits() from p_, then the field's end, or with `suffix_may_follow` anything (the caller
+  // looks at what follows).
   bool digits_here(int base, int max_digits, std::uint64_t& value, bool suffix_may_follow = false) {
-    const char* const start = p_;
-    value = 0;
-    for (; p_ != end_; ++p_) {
-      const int d = fw::hex_value(*p_);
-      if (d < 0 || d >= base) break;
-      value = value * static_cast<unsigned>(base) + static_cast<unsigned>(d);
-    }
-    const std::ptrdiff_t count = p_ - start;
-    return count > 0 && count <= max_digits && (suffix_may_follow || at_field_end());
+    const char* const after = read_digits(p_, end_, base, max_digits, value);
+    if (after == nullptr) return false;
+    p_ = after;
+    return suffix_may_follow || at_field_end();
   }
-  // The time stamp field as seconds_us() reads it: 1 to 12 digits, then optionally a point and any
-  // number of digits, the seventh rounding.
+  // The time stamp field, as seconds_us() reads it.
   bool seconds_here(TimeUs& t) {
     skip_separators();
-    std::uint64_t sec;
-    if (!digits_here(10, 12, sec, true)) return false;
-    TimeUs us = 0;
-    bool round_up = false;
-    if (p_ != end_ && *p_ == '.') {
-      ++p_;
-      int i = 0;
-      for (; p_ != end_; ++p_, ++i) {
-        const unsigned d = static_cast<unsigned char>(*p_) - unsigned{'0'};
-        if (d > 9) break;
-        if (i < 6) us = us * 10 + d;
-        else if (i == 6) round_up = d >= 5;
-      }
-      for (; i < 6; ++i) us *= 10;
-    }
-    if (!at_field_end()) return false;
-    t = static_cast<TimeUs>(sec) * fw::kUsPerS + us + (round_up ? 1 : 0);
-    return true;
+    const char* const after = read_seconds(p_, end_, t);
+    if (after == nullptr) return false;
+    p_ = after;
+    return at_field_end();
   }
 
   const char* p_;

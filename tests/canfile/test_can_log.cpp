@@ -256,5 +256,33 @@ TEST(AscReader, AMalformedFrameLineIsBadWithItsLineNumber) {
   EXPECT_EQ(r.frames[0].t, 30000);
 }
 
+// A classic frame's line is read in one pass (ClassicLine), anything it does not take by the
+// general reading: each field malformed in turn gets the general reading's complaint, and lines
+// the one pass passes on (tabs, a carriage return, one-digit bytes) are still frames.
+TEST(AscReader, EachFieldOfAClassicLineMalformedGetsItsComplaint) {
+  TempDir t;
+  write_bytes(t.path() / "fields.asc",
+              "base hex  timestamps absolute\n"
+              "   0.010000 1  101             Rx   d \n"            // no length code, a blank after 'd'
+              "   0.020000 1  101234567890    Rx   d 0\n"           // an id of 12 digits
+              "   0.030000 1  800             Rx   d 0\n"           // above 7FF
+              "   0.040000 1  1ABx            Rx   d 1 100\n"       // a byte of 0x100
+              "   1234567890123.000000 1  101 Rx   d 0\n"           // 13 digits of seconds
+              "\t0.050000\t1\t1ABx\tTx\tD\t2\t0A\tb\r\n"           // tabs, one digit, '\r'
+              "   0.060000 1  101x            Rx   d 1 00\n");
+  const Read r = read_log(t.path() / "fields.asc", LogFormat::asc);
+  ASSERT_EQ(r.bad.size(), 5u);
+  EXPECT_EQ(r.bad[0], "2: data length code is not a hex digit");
+  EXPECT_EQ(r.bad[1], "3: id is not a number of 11 bits (an 'x' marks an extended id)");
+  EXPECT_EQ(r.bad[2], "4: id is not a number of 11 bits (an 'x' marks an extended id)");
+  EXPECT_EQ(r.bad[3], "5: a data byte is not a number from 0 to 255");
+  EXPECT_EQ(r.bad[4], "6: expected a time stamp (seconds) at the start of an ASC event line");
+  ASSERT_EQ(r.frames.size(), 2u);
+  EXPECT_EQ(r.frames[0].t, 50000);
+  EXPECT_EQ(canonical(0, r.frames[0].f), "0.000000 1AB 1 0 0 0 2 0A0B");
+  EXPECT_EQ(r.frames[1].t, 60000);
+  EXPECT_EQ(canonical(0, r.frames[1].f), "0.000000 101 1 0 0 0 1 00");
+}
+
 }  // namespace
 }  // namespace lptn::canfile
