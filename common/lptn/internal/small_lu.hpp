@@ -95,13 +95,17 @@ struct SmallLu {
   // solve()'s bits), the sides innermost, in loops of constant length (Sdirk2::step_rows).
   template <int N, int C>
   void solve_rows(T (&b)[N][C]) const {
-    for (int k = 0; k < N; ++k)
-      if (swap[k] != k)
-        for (int c = 0; c < C; ++c) {
-          T t = b[k][c];
-          b[k][c] = b[swap[k]][c];
-          b[swap[k]][c] = t;
-        }
+    // One row is never exchanged (factor_in_place searches rows k+1..n-1 for a pivot). Said here,
+    // not only known: for N = 1 g++ -O3 cannot see that swap[0] is 0 and reports the exchange as
+    // an access out of b's bounds (-Warray-bounds, an error in the ci preset).
+    if constexpr (N > 1)
+      for (int k = 0; k < N; ++k)
+        if (swap[k] != k)
+          for (int c = 0; c < C; ++c) {
+            T t = b[k][c];
+            b[k][c] = b[swap[k]][c];
+            b[swap[k]][c] = t;
+          }
     for (int i = 0; i < N; ++i)
       for (int j = 0; j < i; ++j) {
         const T l = lu[i][j];
