@@ -252,7 +252,9 @@ TEST(Integrator, StepAndTransitionGiveTheBitsOfStepAndOfTransition) {
       for (int k = 0; k < n; ++k) exchanged += lu.swap[k] != k ? 1 : 0;
     }
     EXPECT_GE(trials, 30) << n;
-    if (n > 1) EXPECT_GT(exchanged, 0) << "no network of size " << n << " made the LU exchange rows";
+    if (n > 1) {
+      EXPECT_GT(exchanged, 0) << "no network of size " << n << " made the LU exchange rows";
+    }
   }
 }
 
