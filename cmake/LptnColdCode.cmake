@@ -7,8 +7,9 @@
 # integrator and observer are headers, instantiated where the hot loops are: simulate, lm,
 # calibrate, diagnose, firmware, canlog), and a file whose templates run a cycle's steps is not
 # given here.
-# The results are the same at any level: no -ffast-math, and x86-64's baseline has no FMA for
-# GCC to contract into, so every floating-point operation is the one the source says.
+# The results are the same at any level: no -ffast-math, and no contraction into fused
+# multiply-adds (-ffp-contract=off, the top CMakeLists.txt), so every floating-point operation is
+# the one the source says.
 function(lptn_cold_code)
   cmake_parse_arguments(PARSE_ARGV 0 arg "" "" "SOURCES")
   set(cold $<$<CONFIG:Release>:-O1>)

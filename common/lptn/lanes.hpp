@@ -5,12 +5,11 @@
 // Why it gives each lane a double's bits: every operator is the same IEEE operation applied lane
 // by lane (GCC's and Clang's vector extensions: +, -, *, / and negation are element-wise and
 // correctly rounded, as the scalar ones are), nothing is reassociated, and no fused multiply-add
-// is formed (the project builds for x86-64's baseline, which has none; an FMA target would
-// contract the scalar code the same way only by chance, so lanes are not for such a build without
-// -ffp-contract=off). The math functions call std:: per lane. Comparisons are left out on
-// purpose: a branch on a value would have to be taken per lane, so code that branches on the
-// scalar does not compile for lanes (value_of() has no lane form) rather than silently taking
-// lane 0's branch; the LU's pivoting asks SmallLu::lanes_pivot() instead (internal/small_lu.hpp).
+// is formed (the project builds with -ffp-contract=off on every target, the top CMakeLists.txt
+// says why; x86-64's baseline has no FMA anyway). The math functions call std:: per lane.
+// Comparisons are left out on purpose: a branch on a value would have to be taken per lane, so
+// code that branches on the scalar does not compile for lanes (value_of() has no lane form)
+// rather than silently taking lane 0's branch; the LU's pivoting asks SmallLu::lanes_pivot() instead (internal/small_lu.hpp).
 //
 // Host only (the trainer): the firmware never steps more than one parameter set.
 //
